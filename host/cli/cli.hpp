@@ -1,0 +1,43 @@
+// Pieces shared by the CLI's subcommands.
+#pragma once
+#include <CLI/CLI.hpp>
+#include <string>
+#include <vector>
+
+#include "offsetmap/offsetmap.hpp"
+
+namespace offsetmap::cli {
+
+// Options that describe the relief and its material, shared by render and demo.
+struct ReliefOptions {
+    std::string height_map;
+    bool depth_map = false;
+    int channel = 0;
+    std::string normal_map;
+    bool flip_green = false;
+    std::string albedo;
+    PassSettings pass;
+    std::string address = "wrap";
+    std::vector<float> light;  // x y z, tangent space, when the G-buffer has none
+    std::string device;
+
+    void add_to(CLI::App& app, bool height_map_required);
+    PassSettings settings() const;  // pass with the address mode applied
+};
+
+// Scene source options, shared by gbuffer, render and demo.
+struct SceneOptions {
+    std::string scene = "plane";
+    PlaneScene plane;
+    SweepScene sweep;
+    RandomScene random;
+    int width = 0, height = 0;  // 0: the scene's default
+
+    void add_to(CLI::App& app);
+    GBuffer make() const;
+};
+
+int run_demo(const std::string& out_dir, const ReliefOptions& relief, const SceneOptions& scene,
+             int repeats);
+
+}  // namespace offsetmap::cli

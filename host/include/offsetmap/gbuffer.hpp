@@ -1,0 +1,49 @@
+#pragma once
+#include <string>
+#include <vector>
+
+#include "offsetmap/cl.hpp"
+
+namespace offsetmap {
+
+class Runtime;
+
+// A deferred G-buffer as the offset pass reads it. Pixel k = y * width + x.
+// uv: float2 (a NaN u or v marks an empty pixel); view: tangent-space V toward the eye in xyz
+// (w unused); light: optional tangent-space L toward the light; lod: optional mip level.
+struct GBuffer {
+    int width = 0;
+    int height = 0;
+    std::vector<cl_float2> uv;
+    std::vector<cl_float4> view;
+    std::vector<cl_float4> light;  // empty, or width * height
+    std::vector<float> lod;        // empty, or width * height
+
+    size_t pixels() const { return static_cast<size_t>(width) * height; }
+    bool has_light() const { return !light.empty(); }
+    bool has_lod() const { return !lod.empty(); }
+    void resize(int w, int h, bool with_light, bool with_lod);
+};
+
+// Reads an OpenEXR G-buffer with channels u v Vx Vy Vz and optionally Lx Ly Lz (all three) and lod.
+// Throws Error naming the file and the missing or unexpected channels.
+GBuffer load_gbuffer(const std::string& path);
+
+// Writes the G-buffer as float OpenEXR with the channel names above.
+void save_gbuffer(const std::string& path, const GBuffer& gbuffer);
+
+// A G-buffer in device buffers: the caller may create these on its own context and fill them.
+struct DeviceGBuffer {
+    int width = 0;
+    int height = 0;
+    cl::Buffer uv;     // float2 per pixel
+    cl::Buffer view;   // float4 per pixel
+    cl::Buffer light;  // float4 per pixel, or a null buffer
+    cl::Buffer lod;    // float per pixel, or a null buffer
+
+    size_t pixels() const { return static_cast<size_t>(width) * height; }
+};
+
+DeviceGBuffer upload(Runtime& runtime, const GBuffer& gbuffer);
+
+}  // namespace offsetmap

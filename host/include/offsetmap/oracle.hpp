@@ -1,0 +1,34 @@
+#pragma once
+#include <cstdint>
+
+#include "offsetmap/heightmap.hpp"
+#include "offsetmap/passes.hpp"
+
+namespace offsetmap {
+
+// A G-buffer pixel after the pass's input rules (DESIGN.md "Bad input"), in double precision.
+struct PreparedRay {
+    std::uint32_t flags = 0;  // OM_FLAG_* as the kernels set them
+    bool traced = false;      // false: uv passes through unchanged
+    double u = 0, v = 0;      // the G-buffer uv
+    double V[3] = {0, 0, 1};  // unit, grazing rule applied
+};
+
+PreparedRay prepare_ray(double u, double v, const double view[3], const PassSettings& settings);
+
+struct ExactHit {
+    double u, v;  // uv' (unwrapped, in the same frame as the input uv)
+    double t;     // ray parameter of the hit
+};
+
+// The exact first hit of p(t) = (u, v, 0) - t V with the bilinear height field, in double
+// precision on the host: an implementation independent of the exact kernel (segments between all
+// cell-boundary crossings; the quadratic in each segment is fitted through three samples of the
+// generic bilinear sampler), used as the tests' oracle. V must be unit with V.z > 0.
+ExactHit exact_hit(const HeightMap& map, double u, double v, const double V[3],
+                   const PassSettings& settings);
+
+// Bilinear height in double with the project's texel-centre convention.
+double bilinear_height(const HeightMap& map, double u, double v, AddressMode address);
+
+}  // namespace offsetmap

@@ -1,0 +1,96 @@
+#pragma once
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "offsetmap/cl.hpp"
+#include "offsetmap/gbuffer.hpp"
+#include "offsetmap/heightmap.hpp"
+#include "offsetmap/registry.hpp"
+#include "offsetmap/runtime.hpp"
+
+namespace offsetmap {
+
+enum class AddressMode { Wrap, Clamp };
+
+// The relief's placement (DESIGN.md): surface z = scale * (H - reference_plane), in uv units.
+struct PassSettings {
+    float scale = 0.05f;             // depth scale s, in uv units, [0, 1]
+    float reference_plane = 1.0f;    // r in [0,1]: the polygon's height
+    float min_elevation_deg = 1.0f;  // grazing rule: views lower than this are raised to it
+    AddressMode address = AddressMode::Wrap;
+};
+
+// Throws Error naming the setting that is out of range.
+void validate(const PassSettings& settings);
+
+// Uploads heights and derives normals on the device (or takes `normal_map` when given).
+DeviceHeightField upload(Runtime& runtime, const HeightMap& map, const PassSettings& settings,
+                         const Image4* normal_map = nullptr);
+
+// Output buffers of the offset pass. uv (float2 per pixel) is required; depth (float: the ray
+// parameter t of the hit, the distance along the eye ray from the polygon point in uv units),
+// fetches (uint: bilinear height fetches) and flags (uint, OM_FLAG_*) may be null buffers.
+struct OffsetTargets {
+    cl::Buffer uv;
+    cl::Buffer depth;
+    cl::Buffer fetches;
+    cl::Buffer flags;
+};
+
+// One method's offset pass. Enqueues on the runtime's queue (the caller's, when the runtime wraps
+// the caller's objects) after `wait`, and returns the kernel's event.
+class OffsetPass {
+public:
+    OffsetPass(std::shared_ptr<Runtime> runtime, const std::string& method,
+               const std::map<std::string, std::string>& params = {});
+
+    cl::Event enqueue(const DeviceGBuffer& gbuffer, const DeviceHeightField& field,
+                      const PassSettings& settings, const OffsetTargets& targets,
+                      const std::vector<cl::Event>& wait = {});
+
+    const MethodInfo& method() const { return *method_; }
+    const std::vector<float>& params() const { return params_; }
+
+private:
+    std::shared_ptr<Runtime> runtime_;
+    const MethodInfo* method_;
+    std::vector<float> params_;
+    cl::Kernel kernel_;
+};
+
+struct ShadeSettings {
+    float light[3] = {0.55f, 0.35f, 0.76f};  // tangent-space L when the G-buffer has none
+    float ambient = 0.22f;
+    float diffuse = 0.85f;
+    float specular = 0.25f;
+    float shininess = 40.0f;
+};
+
+// An albedo texture on the device (float4 texels, linear RGB).
+struct DeviceImage {
+    int width = 0;
+    int height = 0;
+    cl::Buffer texels;
+};
+
+DeviceImage upload(Runtime& runtime, const Image4& image);
+
+// Blinn-Phong at uv' with the field's normals; writes linear RGBA float4 per pixel (alpha 0 where
+// the pixel is empty). Knows nothing of the method that produced uv'.
+class ShadePass {
+public:
+    explicit ShadePass(std::shared_ptr<Runtime> runtime);
+
+    cl::Event enqueue(const cl::Buffer& uv, const cl::Buffer& flags, const DeviceGBuffer& gbuffer,
+                      const DeviceHeightField& field, const DeviceImage* albedo,
+                      const PassSettings& settings, const ShadeSettings& shade,
+                      const cl::Buffer& out_rgba, const std::vector<cl::Event>& wait = {});
+
+private:
+    std::shared_ptr<Runtime> runtime_;
+    cl::Kernel kernel_;
+};
+
+}  // namespace offsetmap

@@ -1,0 +1,52 @@
+#pragma once
+#include <map>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <vector>
+
+#include "offsetmap/cl.hpp"
+
+namespace offsetmap {
+
+// An OpenCL context, device and queue, either chosen by offsetmap or handed in by the caller, plus
+// the programs built on them (cached per method and defines).
+class Runtime {
+public:
+    // Chooses a device: `filter` (or, when empty, $OFFSETMAP_DEVICE) is a case-insensitive
+    // substring of "platform / device"; without one, the first GPU, else the first device.
+    // The queue it creates has profiling on. Throws Error when nothing matches.
+    static std::shared_ptr<Runtime> create(const std::string& filter = "");
+
+    // Wraps the caller's objects; passes enqueue on `queue`. Timing needs a profiling queue.
+    Runtime(cl::Context context, cl::Device device, cl::CommandQueue queue);
+
+    const cl::Context& context() const { return context_; }
+    const cl::Device& device() const { return device_; }
+    const cl::CommandQueue& queue() const { return queue_; }
+    std::string device_name() const;  // "platform / device"
+    bool profiling() const { return profiling_; }
+    bool is_pocl() const { return is_pocl_; }
+
+    // The program assembled from the shared header, then `files` (paths under kernels/) in order,
+    // after `defines` ("-D" style lines are not used: `defines` is OpenCL C text). Built once.
+    cl::Program program(const std::vector<std::string>& files, const std::string& defines = "");
+
+private:
+    cl::Context context_;
+    cl::Device device_;
+    cl::CommandQueue queue_;
+    bool profiling_ = false;
+    bool is_pocl_ = false;
+    std::mutex mutex_;
+    std::map<std::string, cl::Program> programs_;
+};
+
+// Text of a kernel file (path relative to kernels/): embedded at build time, or read from
+// $OFFSETMAP_KERNEL_DIR when that is set (for editing kernels without rebuilding).
+std::string kernel_source(const std::string& path);
+
+// Milliseconds between an event's start and end (needs a profiling queue).
+double event_ms(const cl::Event& event);
+
+}  // namespace offsetmap

@@ -1,0 +1,98 @@
+#include "offsetmap/evaluate.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "om_shared.h"
+
+namespace offsetmap {
+
+double OffsetResult::median_kernel_ms() const {
+    if (kernel_ms.empty()) return std::numeric_limits<double>::quiet_NaN();
+    std::vector<double> v = kernel_ms;
+    std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
+    return v[v.size() / 2];
+}
+
+bool traced(std::uint32_t flags) {
+    return (flags & (OM_FLAG_EMPTY | OM_FLAG_INVALID | OM_FLAG_BACKFACING)) == 0u;
+}
+
+OffsetResult run_offset(Runtime& rt, OffsetPass& pass, const DeviceGBuffer& g,
+                        const DeviceHeightField& f, const PassSettings& settings, int repeats) {
+    const size_t n = g.pixels();
+    OffsetTargets t;
+    t.uv = cl::Buffer(rt.context(), CL_MEM_WRITE_ONLY, n * sizeof(cl_float2));
+    t.depth = cl::Buffer(rt.context(), CL_MEM_WRITE_ONLY, n * sizeof(float));
+    t.fetches = cl::Buffer(rt.context(), CL_MEM_WRITE_ONLY, n * sizeof(std::uint32_t));
+    t.flags = cl::Buffer(rt.context(), CL_MEM_WRITE_ONLY, n * sizeof(std::uint32_t));
+    OffsetResult r;
+    r.width = g.width;
+    r.height = g.height;
+    for (int k = 0; k < std::max(1, repeats); ++k) {
+        cl::Event e = pass.enqueue(g, f, settings, t);
+        e.wait();
+        if (rt.profiling()) r.kernel_ms.push_back(event_ms(e));
+    }
+    r.uv.resize(n);
+    r.depth.resize(n);
+    r.fetches.resize(n);
+    r.flags.resize(n);
+    auto& q = rt.queue();
+    q.enqueueReadBuffer(t.uv, CL_FALSE, 0, n * sizeof(cl_float2), r.uv.data());
+    q.enqueueReadBuffer(t.depth, CL_FALSE, 0, n * sizeof(float), r.depth.data());
+    q.enqueueReadBuffer(t.fetches, CL_FALSE, 0, n * sizeof(std::uint32_t), r.fetches.data());
+    q.enqueueReadBuffer(t.flags, CL_TRUE, 0, n * sizeof(std::uint32_t), r.flags.data());
+    return r;
+}
+
+std::vector<cl_float4> run_shade(Runtime& rt, ShadePass& pass, const OffsetResult& r,
+                                 const DeviceGBuffer& g, const DeviceHeightField& f,
+                                 const DeviceImage* albedo, const PassSettings& settings,
+                                 const ShadeSettings& shade) {
+    const size_t n = g.pixels();
+    cl::Buffer uv(rt.context(), CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, n * sizeof(cl_float2),
+                  const_cast<cl_float2*>(r.uv.data()));
+    cl::Buffer flags(rt.context(), CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR,
+                     n * sizeof(std::uint32_t), const_cast<std::uint32_t*>(r.flags.data()));
+    cl::Buffer out(rt.context(), CL_MEM_WRITE_ONLY, n * sizeof(cl_float4));
+    pass.enqueue(uv, flags, g, f, albedo, settings, shade, out).wait();
+    std::vector<cl_float4> rgba(n);
+    rt.queue().enqueueReadBuffer(out, CL_TRUE, 0, n * sizeof(cl_float4), rgba.data());
+    return rgba;
+}
+
+ErrorStats uv_error(const OffsetResult& r, const OffsetResult& ref, int fw, int fh,
+                    std::vector<float>* per_pixel) {
+    const size_t n = r.uv.size();
+    std::vector<double> errs;
+    errs.reserve(n);
+    if (per_pixel) per_pixel->assign(n, std::numeric_limits<float>::quiet_NaN());
+    for (size_t k = 0; k < n; ++k) {
+        if (!traced(r.flags[k]) || !traced(ref.flags[k])) continue;
+        double du = (static_cast<double>(r.uv[k].s[0]) - ref.uv[k].s[0]) * fw;
+        double dv = (static_cast<double>(r.uv[k].s[1]) - ref.uv[k].s[1]) * fh;
+        double e = std::hypot(du, dv);
+        errs.push_back(e);
+        if (per_pixel) (*per_pixel)[k] = static_cast<float>(e);
+    }
+    ErrorStats s;
+    s.count = errs.size();
+    if (errs.empty()) return s;
+    double sum = 0;
+    size_t wrong = 0;
+    for (double e : errs) {
+        sum += e;
+        s.max = std::max(s.max, e);
+        wrong += e > 1.0;
+    }
+    s.mean = sum / errs.size();
+    s.wrong_share = static_cast<double>(wrong) / errs.size();
+    size_t p = static_cast<size_t>(std::ceil(0.95 * errs.size())) - 1;
+    std::nth_element(errs.begin(), errs.begin() + p, errs.end());
+    s.p95 = errs[p];
+    return s;
+}
+
+}  // namespace offsetmap

@@ -1,0 +1,195 @@
+#include "offsetmap/passes.hpp"
+
+#include <algorithm>
+#include <climits>
+#include <cmath>
+#include <sstream>
+
+#include "offsetmap/error.hpp"
+#include "om_shared.h"
+
+namespace offsetmap {
+namespace {
+
+// PoCL compiles a kernel once per local size: keep it fixed and pad the global size.
+constexpr size_t kLocalSize = 64;
+
+cl::NDRange padded(size_t n) { return cl::NDRange((n + kLocalSize - 1) / kLocalSize * kLocalSize); }
+
+OmOffsetParams offset_params(const PassSettings& s, int pixels, int hf_w, int hf_h) {
+    OmOffsetParams p{};
+    p.pixel_count = pixels;
+    p.hf_width = hf_w;
+    p.hf_height = hf_h;
+    p.address_mode = s.address == AddressMode::Wrap ? OM_ADDRESS_WRAP : OM_ADDRESS_CLAMP;
+    p.scale = s.scale;
+    p.ref_plane = s.reference_plane;
+    p.min_vz = static_cast<float>(std::sin(s.min_elevation_deg * M_PI / 180.0));
+    // A ray spans at most s / min_vz in uv between the top and bottom planes, so it crosses at
+    // most that many cell rows plus columns, plus the start cell and rounding.
+    double cells = std::ceil(s.scale / p.min_vz * (hf_w + hf_h)) + 4.0;
+    p.max_cells = static_cast<om_int>(std::min(cells, static_cast<double>(INT_MAX / 2)));
+    return p;
+}
+
+void set_optional(cl::Kernel& k, cl_uint index, const cl::Buffer& b) {
+    if (b())
+        k.setArg(index, b);
+    else
+        k.setArg(index, sizeof(cl_mem), nullptr);  // a NULL global pointer in the kernel
+}
+
+void check_field(const DeviceHeightField& f) {
+    if (f.width <= 0 || f.height <= 0 || !f.heights())
+        throw Error("the height field has not been uploaded");
+}
+
+void check_gbuffer(const DeviceGBuffer& g) {
+    if (g.width <= 0 || g.height <= 0 || !g.uv() || !g.view())
+        throw Error("the G-buffer has no uv or view buffer");
+    if (g.pixels() > static_cast<size_t>(INT_MAX))
+        throw Error("the G-buffer is too large (" + std::to_string(g.pixels()) + " pixels)");
+}
+
+}  // namespace
+
+void validate(const PassSettings& s) {
+    auto range = [](const char* name, float v, float lo, float hi) {
+        if (!(v >= lo && v <= hi)) {
+            std::ostringstream m;
+            m << name << " must be in [" << lo << ", " << hi << "], got " << v;
+            throw Error(m.str());
+        }
+    };
+    range("scale", s.scale, 0.0f, 1.0f);
+    range("reference plane", s.reference_plane, 0.0f, 1.0f);
+    range("minimum elevation (degrees)", s.min_elevation_deg, 0.1f, 89.0f);
+}
+
+DeviceHeightField upload(Runtime& rt, const HeightMap& map, const PassSettings& settings,
+                         const Image4* normal_map) {
+    validate_height_map(map, "height map");
+    validate(settings);
+    DeviceHeightField f;
+    f.width = map.width;
+    f.height = map.height;
+    const size_t n = map.h.size();
+    f.heights = cl::Buffer(rt.context(), CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR,
+                           n * sizeof(float), const_cast<float*>(map.h.data()));
+    if (normal_map) {
+        if (normal_map->width != map.width || normal_map->height != map.height)
+            throw Error("normal map is " + std::to_string(normal_map->width) + "x" +
+                        std::to_string(normal_map->height) + " but the height map is " +
+                        std::to_string(map.width) + "x" + std::to_string(map.height));
+        f.normals = cl::Buffer(rt.context(), CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR,
+                               n * sizeof(cl_float4),
+                               const_cast<cl_float4*>(normal_map->texels.data()));
+        return f;
+    }
+    f.normals = cl::Buffer(rt.context(), CL_MEM_READ_WRITE, n * sizeof(cl_float4));
+    cl::Kernel k(rt.program({"common/sampling.cl", "prep/normals.cl"}), "om_normals");
+    k.setArg(0, offset_params(settings, 0, map.width, map.height));
+    k.setArg(1, f.heights);
+    k.setArg(2, f.normals);
+    rt.queue().enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(map.width, map.height));
+    rt.queue().finish();
+    return f;
+}
+
+OffsetPass::OffsetPass(std::shared_ptr<Runtime> runtime, const std::string& method,
+                       const std::map<std::string, std::string>& params)
+    : runtime_(std::move(runtime)), method_(&find_method(method)) {
+    params_ = resolve_params(*method_, params);
+    kernel_ = cl::Kernel(runtime_->program({"common/sampling.cl", "common/ray.cl",
+                                            "methods/" + method_->kernel_file, "offset.cl"}),
+                         "om_offset");
+}
+
+cl::Event OffsetPass::enqueue(const DeviceGBuffer& g, const DeviceHeightField& f,
+                              const PassSettings& settings, const OffsetTargets& t,
+                              const std::vector<cl::Event>& wait) {
+    validate(settings);
+    check_gbuffer(g);
+    check_field(f);
+    if (!t.uv()) throw Error("the offset pass needs a uv output buffer");
+    OmOffsetParams p = offset_params(settings, static_cast<int>(g.pixels()), f.width, f.height);
+    std::copy(params_.begin(), params_.end(), p.p);
+    kernel_.setArg(0, p);
+    kernel_.setArg(1, g.uv);
+    kernel_.setArg(2, g.view);
+    kernel_.setArg(3, f.heights);
+    kernel_.setArg(4, t.uv);
+    set_optional(kernel_, 5, t.depth);
+    set_optional(kernel_, 6, t.fetches);
+    set_optional(kernel_, 7, t.flags);
+    cl::Event event;
+    try {
+        runtime_->queue().enqueueNDRangeKernel(kernel_, cl::NullRange, padded(g.pixels()),
+                                               cl::NDRange(kLocalSize), &wait, &event);
+    } catch (const cl::Error& e) {
+        throw Error("cannot run the '" + method_->name + "' offset pass: " +
+                    describe_cl_error(e.err()));
+    }
+    return event;
+}
+
+DeviceImage upload(Runtime& rt, const Image4& image) {
+    if (image.width <= 0 || image.height <= 0 ||
+        image.texels.size() != static_cast<size_t>(image.width) * image.height)
+        throw Error("image is empty or its texels do not match its size");
+    DeviceImage d;
+    d.width = image.width;
+    d.height = image.height;
+    d.texels = cl::Buffer(rt.context(), CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR,
+                          image.texels.size() * sizeof(cl_float4),
+                          const_cast<cl_float4*>(image.texels.data()));
+    return d;
+}
+
+ShadePass::ShadePass(std::shared_ptr<Runtime> runtime) : runtime_(std::move(runtime)) {
+    kernel_ = cl::Kernel(runtime_->program({"common/sampling.cl", "shade.cl"}), "om_shade");
+}
+
+cl::Event ShadePass::enqueue(const cl::Buffer& uv, const cl::Buffer& flags,
+                             const DeviceGBuffer& g, const DeviceHeightField& f,
+                             const DeviceImage* albedo, const PassSettings& settings,
+                             const ShadeSettings& s, const cl::Buffer& out_rgba,
+                             const std::vector<cl::Event>& wait) {
+    check_gbuffer(g);
+    check_field(f);
+    if (!f.normals()) throw Error("the height field has no normals");
+    OmShadeParams p{};
+    p.pixel_count = static_cast<int>(g.pixels());
+    p.hf_width = f.width;
+    p.hf_height = f.height;
+    p.address_mode = settings.address == AddressMode::Wrap ? OM_ADDRESS_WRAP : OM_ADDRESS_CLAMP;
+    p.light_x = s.light[0];
+    p.light_y = s.light[1];
+    p.light_z = s.light[2];
+    p.has_light = g.light() ? 1 : 0;
+    p.ambient = s.ambient;
+    p.diffuse = s.diffuse;
+    p.specular = s.specular;
+    p.shininess = s.shininess;
+    p.has_albedo = albedo ? 1 : 0;
+    p.albedo_width = albedo ? albedo->width : 0;
+    p.albedo_height = albedo ? albedo->height : 0;
+    kernel_.setArg(0, p);
+    kernel_.setArg(1, uv);
+    set_optional(kernel_, 2, flags);
+    kernel_.setArg(3, g.view);
+    set_optional(kernel_, 4, g.light);
+    kernel_.setArg(5, f.normals);
+    set_optional(kernel_, 6, albedo ? albedo->texels : cl::Buffer());
+    kernel_.setArg(7, out_rgba);
+    cl::Event event;
+    try {
+        runtime_->queue().enqueueNDRangeKernel(kernel_, cl::NullRange, padded(g.pixels()),
+                                               cl::NDRange(kLocalSize), &wait, &event);
+    } catch (const cl::Error& e) {
+        throw Error(std::string("cannot run the shading pass: ") + describe_cl_error(e.err()));
+    }
+    return event;
+}
+
+}  // namespace offsetmap

@@ -1,0 +1,81 @@
+#include "offsetmap/registry.hpp"
+
+#include <cmath>
+#include <sstream>
+
+#include "offsetmap/error.hpp"
+#include "om_shared.h"
+
+namespace offsetmap {
+
+const std::vector<MethodInfo>& methods() {
+    static const std::vector<MethodInfo> table = {
+        {"none", "none.cl", "normal mapping only: uv' = uv", "Blinn 1978, bump mapping", "none",
+         {}},
+        {"parallax", "parallax.cl",
+         "one height fetch, flat-surface assumption: uv' = uv - (r - H(uv)) s V.xy / V.z",
+         "Kaneko et al. 2001, detailed shape representation with parallax mapping", "none", {}},
+        {"parallax-limited", "parallax_limited.cl",
+         "parallax with offset limiting: uv' = uv - (r - H(uv)) s V.xy (no 1/V.z)",
+         "Welsh 2004, parallax mapping with offset limiting", "none", {}},
+        {"exact", "exact.cl",
+         "first hit with the bilinear height field: DDA over texel cells, quadratic per patch",
+         "ground truth of this project (ray / bilinear patch)", "none", {}},
+    };
+    return table;
+}
+
+const MethodInfo& find_method(const std::string& name) {
+    std::string known;
+    for (const auto& m : methods()) {
+        if (m.name == name) return m;
+        known += (known.empty() ? "" : ", ") + m.name;
+    }
+    throw Error("unknown method '" + name + "' (known methods: " + known + ")");
+}
+
+std::vector<float> resolve_params(const MethodInfo& method,
+                                  const std::map<std::string, std::string>& overrides) {
+    if (method.params.size() > OM_MAX_METHOD_PARAMS)
+        throw Error("method '" + method.name + "' declares too many parameters");
+    std::vector<float> values;
+    for (const auto& p : method.params) values.push_back(p.default_value);
+    for (const auto& [key, text] : overrides) {
+        size_t idx = 0;
+        while (idx < method.params.size() && method.params[idx].name != key) ++idx;
+        if (idx == method.params.size()) {
+            std::string known;
+            for (const auto& p : method.params) known += (known.empty() ? "" : ", ") + p.name;
+            throw Error("unknown parameter '" + key + "' for method '" + method.name + "' (" +
+                        (known.empty() ? "it takes no parameters" : "its parameters: " + known) +
+                        ")");
+        }
+        const ParamSpec& p = method.params[idx];
+        double v = 0.0;
+        std::istringstream in(text);
+        in >> v;
+        if (text.empty() || in.fail() || !in.eof() || !std::isfinite(v))
+            throw Error("parameter '" + key + "' of method '" + method.name +
+                        "' must be a number, got '" + text + "'");
+        if (p.integer && v != std::floor(v))
+            throw Error("parameter '" + key + "' of method '" + method.name +
+                        "' must be an integer, got '" + text + "'");
+        if (v < p.min_value || v > p.max_value) {
+            std::ostringstream msg;
+            msg << "parameter '" << key << "' of method '" << method.name << "' must be in ["
+                << p.min_value << ", " << p.max_value << "], got " << text;
+            throw Error(msg.str());
+        }
+        values[idx] = static_cast<float>(v);
+    }
+    return values;
+}
+
+void parse_assignment(const std::string& item, std::map<std::string, std::string>& out) {
+    auto eq = item.find('=');
+    if (eq == std::string::npos || eq == 0)
+        throw Error("expected key=value, got '" + item + "'");
+    out[item.substr(0, eq)] = item.substr(eq + 1);
+}
+
+}  // namespace offsetmap

@@ -1,0 +1,102 @@
+#include "offsetmap/scenes.hpp"
+
+#include <cmath>
+#include <glm/glm.hpp>
+#include <limits>
+#include <random>
+
+#include "offsetmap/error.hpp"
+
+namespace offsetmap {
+namespace {
+
+constexpr double kDeg = M_PI / 180.0;
+
+void check_elevations(double lo, double hi) {
+    if (!(lo > 0.0 && lo <= hi && hi <= 90.0))
+        throw Error("elevations must satisfy 0 < min <= max <= 90 degrees, got min " +
+                    std::to_string(lo) + ", max " + std::to_string(hi));
+}
+
+cl_float4 f4(const glm::dvec3& v) {
+    return {{static_cast<float>(v.x), static_cast<float>(v.y), static_cast<float>(v.z), 0.0f}};
+}
+
+}  // namespace
+
+GBuffer make_scene(const PlaneScene& s) {
+    if (!(s.camera_height > 0.0 && s.tile > 0.0 && s.fov_deg > 0.0 && s.fov_deg < 170.0))
+        throw Error("plane scene needs camera height > 0, tile > 0 and 0 < fov < 170 degrees");
+    GBuffer gb;
+    gb.resize(s.width, s.height, s.with_light, false);
+    const double yaw = s.yaw_deg * kDeg, pitch = s.pitch_deg * kDeg;
+    const glm::dvec3 eye(0.0, 0.0, s.camera_height);
+    const glm::dvec3 forward(std::cos(pitch) * std::cos(yaw), std::cos(pitch) * std::sin(yaw),
+                             -std::sin(pitch));
+    const glm::dvec3 right = glm::normalize(glm::cross(forward, glm::dvec3(0, 0, 1)));
+    const glm::dvec3 up = glm::cross(right, forward);
+    const double th = std::tan(0.5 * s.fov_deg * kDeg);
+    const double aspect = static_cast<double>(s.width) / s.height;
+    const glm::dvec3 light = glm::normalize(glm::dvec3(s.light[0], s.light[1], s.light[2]));
+    const float nan = std::numeric_limits<float>::quiet_NaN();
+    for (int y = 0; y < s.height; ++y)
+        for (int x = 0; x < s.width; ++x) {
+            size_t k = static_cast<size_t>(y) * s.width + x;
+            double px = (2.0 * (x + 0.5) / s.width - 1.0) * th * aspect;
+            double py = (1.0 - 2.0 * (y + 0.5) / s.height) * th;
+            glm::dvec3 d = glm::normalize(forward + px * right + py * up);
+            if (d.z >= -1e-9) {
+                gb.uv[k] = {{nan, nan}};
+                continue;
+            }
+            glm::dvec3 hit = eye + d * (s.camera_height / -d.z);
+            gb.uv[k] = {{static_cast<float>(hit.x / s.tile), static_cast<float>(hit.y / s.tile)}};
+            gb.view[k] = f4(-d);
+            if (s.with_light) gb.light[k] = f4(light);
+        }
+    return gb;
+}
+
+GBuffer make_scene(const SweepScene& s) {
+    if (s.elevations < 1 || s.azimuths < 1 || s.patch < 1)
+        throw Error("sweep scene needs at least 1 elevation, 1 azimuth and a patch of 1");
+    check_elevations(s.min_elevation_deg, s.max_elevation_deg);
+    GBuffer gb;
+    gb.resize(s.azimuths * s.patch, s.elevations * s.patch, false, false);
+    for (int e = 0; e < s.elevations; ++e) {
+        double f = s.elevations > 1 ? static_cast<double>(e) / (s.elevations - 1) : 0.0;
+        double elev = (s.max_elevation_deg + f * (s.min_elevation_deg - s.max_elevation_deg)) * kDeg;
+        for (int a = 0; a < s.azimuths; ++a) {
+            double az = 2.0 * M_PI * a / s.azimuths;
+            glm::dvec3 v(std::cos(elev) * std::cos(az), std::cos(elev) * std::sin(az), std::sin(elev));
+            for (int py = 0; py < s.patch; ++py)
+                for (int px = 0; px < s.patch; ++px) {
+                    size_t k = static_cast<size_t>(e * s.patch + py) * gb.width + a * s.patch + px;
+                    gb.uv[k] = {{static_cast<float>((px + 0.5) / s.patch),
+                                 static_cast<float>((py + 0.5) / s.patch)}};
+                    gb.view[k] = f4(v);
+                }
+        }
+    }
+    return gb;
+}
+
+GBuffer make_scene(const RandomScene& s) {
+    check_elevations(s.min_elevation_deg, s.max_elevation_deg);
+    GBuffer gb;
+    gb.resize(s.width, s.height, false, false);
+    std::mt19937_64 rng(s.seed);
+    // 53-bit uniform in [0,1) from the raw engine output, the same on every standard library.
+    auto uniform = [&rng]() { return static_cast<double>(rng() >> 11) * 0x1.0p-53; };
+    double zlo = std::sin(s.min_elevation_deg * kDeg), zhi = std::sin(s.max_elevation_deg * kDeg);
+    for (size_t k = 0; k < gb.pixels(); ++k) {
+        double u = uniform(), v = uniform();
+        double z = zlo + (zhi - zlo) * uniform(), az = 2.0 * M_PI * uniform();
+        double r = std::sqrt(std::max(0.0, 1.0 - z * z));
+        gb.uv[k] = {{static_cast<float>(u), static_cast<float>(v)}};
+        gb.view[k] = f4(glm::dvec3(r * std::cos(az), r * std::sin(az), z));
+    }
+    return gb;
+}
+
+}  // namespace offsetmap

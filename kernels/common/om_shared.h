@@ -1,0 +1,55 @@
+// Structs and flags shared by the host (C++17) and the device (OpenCL C 1.2).
+// Every member is a 4-byte scalar so the layout is identical on both sides without packing pragmas.
+#ifndef OM_SHARED_H
+#define OM_SHARED_H
+
+#ifdef __OPENCL_VERSION__
+typedef float om_float;
+typedef int om_int;
+typedef uint om_uint;
+#else
+#include <cstdint>
+typedef float om_float;
+typedef std::int32_t om_int;
+typedef std::uint32_t om_uint;
+#endif
+
+#define OM_MAX_METHOD_PARAMS 8
+
+// Per-pixel flags written by the offset pass (bit set).
+#define OM_FLAG_EMPTY 1u         // u or v is NaN: no surface at this pixel; uv passed through
+#define OM_FLAG_INVALID 2u       // non-finite V, zero V or infinite uv; uv passed through
+#define OM_FLAG_BACKFACING 4u    // V.z <= 0 after normalisation; uv passed through
+#define OM_FLAG_GRAZING 8u       // V.z was raised to min_vz (the grazing rule)
+#define OM_FLAG_RENORMALIZED 16u // |V| differed from 1 by more than 1e-3 and was normalised
+#define OM_FLAG_CAPPED 32u       // a marching loop reached its iteration cap
+
+#define OM_ADDRESS_WRAP 0
+#define OM_ADDRESS_CLAMP 1
+
+typedef struct {
+    om_int pixel_count;  // G-buffer pixels (width * height)
+    om_int hf_width;     // height-field texels along u
+    om_int hf_height;    // height-field texels along v
+    om_int address_mode; // OM_ADDRESS_WRAP or OM_ADDRESS_CLAMP
+    om_float scale;      // depth scale s, in uv units
+    om_float ref_plane;  // reference plane r in [0,1]: the polygon sits at height r
+    om_float min_vz;     // grazing rule: V.z is raised to at least this (sin of min elevation)
+    om_int max_cells;    // hard cap on cells or steps any marching loop may visit
+    om_float p[OM_MAX_METHOD_PARAMS];  // method parameters, in registry order
+} OmOffsetParams;
+
+typedef struct {
+    om_int pixel_count;
+    om_int hf_width;
+    om_int hf_height;
+    om_int address_mode;
+    om_float light_x, light_y, light_z;  // global tangent-space light (used without per-pixel L)
+    om_int has_light;                    // 1: read light_ts per pixel from the G-buffer
+    om_float ambient, diffuse, specular, shininess;
+    om_int has_albedo;                   // 0: neutral procedural checker
+    om_int albedo_width, albedo_height;
+    om_int pad;
+} OmShadeParams;
+
+#endif

@@ -1,0 +1,50 @@
+// The eye ray in tangent space: p(t) = (u, v, 0) - t * V. It enters the relief at the top plane
+// z = s (1 - r) and leaves it at the bottom z = -s r (DESIGN.md, "The ray").
+typedef struct {
+    float2 uv;      // start point in the local frame (wrap: fractional part of the G-buffer uv)
+    float3 v;       // unit view vector, toward the eye, V.z >= min_vz
+    float scale;    // s
+    float ref;      // r
+    float t_enter;  // ray parameter at the top plane (negative when r < 1)
+    float t_exit;   // ray parameter at the bottom plane
+} OmRay;
+
+// Height of the relief surface at H, in the ray's z units.
+inline float om_surface_z(const OmRay* r, float h) { return r->scale * (h - r->ref); }
+
+inline float2 om_ray_uv(const OmRay* r, float t) { return r->uv - t * r->v.xy; }
+
+// Validates one G-buffer pixel and builds its ray. Returns flags; a pixel with EMPTY, INVALID or
+// BACKFACING set is passed through unchanged by the caller.
+// Grazing rule: V.z is raised to min_vz and V.xy rescaled to keep |V| = 1 and the azimuth, so every
+// march spans at most s / min_vz in uv and every loop count is bounded.
+inline uint om_setup_ray(float2 uv, float4 v4, const OmOffsetParams* P, OmRay* r, float2* base) {
+    if (isnan(uv.x) || isnan(uv.y)) return OM_FLAG_EMPTY;
+    float3 v = v4.xyz;
+    if (!isfinite(uv.x) || !isfinite(uv.y) || !isfinite(v.x) || !isfinite(v.y) || !isfinite(v.z))
+        return OM_FLAG_INVALID;
+    // Scale by the largest component first so |V| neither overflows nor underflows.
+    float m = fmax(fabs(v.x), fmax(fabs(v.y), fabs(v.z)));
+    if (!(m > 0.0f)) return OM_FLAG_INVALID;
+    v /= m;
+    float len = length(v);
+    uint flags = 0u;
+    if (fabs(len * m - 1.0f) > 1.0e-3f) flags |= OM_FLAG_RENORMALIZED;
+    v /= len;
+    if (!(v.z > 0.0f)) return flags | OM_FLAG_BACKFACING;
+    if (v.z < P->min_vz) {
+        float lxy = length(v.xy);
+        float k = sqrt(1.0f - P->min_vz * P->min_vz) / lxy;
+        v = (float3)(v.x * k, v.y * k, P->min_vz);
+        flags |= OM_FLAG_GRAZING;
+    }
+    // Tracing in a local frame keeps float precision for any tile index; the offset is added back.
+    *base = P->address_mode == OM_ADDRESS_WRAP ? floor(uv) : (float2)(0.0f);
+    r->uv = uv - *base;
+    r->v = v;
+    r->scale = P->scale;
+    r->ref = P->ref_plane;
+    r->t_enter = -P->scale * (1.0f - P->ref_plane) / v.z;
+    r->t_exit = P->scale * P->ref_plane / v.z;
+    return flags;
+}

@@ -1,0 +1,69 @@
+// Height sampling shared by every method. Conventions (DESIGN.md): texel (i, j) has its centre at
+// uv = ((i + 0.5) / W, (j + 0.5) / H); bilinear between texel centres; wrap (tiling) or clamp.
+
+// PoCL's scalar floor() is a slow branchy routine; its builtin is a single instruction.
+#ifdef OM_POCL
+#define om_floor(x) __builtin_floorf(x)
+#else
+#define om_floor(x) floor(x)
+#endif
+
+typedef struct {
+    __global const float* h;
+    int w, hgt;
+    int wrap;
+    float fw, fh;
+    uint fetches;  // bilinear height fetches made so far by this pixel
+} OmHeightField;
+
+inline OmHeightField om_heightfield(__global const float* h, const OmOffsetParams* P) {
+    OmHeightField f;
+    f.h = h;
+    f.w = P->hf_width;
+    f.hgt = P->hf_height;
+    f.wrap = P->address_mode == OM_ADDRESS_WRAP;
+    f.fw = (float)P->hf_width;
+    f.fh = (float)P->hf_height;
+    f.fetches = 0u;
+    return f;
+}
+
+inline int om_wrap_index(int i, int n) {
+    int r = i % n;
+    return r < 0 ? r + n : r;
+}
+
+// One stored texel, addressed by integer texel index with the field's address mode.
+inline float om_texel(const OmHeightField* f, int i, int j) {
+    if (f->wrap) {
+        i = om_wrap_index(i, f->w);
+        j = om_wrap_index(j, f->hgt);
+    } else {
+        i = clamp(i, 0, f->w - 1);
+        j = clamp(j, 0, f->hgt - 1);
+    }
+    return f->h[j * f->w + i];
+}
+
+// Texel-space coordinate whose integer part is the patch's lower-left texel centre.
+// Clamping keeps the int conversion defined for any finite input (wrap callers pass local uv).
+inline float2 om_cell_coord(const OmHeightField* f, float2 uv) {
+    float2 c = (float2)(uv.x * f->fw - 0.5f, uv.y * f->fh - 0.5f);
+    return clamp(c, (float2)(-1.0e8f), (float2)(1.0e8f));
+}
+
+// The four corners of bilinear patch (i, j): h00 at (i, j), h10 at (i+1, j), h01, h11.
+inline float4 om_patch(const OmHeightField* f, int i, int j) {
+    return (float4)(om_texel(f, i, j), om_texel(f, i + 1, j), om_texel(f, i, j + 1),
+                    om_texel(f, i + 1, j + 1));
+}
+
+// Bilinear height H(uv) in [0,1]; counts one fetch.
+inline float om_height(OmHeightField* f, float2 uv) {
+    float2 c = om_cell_coord(f, uv);
+    float fx = om_floor(c.x), fy = om_floor(c.y);
+    float a = c.x - fx, b = c.y - fy;
+    float4 k = om_patch(f, (int)fx, (int)fy);
+    f->fetches += 1u;
+    return mix(mix(k.x, k.y, a), mix(k.z, k.w, a), b);
+}
