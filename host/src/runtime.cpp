@@ -70,8 +70,8 @@ std::shared_ptr<Runtime> Runtime::create(const std::string& filter_arg) {
             }
         if (!chosen) {
             std::string names;
-            for (auto& pd : all) names += "\n  " + full_name(pd.first, pd.second);
-            throw Error("no OpenCL device matches '" + filter + "'; devices here:" + names);
+            for (auto& pd : all) names += (names.empty() ? "" : "; ") + full_name(pd.first, pd.second);
+            throw Error("no OpenCL device matches '" + filter + "' (devices here: " + names + ")");
         }
     } else {
         for (auto& pd : all)

@@ -1,0 +1,33 @@
+#!/usr/bin/env bash
+# cli_check.sh fail PATTERN CMD...  : CMD must exit non-zero with exactly one stderr line matching
+# cli_check.sh ok PATTERN CMD...    : CMD must exit 0 with output matching PATTERN
+# cli_check.sh roundtrip PATTERN OFFSETMAP MAP : gbuffer -> render with every output -> files exist
+set -u
+mode=$1 pattern=$2
+shift 2
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+case $mode in
+fail)
+    "$@" >"$tmp/out" 2>"$tmp/err"
+    rc=$?
+    [ "$rc" -ne 0 ] || { echo "expected a non-zero exit, got 0"; exit 1; }
+    [ "$rc" -lt 128 ] || { echo "crashed with exit $rc"; cat "$tmp/err"; exit 1; }
+    grep -Eq "$pattern" "$tmp/err" || { echo "stderr does not match '$pattern':"; cat "$tmp/err"; exit 1; }
+    [ "$(grep -c . "$tmp/err")" -eq 1 ] || { echo "expected one stderr line:"; cat "$tmp/err"; exit 1; }
+    ;;
+ok)
+    "$@" >"$tmp/out" 2>&1 || { echo "exit $?"; cat "$tmp/out"; exit 1; }
+    grep -Eq "$pattern" "$tmp/out" || { echo "output does not match '$pattern'"; exit 1; }
+    ;;
+roundtrip)
+    om=$1 map=$2
+    "$om" gbuffer --scene random --width 64 --height 32 --seed 5 -o "$tmp/g.exr" || exit 1
+    "$om" render --height-map "$map" --scale 0.08 --method parallax --gbuffer "$tmp/g.exr" \
+        --uv-out "$tmp/uv.exr" --color-out "$tmp/c.png" --error-out "$tmp/e.png" >"$tmp/out" 2>&1 ||
+        { cat "$tmp/out"; exit 1; }
+    grep -Eq "$pattern" "$tmp/out" || { echo "output does not match '$pattern'"; cat "$tmp/out"; exit 1; }
+    for f in uv.exr c.png e.png; do [ -s "$tmp/$f" ] || { echo "missing $f"; exit 1; }; done
+    ;;
+esac
+exit 0

@@ -1,0 +1,95 @@
+// Test helpers: one shared runtime, small procedural height maps, and a one-call pass runner.
+#pragma once
+#include <gtest/gtest.h>
+#include <OpenImageIO/imageio.h>
+
+#include <cmath>
+#include <functional>
+#include <memory>
+#include <random>
+
+#include "offsetmap/offsetmap.hpp"
+#include "om_shared.h"
+
+namespace omtest {
+using namespace offsetmap;
+
+// The PoCL (or chosen) runtime, created once: program builds are cached in it.
+inline std::shared_ptr<Runtime> runtime() {
+    static std::shared_ptr<Runtime> rt = Runtime::create();
+    return rt;
+}
+
+inline HeightMap make_map(int w, int h, const std::function<float(int, int)>& f) {
+    HeightMap m;
+    m.width = w;
+    m.height = h;
+    m.h.resize(static_cast<size_t>(w) * h);
+    for (int j = 0; j < h; ++j)
+        for (int i = 0; i < w; ++i) m.h[static_cast<size_t>(j) * w + i] = f(i, j);
+    return m;
+}
+
+inline HeightMap constant_map(float c, int w = 16, int h = 16) {
+    return make_map(w, h, [c](int, int) { return c; });
+}
+
+// Smooth: a few tiling sines, gentle slopes.
+inline HeightMap smooth_map(int n = 64) {
+    return make_map(n, n, [n](int i, int j) {
+        double u = (i + 0.5) / n, v = (j + 0.5) / n;
+        double h = 0.5 + 0.25 * std::sin(2 * M_PI * 2 * u) * std::cos(2 * M_PI * 3 * v) +
+                   0.2 * std::sin(2 * M_PI * (u + v));
+        return static_cast<float>(std::clamp(h, 0.0, 1.0));
+    });
+}
+
+// Noisy: independent uniform texels.
+inline HeightMap noisy_map(int n = 64, unsigned seed = 11) {
+    std::mt19937 rng(seed);
+    return make_map(n, n, [&rng](int, int) { return static_cast<float>((rng() >> 8) * 0x1.0p-24); });
+}
+
+// Cliffs: 4x4-texel blocks of height 0.1 or 1.0 (vertical walls one texel wide).
+inline HeightMap cliff_map(int n = 64, unsigned seed = 5) {
+    std::mt19937 rng(seed);
+    std::vector<float> block(static_cast<size_t>(n / 4) * (n / 4));
+    for (auto& b : block) b = (rng() & 1) ? 1.0f : 0.1f;
+    return make_map(n, n, [&](int i, int j) { return block[(j / 4) * (n / 4) + i / 4]; });
+}
+
+// A G-buffer of explicit (uv, V) pixels in one row.
+inline GBuffer row_gbuffer(const std::vector<std::array<float, 5>>& pixels) {
+    GBuffer gb;
+    gb.resize(static_cast<int>(pixels.size()), 1, false, false);
+    for (size_t k = 0; k < pixels.size(); ++k) {
+        gb.uv[k] = {{pixels[k][0], pixels[k][1]}};
+        gb.view[k] = {{pixels[k][2], pixels[k][3], pixels[k][4], 0.0f}};
+    }
+    return gb;
+}
+
+inline OffsetResult run(const std::string& method, const HeightMap& map, const GBuffer& gb,
+                        const PassSettings& settings,
+                        const std::map<std::string, std::string>& params = {}) {
+    auto rt = runtime();
+    DeviceHeightField f = upload(*rt, map, settings);
+    DeviceGBuffer g = upload(*rt, gb);
+    OffsetPass pass(rt, method, params);
+    return run_offset(*rt, pass, g, f, settings, 1);
+}
+
+// V at elevation `elev_deg` toward azimuth `az_deg` (from +u toward +v).
+inline std::array<float, 3> view_dir(double elev_deg, double az_deg) {
+    double e = elev_deg * M_PI / 180, a = az_deg * M_PI / 180;
+    return {static_cast<float>(std::cos(e) * std::cos(a)), static_cast<float>(std::cos(e) * std::sin(a)),
+            static_cast<float>(std::sin(e))};
+}
+
+inline std::vector<std::string> method_names() {
+    std::vector<std::string> names;
+    for (const auto& m : methods()) names.push_back(m.name);
+    return names;
+}
+
+}  // namespace omtest

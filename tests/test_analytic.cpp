@@ -1,0 +1,117 @@
+// Closed-form cases: flat and constant fields, a ramp and a step edge with known hits.
+#include "support.hpp"
+
+namespace omtest {
+namespace {
+
+// Tolerance for float kernels against closed forms: uv is O(1) with float eps 6e-8, so rounding
+// stays below 1e-5 uv; we allow 1e-3 texel of a 64-texel map (1.6e-5 uv), the oracle's tolerance.
+constexpr double kTexelTol = 1e-3;
+
+TEST(Analytic, FlatFieldLeavesUvUnchanged) {
+    // H = r everywhere: the relief is the polygon itself, so every method must return uv.
+    for (float r : {1.0f, 0.4f}) {
+        HeightMap m = constant_map(r);
+        PassSettings s;
+        s.scale = 0.3f;
+        s.reference_plane = r;
+        GBuffer gb = make_scene(RandomScene{32, 8, 3, 2.0, 90.0});
+        for (const auto& name : method_names()) {
+            OffsetResult res = run(name, m, gb, s);
+            for (size_t k = 0; k < gb.pixels(); ++k) {
+                ASSERT_NEAR(res.uv[k].s[0], gb.uv[k].s[0], 1e-6f) << name << " pixel " << k;
+                ASSERT_NEAR(res.uv[k].s[1], gb.uv[k].s[1], 1e-6f) << name << " pixel " << k;
+            }
+        }
+    }
+}
+
+TEST(Analytic, ConstantHeightParallaxEqualsExact) {
+    // H = c: the flat-surface assumption of parallax is true, so parallax == exact ==
+    // uv - s (r - c) V.xy / V.z; offset limiting drops the 1/V.z.
+    for (float r : {1.0f, 0.5f})
+        for (float c : {0.0f, 0.35f, 0.9f}) {
+            HeightMap m = constant_map(c, 32, 32);
+            PassSettings s;
+            s.scale = 0.1f;
+            s.reference_plane = r;
+            GBuffer gb = make_scene(RandomScene{64, 4, 9, 5.0, 90.0});
+            OffsetResult px = run("parallax", m, gb, s), ex = run("exact", m, gb, s),
+                         lim = run("parallax-limited", m, gb, s);
+            for (size_t k = 0; k < gb.pixels(); ++k) {
+                const auto& V = gb.view[k].s;
+                double t = 0.1 * (r - c) / V[2];
+                for (int a = 0; a < 2; ++a) {
+                    double expect = gb.uv[k].s[a] - t * V[a];
+                    ASSERT_NEAR(px.uv[k].s[a], expect, kTexelTol / 32) << "parallax " << k;
+                    ASSERT_NEAR(ex.uv[k].s[a], expect, kTexelTol / 32) << "exact " << k;
+                    ASSERT_NEAR(lim.uv[k].s[a], gb.uv[k].s[a] - 0.1 * (r - c) * V[a], kTexelTol / 32);
+                }
+                ASSERT_NEAR(ex.depth[k], t, 1e-5 * std::max(1.0, t));
+            }
+        }
+}
+
+// H = u between the first and last texel centres (texels (i + 0.5) / n), clamped addressing.
+TEST(Analytic, RampHit) {
+    const int n = 64;
+    HeightMap m = make_map(n, 4, [](int i, int) { return (i + 0.5f) / n; });
+    PassSettings s;
+    s.scale = 0.1f;
+    s.address = AddressMode::Clamp;
+    // Ray from u0 with V = (Vx, 0, Vz): -t Vz = s (u0 - t Vx - r) => t = s (r - u0) / (Vz - s Vx).
+    std::vector<std::array<float, 5>> px;
+    std::vector<double> expect_u;
+    for (double elev : {80.0, 45.0, 20.0})
+        for (double az : {0.0, 180.0}) {
+            auto V = view_dir(elev, az);
+            const double u0 = 0.5, sc = s.scale;  // the float scale the pass uses
+            double t = sc * (1.0 - u0) / (V[2] - sc * V[0]);
+            px.push_back({static_cast<float>(u0), 0.5f, V[0], V[1], V[2]});
+            expect_u.push_back(u0 - t * V[0]);
+        }
+    OffsetResult ex = run("exact", m, row_gbuffer(px), s);
+    for (size_t k = 0; k < px.size(); ++k) {
+        EXPECT_NEAR(ex.uv[k].s[0] * n, expect_u[k] * n, kTexelTol) << k;
+        double dv[3] = {px[k][2], px[k][3], px[k][4]};
+        ExactHit o = exact_hit(m, px[k][0], px[k][1], dv, s);
+        EXPECT_NEAR(o.u * n, expect_u[k] * n, 1e-9) << "oracle " << k;  // double rounding only
+    }
+}
+
+// A step from 0 to 1 at u = 1/2 is, bilinearly, a one-texel-wide linear face between the centres
+// of texels n/2 - 1 and n/2. A ray from the low side toward +u either meets the face or the floor.
+TEST(Analytic, StepEdgeHit) {
+    const int n = 64;
+    HeightMap m = make_map(n, 4, [](int i, int) { return i >= n / 2 ? 1.0f : 0.0f; });
+    PassSettings s;
+    s.scale = 0.1f;
+    s.address = AddressMode::Clamp;
+    const double ua = (n / 2 - 0.5) / n;  // face foot (H = 0) ... face top (H = 1) at ua + 1/n
+    std::vector<std::array<float, 5>> px;
+    std::vector<double> expect_u;
+    for (double u0 : {0.40, 0.45, 0.48})
+        for (double elev : {30.0, 60.0}) {
+            auto V = view_dir(elev, 180.0);  // eye toward -u: the ray runs toward +u
+            double vx = V[0], vz = V[2];
+            // Floor: z = -s at t = s / Vz. Face: H = (u - ua) n, z = s (H - 1).
+            double t_floor = 0.1 / vz;
+            double t_face = (0.1 * ((u0 - ua) * n - 1.0)) / (-vz + 0.1 * vx * n);
+            double u_face = u0 - t_face * vx;
+            bool face = u_face >= ua && u_face <= ua + 1.0 / n && t_face < t_floor;
+            double t = face ? t_face : t_floor;
+            px.push_back({static_cast<float>(u0), 0.5f, V[0], V[1], V[2]});
+            expect_u.push_back(u0 - t * vx);
+        }
+    OffsetResult ex = run("exact", m, row_gbuffer(px), s);
+    OffsetResult pa = run("parallax", m, row_gbuffer(px), s);
+    for (size_t k = 0; k < px.size(); ++k) {
+        EXPECT_NEAR(ex.uv[k].s[0] * n, expect_u[k] * n, kTexelTol) << k;
+        // parallax reads H(u0) = 0 and lands on the floor, through the wall when the face is hit.
+        double t_floor = 0.1 / px[k][4];
+        EXPECT_NEAR(pa.uv[k].s[0], px[k][0] - t_floor * px[k][2], 1e-6) << k;
+    }
+}
+
+}  // namespace
+}  // namespace omtest
