@@ -11,8 +11,8 @@ namespace offsetmap {
 struct PlaneScene {
     int width = 960;
     int height = 540;
-    double camera_height = 1.0;  // world units above the plane
-    double pitch_deg = 38.0;     // look-down angle below the horizon
+    double camera_height = 0.4;  // world units above the plane
+    double pitch_deg = 35.0;     // look-down angle below the horizon
     double yaw_deg = 30.0;       // heading, from +x toward +y
     double fov_deg = 55.0;       // vertical field of view
     double tile = 1.0;           // world units per uv unit
