@@ -92,4 +92,27 @@ inline std::vector<std::string> method_names() {
     return names;
 }
 
+// One test row per method: how far from the exact hit its answer may be on a constant height
+// field, in lambda (the slab from top plane, 0, to bottom plane, 1), at its default parameters.
+// Layered methods quantise the depth; every other method meets a plane exactly (float rounding).
+inline double constant_field_lambda_tolerance(const std::string& method) {
+    const MethodInfo& m = find_method(method);
+    auto param = [&](const char* name) {
+        for (const auto& p : m.params)
+            if (p.name == name) return static_cast<double>(p.default_value);
+        throw Error(std::string("no parameter ") + name);
+    };
+    if (method == "steep") return 1.0 / param("layers");  // the first layer at or below
+    if (method == "relief") return 1.0 / (param("linear") * std::pow(2.0, param("binary")));
+    return 0.0;
+}
+
+// The methods a test row must exist for: fails loudly when a method is added without one.
+inline const std::vector<std::string>& methods_with_rows() {
+    static const std::vector<std::string> rows = {"none",  "parallax", "parallax-limited",
+                                                  "parallax-slope", "parallax-iterative", "steep",
+                                                  "relief", "pom", "exact"};
+    return rows;
+}
+
 }  // namespace omtest

@@ -112,8 +112,11 @@ TEST(BadInput, GrazingRuleRaisesViewToMinimumElevation) {
             OffsetResult r = run(name, m, gb, s);
             for (int k = 1; k < 4; ++k) {
                 EXPECT_TRUE(r.flags[k] & OM_FLAG_GRAZING) << name << " " << k;
-                EXPECT_NEAR(r.uv[k].s[0], r.uv[0].s[0], 2e-5f) << name << " " << k;
-                EXPECT_NEAR(r.uv[k].s[1], r.uv[0].s[1], 2e-5f) << name << " " << k;
+                // The raised V equals V at the minimum up to a few float ulps (1e-6 relative),
+                // which the march length |uv' - uv| (up to s / sin 0.1 deg = 57 uv) multiplies.
+                float tol = 2e-5f + 2e-6f * std::fabs(r.uv[0].s[0] - 0.2f) + 2e-6f * std::fabs(r.uv[0].s[1] - 0.4f);
+                EXPECT_NEAR(r.uv[k].s[0], r.uv[0].s[0], tol) << name << " " << k;
+                EXPECT_NEAR(r.uv[k].s[1], r.uv[0].s[1], tol) << name << " " << k;
                 EXPECT_FALSE(r.flags[k] & OM_FLAG_CAPPED);
             }
         }
@@ -187,10 +190,8 @@ TEST(BadInput, KernelBuildFailureCarriesTheBuildLog) {
     // A broken kernel directory: the error names the file and includes the compiler's log.
     namespace fs = std::filesystem;
     auto dir = fs::temp_directory_path() / "om_broken_kernels";
-    fs::create_directories(dir / "common");
-    fs::create_directories(dir / "methods");
-    for (const char* f : {"common/om_shared.h", "common/sampling.cl", "common/ray.cl", "offset.cl"})
-        std::ofstream(dir / f) << kernel_source(f);
+    fs::remove_all(dir);
+    fs::copy(OFFSETMAP_SOURCE_DIR "/kernels", dir, fs::copy_options::recursive);
     std::ofstream(dir / "methods/parallax.cl") << "float2 om_trace( this is not C";
     setenv("OFFSETMAP_KERNEL_DIR", dir.c_str(), 1);
     // A fresh runtime: the shared one has the good program cached.

@@ -29,7 +29,14 @@ OmOffsetParams offset_params(const PassSettings& s, int pixels, int hf_w, int hf
     // most that many cell rows plus columns, plus the start cell and rounding.
     double cells = std::ceil(s.scale / p.min_vz * (hf_w + hf_h)) + 4.0;
     p.max_cells = static_cast<om_int>(std::min(cells, static_cast<double>(INT_MAX / 2)));
+    p.mip_levels = 1;
     return p;
+}
+
+// Every offset program: the sampling layer, the ray, the shared searches, one method, the entry.
+std::vector<std::string> offset_program_files(const MethodInfo& m) {
+    return {"common/sampling.cl", "common/ray.cl", "common/march.cl", "methods/" + m.kernel_file,
+            "offset.cl"};
 }
 
 void set_optional(cl::Kernel& k, cl_uint index, const cl::Buffer& b) {
@@ -51,7 +58,48 @@ void check_gbuffer(const DeviceGBuffer& g) {
         throw Error("the G-buffer is too large (" + std::to_string(g.pixels()) + " pixels)");
 }
 
+void build_mips(Runtime& rt, DeviceHeightField& f) {
+    if (f.mip_levels < 2) return;
+    cl::Kernel k(rt.program({"prep/mips.cl"}), "om_mip_level");
+    int w = f.width, h = f.height, offset = 0;
+    for (int level = 1; level < f.mip_levels; ++level) {
+        int cw = std::max(1, w / 2), ch = std::max(1, h / 2), child = offset + w * h;
+        k.setArg(0, f.heights);
+        k.setArg(1, offset);
+        k.setArg(2, w);
+        k.setArg(3, h);
+        k.setArg(4, child);
+        k.setArg(5, cw);
+        k.setArg(6, ch);
+        rt.queue().enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(cw, ch));
+        offset = child;
+        w = cw;
+        h = ch;
+    }
+    rt.queue().finish();
+}
+
 }  // namespace
+
+int mip_level_count(int width, int height) {
+    int levels = 1;
+    while ((width > 1 || height > 1) && levels < OM_MAX_MIP_LEVELS) {
+        width = std::max(1, width / 2);
+        height = std::max(1, height / 2);
+        ++levels;
+    }
+    return levels;
+}
+
+size_t mip_pyramid_floats(int width, int height, int levels) {
+    size_t total = 0;
+    for (int k = 0; k < levels; ++k) {
+        total += static_cast<size_t>(width) * height;
+        width = std::max(1, width / 2);
+        height = std::max(1, height / 2);
+    }
+    return total;
+}
 
 void validate(const PassSettings& s) {
     auto range = [](const char* name, float v, float lo, float hi) {
@@ -74,8 +122,11 @@ DeviceHeightField upload(Runtime& rt, const HeightMap& map, const PassSettings& 
     f.width = map.width;
     f.height = map.height;
     const size_t n = map.h.size();
-    f.heights = cl::Buffer(rt.context(), CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR,
-                           n * sizeof(float), const_cast<float*>(map.h.data()));
+    f.mip_levels = mip_level_count(map.width, map.height);
+    f.heights = cl::Buffer(rt.context(), CL_MEM_READ_WRITE,
+                           mip_pyramid_floats(map.width, map.height, f.mip_levels) * sizeof(float));
+    rt.queue().enqueueWriteBuffer(f.heights, CL_TRUE, 0, n * sizeof(float), map.h.data());
+    build_mips(rt, f);
     if (normal_map) {
         if (normal_map->width != map.width || normal_map->height != map.height)
             throw Error("normal map is " + std::to_string(normal_map->width) + "x" +
@@ -100,9 +151,7 @@ OffsetPass::OffsetPass(std::shared_ptr<Runtime> runtime, const std::string& meth
                        const std::map<std::string, std::string>& params)
     : runtime_(std::move(runtime)), method_(&find_method(method)) {
     params_ = resolve_params(*method_, params);
-    kernel_ = cl::Kernel(runtime_->program({"common/sampling.cl", "common/ray.cl",
-                                            "methods/" + method_->kernel_file, "offset.cl"}),
-                         "om_offset");
+    kernel_ = cl::Kernel(runtime_->program(offset_program_files(*method_)), "om_offset");
 }
 
 cl::Event OffsetPass::enqueue(const DeviceGBuffer& g, const DeviceHeightField& f,
@@ -113,6 +162,7 @@ cl::Event OffsetPass::enqueue(const DeviceGBuffer& g, const DeviceHeightField& f
     check_field(f);
     if (!t.uv()) throw Error("the offset pass needs a uv output buffer");
     OmOffsetParams p = offset_params(settings, static_cast<int>(g.pixels()), f.width, f.height);
+    p.mip_levels = f.mip_levels;
     std::copy(params_.begin(), params_.end(), p.p);
     kernel_.setArg(0, p);
     kernel_.setArg(1, g.uv);

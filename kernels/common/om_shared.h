@@ -36,8 +36,13 @@ typedef struct {
     om_float ref_plane;  // reference plane r in [0,1]: the polygon sits at height r
     om_float min_vz;     // grazing rule: V.z is raised to at least this (sin of min elevation)
     om_int max_cells;    // hard cap on cells or steps any marching loop may visit
+    om_int mip_levels;   // levels in the height buffer: level 0, then each half the size
+    om_int pad0, pad1, pad2;
     om_float p[OM_MAX_METHOD_PARAMS];  // method parameters, in registry order
 } OmOffsetParams;
+
+// Dimensions of mip level k of a W x H map: each level halves (rounding down, at least 1).
+#define OM_MAX_MIP_LEVELS 16
 
 typedef struct {
     om_int pixel_count;

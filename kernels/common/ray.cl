@@ -14,6 +14,12 @@ inline float om_surface_z(const OmRay* r, float h) { return r->scale * (h - r->r
 
 inline float2 om_ray_uv(const OmRay* r, float t) { return r->uv - t * r->v.xy; }
 
+// Marching methods parametrise the slab by lambda in [0,1]: lambda = 0 at the top plane (ray height
+// H = 1), 1 at the bottom plane (H = 0); the ray is below the relief where H(uv) >= 1 - lambda.
+inline float om_ray_t(const OmRay* r, float lambda) {
+    return r->t_enter + lambda * (r->t_exit - r->t_enter);
+}
+
 // Validates one G-buffer pixel and builds its ray. Returns flags; a pixel with EMPTY, INVALID or
 // BACKFACING set is passed through unchanged by the caller.
 // Grazing rule: V.z is raised to min_vz and V.xy rescaled to keep |V| = 1 and the azimuth, so every

@@ -28,6 +28,23 @@ inline OmHeightField om_heightfield(__global const float* h, const OmOffsetParam
     return f;
 }
 
+// A view of mip level `level` (clamped to those present) of the height pyramid. Level k is
+// max(1, W >> k) x max(1, H >> k) texels, stored after level k - 1; texel centres follow the same
+// convention at every level, so a level samples the same uv as level 0.
+inline OmHeightField om_heightfield_level(__global const float* h, const OmOffsetParams* P,
+                                          int level) {
+    OmHeightField f = om_heightfield(h, P);
+    level = clamp(level, 0, max(P->mip_levels - 1, 0));
+    for (int k = 0; k < level; ++k) {
+        f.h += f.w * f.hgt;
+        f.w = max(1, f.w / 2);
+        f.hgt = max(1, f.hgt / 2);
+    }
+    f.fw = (float)f.w;
+    f.fh = (float)f.hgt;
+    return f;
+}
+
 inline int om_wrap_index(int i, int n) {
     int r = i % n;
     return r < 0 ? r + n : r;
@@ -65,5 +82,19 @@ inline float om_height(OmHeightField* f, float2 uv) {
     float a = c.x - fx, b = c.y - fy;
     float4 k = om_patch(f, (int)fx, (int)fy);
     f->fetches += 1u;
+    return mix(mix(k.x, k.y, a), mix(k.z, k.w, a), b);
+}
+
+// Bilinear height and its exact gradient (dH/du, dH/dv) on the patch at uv; counts one fetch.
+// The gradient is that of the bilinear surface itself, so slope methods follow the same relief
+// that `exact` intersects (a normal map is a smoothed estimate of it).
+inline float om_height_grad(OmHeightField* f, float2 uv, float2* grad) {
+    float2 c = om_cell_coord(f, uv);
+    float fx = om_floor(c.x), fy = om_floor(c.y);
+    float a = c.x - fx, b = c.y - fy;
+    float4 k = om_patch(f, (int)fx, (int)fy);
+    f->fetches += 1u;
+    grad->x = mix(k.y - k.x, k.w - k.z, b) * f->fw;
+    grad->y = mix(k.z - k.x, k.w - k.y, a) * f->fh;
     return mix(mix(k.x, k.y, a), mix(k.z, k.w, a), b);
 }

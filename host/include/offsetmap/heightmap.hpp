@@ -50,8 +50,13 @@ Image4 load_normal_map(const std::string& path, bool flip_green);
 struct DeviceHeightField {
     int width = 0;
     int height = 0;
-    cl::Buffer heights;  // float per texel
-    cl::Buffer normals;  // float4 per texel (derived on the device, or uploaded from a file)
+    int mip_levels = 1;  // levels in `heights`: level k is max(1, W >> k) x max(1, H >> k)
+    cl::Buffer heights;  // float per texel, level 0 first, then each coarser level
+    cl::Buffer normals;  // float4 per texel of level 0 (derived on the device, or from a file)
 };
+
+// Number of levels down to 1 x 1 (at most OM_MAX_MIP_LEVELS) and the floats they take in all.
+int mip_level_count(int width, int height);
+size_t mip_pyramid_floats(int width, int height, int levels);
 
 }  // namespace offsetmap
