@@ -1,8 +1,10 @@
 // The one offset kernel entry: G-buffer load, validation, one method's om_trace, store.
 // Compiled once per method; the method file defining om_trace is pasted in before this file.
-// Optional outputs (depth, fetches, flags) may be NULL buffers.
+// aux is the method's precomputed data (NULL for most). Optional outputs (depth, fetches, flags)
+// may be NULL buffers.
 __kernel void om_offset(const OmOffsetParams P, __global const float2* gb_uv,
                         __global const float4* gb_view, __global const float* heights,
+                        __global const float* aux,
                         __global float2* out_uv, __global float* out_depth,
                         __global uint* out_fetches, __global uint* out_flags) {
     int id = get_global_id(0);
@@ -12,6 +14,7 @@ __kernel void om_offset(const OmOffsetParams P, __global const float2* gb_uv,
     float2 base;
     uint flags = om_setup_ray(uv, gb_view[id], &P, &ray, &base);
     OmHeightField f = om_heightfield(heights, &P);
+    f.aux = aux;
     float t = 0.0f;
     float2 out = uv;
     if ((flags & (OM_FLAG_EMPTY | OM_FLAG_INVALID | OM_FLAG_BACKFACING)) == 0u) {

@@ -93,9 +93,10 @@ inline std::vector<std::string> method_names() {
 }
 
 // One test row per method: how far from the exact hit its answer may be on a constant height
-// field, in lambda (the slab from top plane, 0, to bottom plane, 1), at its default parameters.
-// Layered methods quantise the depth; every other method meets a plane exactly (float rounding).
-inline double constant_field_lambda_tolerance(const std::string& method) {
+// field, in lambda (the slab from top plane, 0, to bottom plane, 1), at its default parameters,
+// for a view with this V.z. Layered methods quantise the depth; every other method meets a plane
+// exactly (float rounding).
+inline double constant_field_lambda_tolerance(const std::string& method, double vz) {
     const MethodInfo& m = find_method(method);
     auto param = [&](const char* name) {
         for (const auto& p : m.params)
@@ -104,6 +105,10 @@ inline double constant_field_lambda_tolerance(const std::string& method) {
     };
     if (method == "steep") return 1.0 / param("layers");  // the first layer at or below
     if (method == "relief") return 1.0 / (param("linear") * std::pow(2.0, param("binary")));
+    // sphere stops once its voxel meets the plane (one layer), unless its steps run out first:
+    // each step covers the box distance, at least the vertical gap less one layer, along the
+    // ray, which lowers the gap by V.z of it: the gap left after n steps is <= (1 - V.z)^n.
+    if (method == "sphere") return 1.0 / param("layers") + std::pow(1.0 - vz, param("steps"));
     return 0.0;
 }
 
@@ -111,7 +116,7 @@ inline double constant_field_lambda_tolerance(const std::string& method) {
 inline const std::vector<std::string>& methods_with_rows() {
     static const std::vector<std::string> rows = {"none",  "parallax", "parallax-limited",
                                                   "parallax-slope", "parallax-iterative", "steep",
-                                                  "relief", "pom", "exact"};
+                                                  "relief", "pom", "sphere", "exact"};
     return rows;
 }
 

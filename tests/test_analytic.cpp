@@ -22,9 +22,9 @@ void check_constant_field(float c, float r) {
     GBuffer gb = make_scene(RandomScene{64, 4, 9, 5.0, 90.0});
     for (const auto& name : method_names()) {
         OffsetResult res = run(name, m, gb, s);
-        double tol_lambda = constant_field_lambda_tolerance(name);
         for (size_t k = 0; k < gb.pixels(); ++k) {
             const auto& V = gb.view[k].s;
+            double tol_lambda = constant_field_lambda_tolerance(name, V[2]);
             double t = s.scale * (r - c) / V[2];
             if (name == "none") t = 0.0;
             if (name == "parallax-limited") t = s.scale * (r - c);

@@ -122,3 +122,54 @@ TEST(SeedClaims, PomBeatsSteepAtEqualLayers) {
 
 }  // namespace
 }  // namespace omtest
+
+namespace omtest {
+namespace {
+
+TEST(Convergence, SphereFallsTowardZeroAsItsMapAndStepsGrow) {
+    // Bound: the march stops when its voxel touches the column proxy, so the stop point is within
+    // one voxel (1/res across, s/layers in height) of the surface, the proxy's excess over it
+    // being at most slope x 1/res (the proxy is the exact maximum per column); the error along the
+    // ray is that distance over the sine of the ray-surface angle, unless the steps run out
+    // first. So the error falls linearly with the voxel size: x4 finer, about 4x smaller.
+    Bench st(15.0, 0.08f);
+    double prev = 1e9;
+    for (auto [res, layers, steps] : std::vector<std::tuple<int, int, int>>{{32, 8, 16}, {64, 16, 48}, {256, 64, 192}}) {
+        Errors e = st.of("sphere", {{"res", std::to_string(res)}, {"layers", std::to_string(layers)},
+                                    {"steps", std::to_string(steps)}});
+        std::printf("sphere res=%d layers=%d steps=%d: mean %.4f p99 %.4f\n", res, layers, steps, e.mean, e.p99);
+        EXPECT_LT(e.mean, 0.6 * prev);
+        prev = e.mean;
+    }
+    EXPECT_LT(prev, 0.3);  // res 256: a quarter texel of this 64-texel map
+}
+
+TEST(SeedClaims, SphereNeverOvershootsAThinSpikeSteepSkips) {
+    // One-texel spikes of height 1 on a floor of 0 (fur-like). Rays that pass the spike's bilinear
+    // tent between two of steep's layers come out behind it; sphere tracing may stop short of the
+    // hit but never passes it: its t never exceeds the exact t.
+    const int n = 64;
+    HeightMap m = make_map(n, n, [](int i, int j) { return (i % 16 == 8 && j % 16 == 8) ? 1.0f : 0.0f; });
+    PassSettings s;
+    s.scale = 0.1f;
+    GBuffer gb = make_scene(RandomScene{128, 128, 17, 10.0, 60.0});
+    OffsetResult ex = run("exact", m, gb, s);
+    OffsetResult sp = run("sphere", m, gb, s, {{"res", "64"}, {"layers", "16"}, {"steps", "64"}});
+    OffsetResult st = run("steep", m, gb, s, {{"layers", "8"}});
+    size_t spike_hits = 0, steep_skips = 0, sphere_over = 0;
+    for (size_t k = 0; k < gb.pixels(); ++k) {
+        double t_floor = s.scale / gb.view[k].s[2];
+        if (ex.depth[k] > t_floor - 1e-6) continue;  // the ray met the floor: no spike on its way
+        ++spike_hits;
+        steep_skips += st.depth[k] > ex.depth[k] + 0.05 * t_floor;
+        sphere_over += sp.depth[k] > ex.depth[k] + 1e-5;
+    }
+    std::printf("%zu rays hit a spike: steep (8 layers) passed %zu of them, sphere %zu\n", spike_hits,
+                steep_skips, sphere_over);
+    ASSERT_GT(spike_hits, 100u);
+    EXPECT_GT(steep_skips, spike_hits / 10);
+    EXPECT_EQ(sphere_over, 0u);
+}
+
+}  // namespace
+}  // namespace omtest

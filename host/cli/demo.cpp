@@ -31,8 +31,8 @@ int run_demo(const std::string& out_dir, const ReliefOptions& relief, const Scen
     std::printf("offsetmap demo: %s (%dx%d, s = %g, r = %g) on %s, %dx%d plane scene\n",
                 relief.height_map.c_str(), map.width, map.height, settings.scale,
                 settings.reference_plane, rt->device_name().c_str(), gb.width, gb.height);
-    std::printf("%-18s %12s %12s %12s %14s %12s\n", "method", "mean err", "p95 err", ">1 texel",
-                "fetches/pixel", "ns/pixel");
+    std::printf("%-18s %10s %10s %10s %14s %10s %16s\n", "method", "mean err", "p95 err", ">1 texel",
+                "fetches/pixel", "ns/pixel", "precomputed");
     std::vector<std::pair<std::string, Rgb8>> tiles;
     nlohmann::json table = nlohmann::json::array();
     for (const auto& m : methods()) {
@@ -47,8 +47,13 @@ int run_demo(const std::string& out_dir, const ReliefOptions& relief, const Scen
             if (traced(r.flags[k])) ++traced_n, fetch_sum += r.fetches[k];
         double fetches = traced_n ? fetch_sum / traced_n : 0.0;
         double ns = r.median_kernel_ms() * 1e6 / static_cast<double>(gb.pixels());
-        std::printf("%-18s %12.4f %12.4f %11.2f%% %14.2f %12.2f\n", m.name.c_str(), st.mean, st.p95,
-                    100.0 * st.wrong_share, fetches, ns);
+        const auto& pre = pass.precomputed();
+        char precomputed[64] = "-";
+        if (pre.bytes)
+            std::snprintf(precomputed, sizeof precomputed, "%.1f MB, %.0f ms", pre.bytes / 1048576.0,
+                          pre.build_ms);
+        std::printf("%-18s %10.4f %10.4f %9.2f%% %14.2f %10.2f %16s\n", m.name.c_str(), st.mean,
+                    st.p95, 100.0 * st.wrong_share, fetches, ns, precomputed);
 
         Rgb8 color = to_srgb8(gb.width, gb.height,
                               run_shade(*rt, shade, r, dg, field, nullptr, settings, ss));
@@ -66,7 +71,9 @@ int run_demo(const std::string& out_dir, const ReliefOptions& relief, const Scen
                          {"max_err_texels", st.max},
                          {"wrong_surface_share", st.wrong_share},
                          {"fetches_per_pixel", fetches},
-                         {"ns_per_pixel", ns}});
+                         {"ns_per_pixel", ns},
+                         {"precomputed_bytes", pass.precomputed().bytes},
+                         {"precompute_ms", pass.precomputed().build_ms}});
     }
     write_image(out_dir + "/contact-sheet.png", contact_sheet(tiles, 2));
     nlohmann::json summary = {{"device", rt->device_name()},

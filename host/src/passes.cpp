@@ -1,6 +1,7 @@
 #include "offsetmap/passes.hpp"
 
 #include <algorithm>
+#include <chrono>
 #include <climits>
 #include <cmath>
 #include <sstream>
@@ -154,6 +155,55 @@ OffsetPass::OffsetPass(std::shared_ptr<Runtime> runtime, const std::string& meth
     kernel_ = cl::Kernel(runtime_->program(offset_program_files(*method_)), "om_offset");
 }
 
+void OffsetPass::prepare(const DeviceHeightField& f, const PassSettings& settings) {
+    if (method_->precompute == Precompute::None) return;
+    check_field(f);
+    std::ostringstream key;
+    key << f.heights() << ' ' << f.width << 'x' << f.height << ' ' << settings.scale << ' '
+        << static_cast<int>(settings.address);
+    for (float p : params_) key << ' ' << p;
+    if (key.str() == aux_key_) return;
+
+    auto& rt = *runtime_;
+    OmOffsetParams p = offset_params(settings, 0, f.width, f.height);
+    const int res = static_cast<int>(params_[0]), layers = static_cast<int>(params_[1]);
+    const size_t voxels = static_cast<size_t>(res) * res * layers;
+    auto start = std::chrono::steady_clock::now();
+    try {
+        cl::Program program = rt.program({"common/sampling.cl", "prep/distance.cl"});
+        cl::Buffer colmax(rt.context(), CL_MEM_READ_WRITE, static_cast<size_t>(res) * res * sizeof(float));
+        aux_ = cl::Buffer(rt.context(), CL_MEM_READ_WRITE, voxels * sizeof(float));
+        cl::Kernel kc(program, "om_column_max");
+        kc.setArg(0, p);
+        kc.setArg(1, f.heights);
+        kc.setArg(2, res);
+        kc.setArg(3, colmax);
+        cl::Kernel kd(program, "om_distance_map");
+        kd.setArg(0, p);
+        kd.setArg(1, colmax);
+        kd.setArg(2, res);
+        kd.setArg(3, layers);
+        kd.setArg(4, aux_);
+        cl::Event e1, e2;
+        rt.queue().enqueueNDRangeKernel(kc, cl::NullRange, cl::NDRange(res, res), cl::NullRange,
+                                        nullptr, &e1);
+        rt.queue().enqueueNDRangeKernel(kd, cl::NullRange, cl::NDRange(res, res, layers),
+                                        cl::NullRange, nullptr, &e2);
+        e2.wait();
+        precomputed_.bytes = voxels * sizeof(float);
+        precomputed_.build_ms =
+            rt.profiling() ? event_ms(e1) + event_ms(e2)
+                           : std::chrono::duration<double, std::milli>(
+                                 std::chrono::steady_clock::now() - start).count();
+    } catch (const cl::Error& e) {
+        aux_key_.clear();
+        throw Error("cannot build the distance map for '" + method_->name + "' (" +
+                    std::to_string(voxels * sizeof(float)) + " bytes): " +
+                    describe_cl_error(e.err()));
+    }
+    aux_key_ = key.str();
+}
+
 cl::Event OffsetPass::enqueue(const DeviceGBuffer& g, const DeviceHeightField& f,
                               const PassSettings& settings, const OffsetTargets& t,
                               const std::vector<cl::Event>& wait) {
@@ -161,6 +211,7 @@ cl::Event OffsetPass::enqueue(const DeviceGBuffer& g, const DeviceHeightField& f
     check_gbuffer(g);
     check_field(f);
     if (!t.uv()) throw Error("the offset pass needs a uv output buffer");
+    prepare(f, settings);
     OmOffsetParams p = offset_params(settings, static_cast<int>(g.pixels()), f.width, f.height);
     p.mip_levels = f.mip_levels;
     std::copy(params_.begin(), params_.end(), p.p);
@@ -168,10 +219,11 @@ cl::Event OffsetPass::enqueue(const DeviceGBuffer& g, const DeviceHeightField& f
     kernel_.setArg(1, g.uv);
     kernel_.setArg(2, g.view);
     kernel_.setArg(3, f.heights);
-    kernel_.setArg(4, t.uv);
-    set_optional(kernel_, 5, t.depth);
-    set_optional(kernel_, 6, t.fetches);
-    set_optional(kernel_, 7, t.flags);
+    set_optional(kernel_, 4, aux_);
+    kernel_.setArg(5, t.uv);
+    set_optional(kernel_, 6, t.depth);
+    set_optional(kernel_, 7, t.fetches);
+    set_optional(kernel_, 8, t.flags);
     cl::Event event;
     try {
         runtime_->queue().enqueueNDRangeKernel(kernel_, cl::NullRange, padded(g.pixels()),

@@ -44,6 +44,16 @@ const std::vector<MethodInfo>& methods() {
          "Tatarchuk 2006, practical parallax occlusion mapping", "none",
          {{"min_samples", 8, 1, 256, true, "steps when looking straight down"},
           {"max_samples", 32, 1, 256, true, "steps at grazing views"}}},
+        {"sphere", "sphere.cl",
+         "sphere tracing through a conservative 3D distance map from the top plane",
+         "Donnelly 2005, per-pixel displacement mapping with distance functions (GPU Gems 2 "
+         "ch. 8); Premecz 2006 section 2.4",
+         "distance map: res x res x layers floats (4 res^2 layers bytes) plus res^2 column "
+         "maxima, built by a kernel per height map, scale and address mode",
+         {{"res", 256, 8, 1024, true, "distance map voxels per side of the tile"},
+          {"layers", 32, 2, 128, true, "distance map voxels through the relief slab"},
+          {"steps", 64, 1, 256, true, "sphere-tracing steps (one distance fetch each)"}},
+         Precompute::DistanceMap},
         {"exact", "exact.cl",
          "first hit with the bilinear height field: DDA over texel cells, quadratic per patch",
          "ground truth of this project (ray / bilinear patch)", "none", {}},

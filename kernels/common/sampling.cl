@@ -14,6 +14,7 @@ typedef struct {
     int wrap;
     float fw, fh;
     uint fetches;  // bilinear height fetches made so far by this pixel
+    __global const float* aux;  // the method's precomputed data (distance map...), or NULL
 } OmHeightField;
 
 inline OmHeightField om_heightfield(__global const float* h, const OmOffsetParams* P) {
@@ -25,6 +26,7 @@ inline OmHeightField om_heightfield(__global const float* h, const OmOffsetParam
     f.fw = (float)P->hf_width;
     f.fh = (float)P->hf_height;
     f.fetches = 0u;
+    f.aux = 0;
     return f;
 }
 

@@ -53,11 +53,25 @@ public:
     const MethodInfo& method() const { return *method_; }
     const std::vector<float>& params() const { return params_; }
 
+    // The method's precomputed data for the last field it ran on (bytes 0 when it needs none),
+    // and the time its build took (kernel time from profiling events, else wall time).
+    struct Precomputed {
+        size_t bytes = 0;
+        double build_ms = 0.0;
+    };
+    const Precomputed& precomputed() const { return precomputed_; }
+
+    // Builds the precomputed data for `field` now (enqueue does it on first use).
+    void prepare(const DeviceHeightField& field, const PassSettings& settings);
+
 private:
     std::shared_ptr<Runtime> runtime_;
     const MethodInfo* method_;
     std::vector<float> params_;
     cl::Kernel kernel_;
+    cl::Buffer aux_;
+    std::string aux_key_;  // what aux_ was built for
+    Precomputed precomputed_;
 };
 
 struct ShadeSettings {

@@ -14,6 +14,9 @@ struct ParamSpec {
     std::string doc;
 };
 
+// Data a method needs beyond the height pyramid, built on the device before its first pass.
+enum class Precompute { None, DistanceMap };
+
 struct MethodInfo {
     std::string name;         // CLI and API name, e.g. "parallax-limited"
     std::string kernel_file;  // under kernels/methods/
@@ -21,6 +24,7 @@ struct MethodInfo {
     std::string reference;    // the source it follows
     std::string precomputed;  // precomputed data and its memory, or "none"
     std::vector<ParamSpec> params;  // order = OmOffsetParams::p
+    Precompute precompute = Precompute::None;
 };
 
 // All methods, in the order the CLI and the demo list them.
