@@ -36,9 +36,45 @@ inline float3 om_unit_or(float3 v, float3 fallback) {
     return (isfinite(l) && l > 0.0f) ? v / l : fallback;
 }
 
+// Visibility of the light from the relief point above uv (height H0 = H(uv)): 1 lit, 0 shadowed.
+// n samples march from the point toward L up to the top plane (McGuire's shadow loop, with L
+// pointing toward the light, so the march runs along +L.xy). A sample at fraction f of the way
+// sees the relief at height H; its blocker angle above the horizon, seen from the point, is
+// atan(s (H - H0) / (f |D|)), where D is the uv travel to the top plane; the light is at elevation
+// alpha. hard: shadowed if any blocker angle exceeds alpha. soft (Tatarchuk's blocker-distance
+// weighting made geometric): a light of angular diameter light_size is seen half when the worst
+// blocker angle equals alpha, so visibility = clamp(1/2 - (worst - alpha) / light_size, 0, 1):
+// near blockers subtend large angles (sharp penumbra), far ones small. The light obeys the same
+// grazing rule as the view (elevation raised to the minimum), so the march is bounded.
+inline float om_light_visibility(OmHeightField* f, float2 uv, float3 l, const OmShadeParams* P) {
+    float h0 = om_height(f, uv);
+    if (h0 >= 1.0f || P->scale <= 0.0f) return 1.0f;
+    float lxy = length(l.xy);
+    float lz = l.z;
+    if (lz < P->min_vz) {
+        lz = P->min_vz;
+        lxy = sqrt(1.0f - lz * lz);
+    }
+    if (lxy <= 1.0e-6f) return 1.0f;  // light straight above: nothing rises above it
+    float2 dir = l.xy / length(l.xy);
+    float run = (1.0f - h0) * P->scale * lxy / lz;  // uv distance to the top plane
+    float alpha = atan2(lz, lxy);
+    float worst = -M_PI_F;
+    int n = max(P->shadow_steps, 1);
+    for (int i = 1; i <= n; ++i) {
+        float frac = (float)i / (float)n;
+        float h = om_height(f, uv + frac * run * dir);
+        worst = fmax(worst, atan2(P->scale * (h - h0), frac * run));
+        if (P->shadow_mode == OM_SHADOW_HARD && worst > alpha) return 0.0f;
+    }
+    if (P->shadow_mode == OM_SHADOW_HARD) return 1.0f;
+    return clamp(0.5f - (worst - alpha) / fmax(P->light_size, 1.0e-4f), 0.0f, 1.0f);
+}
+
 __kernel void om_shade(const OmShadeParams P, __global const float2* uv_in,
                        __global const uint* flags_in, __global const float4* gb_view,
                        __global const float4* gb_light, __global const float4* normals,
+                       __global const float* heights,
                        __global const float4* albedo, __global float4* out_rgba) {
     int id = get_global_id(0);
     if (id >= P.pixel_count) return;
@@ -60,6 +96,18 @@ __kernel void om_shade(const OmShadeParams P, __global const float2* uv_in,
     // A light below the polygon lights nothing on it, whatever the relief normal says.
     float lit = l.z > 0.0f ? 1.0f : 0.0f;
     float ndl = fmax(dot(n, l), 0.0f) * lit;
+    if (ndl > 0.0f && P.shadow_mode != OM_SHADOW_NONE) {
+        OmHeightField f;
+        f.h = heights;
+        f.w = P.hf_width;
+        f.hgt = P.hf_height;
+        f.wrap = wrap;
+        f.fw = (float)P.hf_width;
+        f.fh = (float)P.hf_height;
+        f.fetches = 0u;
+        f.aux = 0;
+        ndl *= om_light_visibility(&f, uv, l, &P);
+    }
     float3 hv = om_unit_or(l + v, n);
     float spec = ndl > 0.0f ? pow(fmax(dot(n, hv), 0.0f), P.shininess) : 0.0f;
     float3 c = base * (P.ambient + P.diffuse * ndl) + (float3)(P.specular * spec);

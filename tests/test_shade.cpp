@@ -96,3 +96,97 @@ TEST(Shade, NormalMapFileWithGreenFlip) {
 
 }  // namespace
 }  // namespace omtest
+
+namespace omtest {
+namespace {
+
+// A box of height 1 (texels 56..71 of a 128 map) on a floor of 0, s = 0.1, lit from +u at elevation
+// alpha: the box's top edge at u_top = 56.5 / 128 (bilinear: the wall rises between the centres of
+// texels 55 and 56) casts a shadow on the floor behind it (toward -u) of length s / tan(alpha).
+struct BoxScene {
+    static constexpr int n = 128;
+    HeightMap map = make_map(n, n, [](int i, int j) {
+        return (i >= 56 && i < 72 && j >= 56 && j < 72) ? 1.0f : 0.0f;
+    });
+    double u_top = 56.5 / n, u_foot = 55.5 / n;
+    std::vector<double> us;
+
+    std::vector<cl_float4> shade_floor(double alpha_deg, ShadowMode mode, float size_deg = 8.0f) {
+        std::vector<std::array<float, 5>> px;
+        us.clear();
+        for (double u = 0.10; u < u_foot - 1.0 / n; u += 0.25 / n) {
+            us.push_back(u);
+            px.push_back({static_cast<float>(u), 0.5f, 0, 0, 1});
+        }
+        ShadeSettings ss;
+        ss.specular = 0.0f;
+        auto L = view_dir(alpha_deg, 0);
+        std::copy(L.begin(), L.end(), ss.light);
+        ss.shadow = mode;
+        ss.shadow_steps = 64;
+        ss.light_size_deg = size_deg;
+        Image4 white{1, 1, {{{1, 1, 1, 1}}}};
+        auto rt = runtime();
+        PassSettings s;
+        s.scale = 0.1f;
+        DeviceHeightField f = upload(*rt, map, s);
+        GBuffer gb = row_gbuffer(px);
+        DeviceGBuffer g = upload(*rt, gb);
+        OffsetPass pass(rt, "none");
+        OffsetResult r = run_offset(*rt, pass, g, f, s, 1);
+        ShadePass sp(rt);
+        DeviceImage da = upload(*rt, white);
+        return run_shade(*rt, sp, r, g, f, &da, s, ss);
+    }
+};
+
+TEST(Shadows, HardShadowOfABoxHasTheAnalyticLength) {
+    BoxScene box;
+    ShadeSettings ss;
+    for (double alpha : {30.0, 50.0, 70.0}) {
+        auto c = box.shade_floor(alpha, ShadowMode::Hard);
+        const double lit = ss.ambient + ss.diffuse * std::sin(alpha * M_PI / 180);
+        const double edge = box.u_top - 0.1 / std::tan(alpha * M_PI / 180);
+        // Tolerance: one texel (the march samples the light ray 64 times over at most 22 texels,
+        // and the bilinear wall is one texel wide).
+        const double tol = 1.0 / BoxScene::n;
+        size_t checked = 0;
+        for (size_t k = 0; k < box.us.size(); ++k) {
+            double u = box.us[k];
+            if (u < edge - tol) EXPECT_NEAR(c[k].s[0], lit, 1e-4) << "lit at u=" << u << " alpha " << alpha;
+            if (u > edge + tol) EXPECT_NEAR(c[k].s[0], ss.ambient, 1e-4) << "shadow at u=" << u << " alpha " << alpha;
+            checked += std::fabs(u - edge) > tol;
+        }
+        EXPECT_GT(checked, 100u);
+        auto none = box.shade_floor(alpha, ShadowMode::None);
+        for (size_t k = 0; k < box.us.size(); ++k) EXPECT_NEAR(none[k].s[0], lit, 1e-4);
+    }
+}
+
+TEST(Shadows, SoftShadowIsHalfLitAtTheGeometricEdgeAndWidensWithDistance) {
+    BoxScene box;
+    ShadeSettings ss;
+    const double alpha = 40.0;
+    auto c = box.shade_floor(alpha, ShadowMode::Soft, 8.0f);
+    const double full = ss.diffuse * std::sin(alpha * M_PI / 180);
+    const double edge = box.u_top - 0.1 / std::tan(alpha * M_PI / 180);
+    std::vector<double> vis;
+    for (size_t k = 0; k < box.us.size(); ++k) vis.push_back((c[k].s[0] - ss.ambient) / full);
+    // Visibility falls monotonically from lit to dark toward the box ...
+    for (size_t k = 1; k < vis.size(); ++k) EXPECT_LE(vis[k], vis[k - 1] + 1e-5) << box.us[k];
+    // ... is one half where the top edge sits exactly on the light direction ...
+    size_t ke = 0;
+    while (ke + 1 < box.us.size() && box.us[ke] < edge) ++ke;
+    EXPECT_NEAR(vis[ke], 0.5, 0.15) << "at u=" << box.us[ke] << ", edge " << edge;
+    // ... and the penumbra's width is the light's angular size seen over the blocker distance:
+    // d alpha = 8 deg at distance s / sin(alpha) from the edge gives about d / sin(alpha) on the
+    // floor: (0.1 / sin 40) * (8 deg in rad) / sin 40 ~ 0.034 uv. Visibility is 0 and 1 outside.
+    double half = 0.5 * 0.1 / std::sin(alpha * M_PI / 180) * (8.0 * M_PI / 180) / std::sin(alpha * M_PI / 180);
+    for (size_t k = 0; k < box.us.size(); ++k) {
+        if (box.us[k] < edge - 1.5 * half) EXPECT_NEAR(vis[k], 1.0, 1e-4) << box.us[k];
+        if (box.us[k] > edge + 1.5 * half) EXPECT_NEAR(vis[k], 0.0, 1e-4) << box.us[k];
+    }
+}
+
+}  // namespace
+}  // namespace omtest

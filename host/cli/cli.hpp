@@ -20,9 +20,12 @@ struct ReliefOptions {
     std::string address = "wrap";
     std::vector<float> light;  // x y z, tangent space, when the G-buffer has none
     std::string device;
+    std::string shadows = "none";
+    ShadeSettings shade;
 
     void add_to(CLI::App& app, bool height_map_required);
-    PassSettings settings() const;  // pass with the address mode applied
+    PassSettings settings() const;         // pass with the address mode applied
+    ShadeSettings shade_settings() const;  // shading with light and shadow options applied
 };
 
 // Scene source options, shared by gbuffer, render and demo.

@@ -14,6 +14,7 @@ int run_demo(const std::string& out_dir, const ReliefOptions& relief, const Scen
     PassSettings settings = relief.settings();
     HeightMap map = load_height_map(relief.height_map, {relief.channel, relief.depth_map});
     GBuffer gb = scene.make();
+    if (relief.light.size() == 3) gb.light.clear();  // an explicit light wins
     std::error_code ec;
     std::filesystem::create_directories(out_dir, ec);
     if (ec) throw Error("cannot create output folder '" + out_dir + "': " + ec.message());
@@ -22,8 +23,7 @@ int run_demo(const std::string& out_dir, const ReliefOptions& relief, const Scen
     DeviceHeightField field = upload(*rt, map, settings);
     DeviceGBuffer dg = upload(*rt, gb);
     ShadePass shade(rt);
-    ShadeSettings ss;
-    if (relief.light.size() == 3) std::copy(relief.light.begin(), relief.light.end(), ss.light);
+    ShadeSettings ss = relief.shade_settings();
 
     OffsetPass exact_pass(rt, "exact");
     OffsetResult exact = run_offset(*rt, exact_pass, dg, field, settings, 1);

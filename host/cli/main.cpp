@@ -27,9 +27,25 @@ void ReliefOptions::add_to(CLI::App& app, bool required) {
     app.add_option("--address", address, "height addressing")
         ->check(CLI::IsMember({"wrap", "clamp"}))
         ->capture_default_str();
-    app.add_option("--light", light, "tangent-space light direction x y z (without G-buffer L)")
+    app.add_option("--light", light, "tangent-space light direction x y z (replaces the G-buffer's L)")
         ->expected(3);
     app.add_option("--device", device, "OpenCL platform/device name substring ($OFFSETMAP_DEVICE)");
+    app.add_option("--shadows", shadows, "relief self-shadows in the shaded image")
+        ->check(CLI::IsMember({"none", "hard", "soft"}))
+        ->capture_default_str();
+    app.add_option("--shadow-steps", shade.shadow_steps, "samples along the light ray")
+        ->check(CLI::Range(1, 256))
+        ->capture_default_str();
+    app.add_option("--light-size", shade.light_size_deg, "soft shadows: light's angular size (deg)")
+        ->check(CLI::Range(0.01, 90.0))
+        ->capture_default_str();
+}
+
+ShadeSettings ReliefOptions::shade_settings() const {
+    ShadeSettings s = shade;
+    if (light.size() == 3) std::copy(light.begin(), light.end(), s.light);
+    s.shadow = shadows == "hard" ? ShadowMode::Hard : shadows == "soft" ? ShadowMode::Soft : ShadowMode::None;
+    return s;
 }
 
 PassSettings ReliefOptions::settings() const {
@@ -134,6 +150,7 @@ int render(const ReliefOptions& relief, const SceneOptions& scene_opts, const st
         std::cerr << "offsetmap: warning: " << map.clamped << " heights in '" << relief.height_map
                   << "' were outside [0,1] and were clamped\n";
     GBuffer gb = gbuffer.empty() ? scene_opts.make() : load_gbuffer(gbuffer);
+    if (relief.light.size() == 3) gb.light.clear();  // an explicit light wins
     Image4 normals, albedo;
     if (!relief.normal_map.empty()) normals = load_normal_map(relief.normal_map, relief.flip_green);
     if (!relief.albedo.empty()) albedo = load_image4(relief.albedo);
@@ -155,8 +172,7 @@ int render(const ReliefOptions& relief, const SceneOptions& scene_opts, const st
     if (!uv_out.empty()) write_uv_exr(uv_out, result);
     if (!color_out.empty()) {
         ShadePass shade(rt);
-        ShadeSettings ss;
-        if (relief.light.size() == 3) std::copy(relief.light.begin(), relief.light.end(), ss.light);
+        ShadeSettings ss = relief.shade_settings();
         DeviceImage dalbedo;
         if (!relief.albedo.empty()) dalbedo = upload(*rt, albedo);
         auto rgba = run_shade(*rt, shade, result, dg, field, relief.albedo.empty() ? nullptr : &dalbedo,
@@ -211,6 +227,7 @@ int main(int argc, char** argv) {
     SceneOptions demo_scene;
     std::string demo_out = "out/demo";
     int repeats = 5;
+    demo_relief.shadows = "soft";
     demo_relief.add_to(*cmd_demo, true);
     demo_scene.plane.width = 640;
     demo_scene.plane.height = 360;

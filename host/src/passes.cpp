@@ -273,6 +273,18 @@ cl::Event ShadePass::enqueue(const cl::Buffer& uv, const cl::Buffer& flags,
     p.diffuse = s.diffuse;
     p.specular = s.specular;
     p.shininess = s.shininess;
+    if (s.shadow_steps < 1 || s.shadow_steps > 256)
+        throw Error("shadow steps must be in [1, 256], got " + std::to_string(s.shadow_steps));
+    if (!(s.light_size_deg > 0.0f && s.light_size_deg <= 90.0f))
+        throw Error("light size must be in (0, 90] degrees, got " + std::to_string(s.light_size_deg));
+    p.shadow_mode = s.shadow == ShadowMode::Hard   ? OM_SHADOW_HARD
+                    : s.shadow == ShadowMode::Soft ? OM_SHADOW_SOFT
+                                                   : OM_SHADOW_NONE;
+    p.shadow_steps = s.shadow_steps;
+    p.light_size = static_cast<float>(s.light_size_deg * M_PI / 180.0);
+    p.scale = settings.scale;
+    p.ref_plane = settings.reference_plane;
+    p.min_vz = static_cast<float>(std::sin(settings.min_elevation_deg * M_PI / 180.0));
     p.has_albedo = albedo ? 1 : 0;
     p.albedo_width = albedo ? albedo->width : 0;
     p.albedo_height = albedo ? albedo->height : 0;
@@ -282,8 +294,9 @@ cl::Event ShadePass::enqueue(const cl::Buffer& uv, const cl::Buffer& flags,
     kernel_.setArg(3, g.view);
     set_optional(kernel_, 4, g.light);
     kernel_.setArg(5, f.normals);
-    set_optional(kernel_, 6, albedo ? albedo->texels : cl::Buffer());
-    kernel_.setArg(7, out_rgba);
+    kernel_.setArg(6, f.heights);
+    set_optional(kernel_, 7, albedo ? albedo->texels : cl::Buffer());
+    kernel_.setArg(8, out_rgba);
     cl::Event event;
     try {
         runtime_->queue().enqueueNDRangeKernel(kernel_, cl::NullRange, padded(g.pixels()),

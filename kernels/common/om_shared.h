@@ -54,7 +54,15 @@ typedef struct {
     om_float ambient, diffuse, specular, shininess;
     om_int has_albedo;                   // 0: neutral procedural checker
     om_int albedo_width, albedo_height;
+    om_int shadow_mode;                  // OM_SHADOW_*
+    om_int shadow_steps;                 // samples along the light ray
+    om_float light_size;                 // soft shadows: the light's angular diameter (radians)
+    om_float scale, ref_plane, min_vz;   // the relief, as in OmOffsetParams
     om_int pad;
 } OmShadeParams;
+
+#define OM_SHADOW_NONE 0
+#define OM_SHADOW_HARD 1
+#define OM_SHADOW_SOFT 2
 
 #endif

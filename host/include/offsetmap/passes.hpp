@@ -74,12 +74,17 @@ private:
     Precomputed precomputed_;
 };
 
+enum class ShadowMode { None, Hard, Soft };
+
 struct ShadeSettings {
     float light[3] = {0.55f, 0.35f, 0.76f};  // tangent-space L when the G-buffer has none
     float ambient = 0.22f;
     float diffuse = 0.85f;
     float specular = 0.25f;
     float shininess = 40.0f;
+    ShadowMode shadow = ShadowMode::None;  // self-shadows of the relief
+    int shadow_steps = 16;                 // samples along the light ray, [1, 256]
+    float light_size_deg = 8.0f;           // soft shadows: the light's angular diameter
 };
 
 // An albedo texture on the device (float4 texels, linear RGB).
