@@ -1,10 +1,15 @@
-// The one offset kernel entry: G-buffer load, validation, one method's om_trace, store.
+// The one offset kernel entry: G-buffer load, validation, LOD, one method's om_trace, store.
 // Compiled once per method; the method file defining om_trace is pasted in before this file.
-// aux is the method's precomputed data (NULL for most). Optional outputs (depth, fetches, flags)
-// may be NULL buffers.
+// aux is the method's precomputed data (NULL for most); lod is the per-pixel mip level (NULL
+// unless the LOD system is on). Optional outputs (depth, fetches, flags) may be NULL buffers.
+//
+// LOD (Tatarchuk 2006): at mip level m the heights are read from level floor(m) of the pyramid,
+// step counts are scaled by mix(1, min_detail, m / threshold) (more samples near the viewer), and
+// the offset fades linearly to plain normal mapping over the `fade` levels below the threshold:
+// uv' = uv + w (uv'_method - uv), w = clamp((threshold - m) / fade, 0, 1); w = 0 skips the trace.
 __kernel void om_offset(const OmOffsetParams P, __global const float2* gb_uv,
                         __global const float4* gb_view, __global const float* heights,
-                        __global const float* aux,
+                        __global const float* aux, __global const float* lod,
                         __global float2* out_uv, __global float* out_depth,
                         __global uint* out_fetches, __global uint* out_flags) {
     int id = get_global_id(0);
@@ -13,12 +18,30 @@ __kernel void om_offset(const OmOffsetParams P, __global const float2* gb_uv,
     OmRay ray;
     float2 base;
     uint flags = om_setup_ray(uv, gb_view[id], &P, &ray, &base);
-    OmHeightField f = om_heightfield(heights, &P);
+    float blend = 1.0f;
+    int level = 0;
+    if (P.lod_enabled && lod) {
+        float m = lod[id];
+        m = isfinite(m) ? m : 0.0f;
+        blend = clamp((P.lod_threshold - m) / P.lod_fade, 0.0f, 1.0f);
+        ray.detail = mix(1.0f, P.lod_min_detail, clamp(m / P.lod_threshold, 0.0f, 1.0f));
+        level = (int)floor(clamp(m, 0.0f, 16.0f));
+    }
+    OmHeightField f = om_heightfield_level(heights, &P, level);
     f.aux = aux;
     float t = 0.0f;
     float2 out = uv;
     if ((flags & (OM_FLAG_EMPTY | OM_FLAG_INVALID | OM_FLAG_BACKFACING)) == 0u) {
-        out = om_trace(&ray, &f, &P, &t, &flags) + base;
+        if (blend > 0.0f) {
+            float2 hit = om_trace(&ray, &f, &P, &t, &flags);
+            if (blend < 1.0f) {
+                hit = ray.uv + blend * (hit - ray.uv);
+                t *= blend;
+            }
+            out = hit + base;
+        } else {
+            flags |= OM_FLAG_LOD_FADED;
+        }
     }
     out_uv[id] = out;
     if (out_depth) out_depth[id] = t;

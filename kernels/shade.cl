@@ -97,15 +97,7 @@ __kernel void om_shade(const OmShadeParams P, __global const float2* uv_in,
     float lit = l.z > 0.0f ? 1.0f : 0.0f;
     float ndl = fmax(dot(n, l), 0.0f) * lit;
     if (ndl > 0.0f && P.shadow_mode != OM_SHADOW_NONE) {
-        OmHeightField f;
-        f.h = heights;
-        f.w = P.hf_width;
-        f.hgt = P.hf_height;
-        f.wrap = wrap;
-        f.fw = (float)P.hf_width;
-        f.fh = (float)P.hf_height;
-        f.fetches = 0u;
-        f.aux = 0;
+        OmHeightField f = om_heightfield_of(heights, P.hf_width, P.hf_height, wrap);
         ndl *= om_light_visibility(&f, uv, l, &P);
     }
     float3 hv = om_unit_or(l + v, n);

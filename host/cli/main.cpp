@@ -24,6 +24,13 @@ void ReliefOptions::add_to(CLI::App& app, bool required) {
     app.add_option("--grazing-min-deg", pass.min_elevation_deg,
                    "views below this elevation are raised to it (the grazing rule)")
         ->capture_default_str();
+    app.add_option("--lod-threshold", pass.lod.threshold,
+                   "turn Tatarchuk's LOD on: mip level past which only normal mapping remains")
+        ->each([this](const std::string&) { pass.lod.enabled = true; });
+    app.add_option("--lod-fade", pass.lod.fade, "LOD: levels over which the effect fades out")
+        ->capture_default_str();
+    app.add_option("--lod-min-detail", pass.lod.min_detail, "LOD: step-count factor at the threshold")
+        ->capture_default_str();
     app.add_option("--address", address, "height addressing")
         ->check(CLI::IsMember({"wrap", "clamp"}))
         ->capture_default_str();

@@ -31,6 +31,10 @@ OmOffsetParams offset_params(const PassSettings& s, int pixels, int hf_w, int hf
     double cells = std::ceil(s.scale / p.min_vz * (hf_w + hf_h)) + 4.0;
     p.max_cells = static_cast<om_int>(std::min(cells, static_cast<double>(INT_MAX / 2)));
     p.mip_levels = 1;
+    p.lod_enabled = s.lod.enabled ? 1 : 0;
+    p.lod_threshold = s.lod.threshold;
+    p.lod_fade = s.lod.fade;
+    p.lod_min_detail = s.lod.min_detail;
     return p;
 }
 
@@ -113,6 +117,14 @@ void validate(const PassSettings& s) {
     range("scale", s.scale, 0.0f, 1.0f);
     range("reference plane", s.reference_plane, 0.0f, 1.0f);
     range("minimum elevation (degrees)", s.min_elevation_deg, 0.1f, 89.0f);
+    if (s.lod.enabled) {
+        range("LOD threshold", s.lod.threshold, 0.5f, 16.0f);
+        if (!(s.lod.fade > 0.0f && s.lod.fade <= s.lod.threshold))
+            throw Error("LOD fade must be in (0, threshold], got " + std::to_string(s.lod.fade));
+        if (!(s.lod.min_detail > 0.0f && s.lod.min_detail <= 1.0f))
+            throw Error("LOD minimum detail must be in (0, 1], got " +
+                        std::to_string(s.lod.min_detail));
+    }
 }
 
 DeviceHeightField upload(Runtime& rt, const HeightMap& map, const PassSettings& settings,
@@ -204,6 +216,27 @@ void OffsetPass::prepare(const DeviceHeightField& f, const PassSettings& setting
     aux_key_ = key.str();
 }
 
+cl::Buffer OffsetPass::footprint(const DeviceGBuffer& g, const DeviceHeightField& f,
+                                 const std::vector<cl::Event>& wait, std::vector<cl::Event>& deps) {
+    auto& rt = *runtime_;
+    if (footprint_pixels_ != g.pixels()) {
+        footprint_ = cl::Buffer(rt.context(), CL_MEM_READ_WRITE, g.pixels() * sizeof(float));
+        footprint_pixels_ = g.pixels();
+    }
+    cl::Kernel k(rt.program({"prep/footprint.cl"}), "om_footprint_lod");
+    k.setArg(0, g.uv);
+    k.setArg(1, g.width);
+    k.setArg(2, g.height);
+    k.setArg(3, static_cast<float>(f.width));
+    k.setArg(4, static_cast<float>(f.height));
+    k.setArg(5, footprint_);
+    cl::Event e;
+    rt.queue().enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(g.width, g.height), cl::NullRange,
+                                    &wait, &e);
+    deps = {e};
+    return footprint_;
+}
+
 cl::Event OffsetPass::enqueue(const DeviceGBuffer& g, const DeviceHeightField& f,
                               const PassSettings& settings, const OffsetTargets& t,
                               const std::vector<cl::Event>& wait) {
@@ -220,14 +253,20 @@ cl::Event OffsetPass::enqueue(const DeviceGBuffer& g, const DeviceHeightField& f
     kernel_.setArg(2, g.view);
     kernel_.setArg(3, f.heights);
     set_optional(kernel_, 4, aux_);
-    kernel_.setArg(5, t.uv);
-    set_optional(kernel_, 6, t.depth);
-    set_optional(kernel_, 7, t.fetches);
-    set_optional(kernel_, 8, t.flags);
+    kernel_.setArg(6, t.uv);
+    set_optional(kernel_, 7, t.depth);
+    set_optional(kernel_, 8, t.fetches);
+    set_optional(kernel_, 9, t.flags);
     cl::Event event;
     try {
+        std::vector<cl::Event> deps = wait;
+        cl::Buffer lod;
+        if (settings.lod.enabled) {
+            lod = g.lod() ? g.lod : footprint(g, f, wait, deps);
+        }
+        set_optional(kernel_, 5, lod);
         runtime_->queue().enqueueNDRangeKernel(kernel_, cl::NullRange, padded(g.pixels()),
-                                               cl::NDRange(kLocalSize), &wait, &event);
+                                               cl::NDRange(kLocalSize), &deps, &event);
     } catch (const cl::Error& e) {
         throw Error("cannot run the '" + method_->name + "' offset pass: " +
                     describe_cl_error(e.err()));

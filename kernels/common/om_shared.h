@@ -23,6 +23,7 @@ typedef std::uint32_t om_uint;
 #define OM_FLAG_GRAZING 8u       // V.z was raised to min_vz (the grazing rule)
 #define OM_FLAG_RENORMALIZED 16u // |V| differed from 1 by more than 1e-3 and was normalised
 #define OM_FLAG_CAPPED 32u       // a marching loop reached its iteration cap
+#define OM_FLAG_LOD_FADED 64u    // past the LOD threshold: normal mapping only (uv' = uv)
 
 #define OM_ADDRESS_WRAP 0
 #define OM_ADDRESS_CLAMP 1
@@ -37,6 +38,10 @@ typedef struct {
     om_float min_vz;     // grazing rule: V.z is raised to at least this (sin of min elevation)
     om_int max_cells;    // hard cap on cells or steps any marching loop may visit
     om_int mip_levels;   // levels in the height buffer: level 0, then each half the size
+    om_int lod_enabled;  // Tatarchuk's LOD system (per-pixel mip level from the lod buffer)
+    om_float lod_threshold;   // mip level at and past which the pass is plain normal mapping
+    om_float lod_fade;        // levels below the threshold over which the effect fades out
+    om_float lod_min_detail;  // step-count factor at the threshold (1 at level 0)
     om_int pad0, pad1, pad2;
     om_float p[OM_MAX_METHOD_PARAMS];  // method parameters, in registry order
 } OmOffsetParams;

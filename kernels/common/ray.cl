@@ -7,7 +7,11 @@ typedef struct {
     float ref;      // r
     float t_enter;  // ray parameter at the top plane (negative when r < 1)
     float t_exit;   // ray parameter at the bottom plane
+    float detail;   // LOD step-count factor in (0, 1]: 1 near the viewer
 } OmRay;
+
+// A method's step count scaled by the LOD detail factor (at least 1).
+inline int om_lod_count(const OmRay* r, float n) { return max(1, (int)(n * r->detail + 0.5f)); }
 
 // Height of the relief surface at H, in the ray's z units.
 inline float om_surface_z(const OmRay* r, float h) { return r->scale * (h - r->ref); }
@@ -52,5 +56,6 @@ inline uint om_setup_ray(float2 uv, float4 v4, const OmOffsetParams* P, OmRay* r
     r->ref = P->ref_plane;
     r->t_enter = -P->scale * (1.0f - P->ref_plane) / v.z;
     r->t_exit = P->scale * P->ref_plane / v.z;
+    r->detail = 1.0f;
     return flags;
 }

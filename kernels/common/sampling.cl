@@ -9,7 +9,9 @@
 #endif
 
 typedef struct {
-    __global const float* h;
+    __global const float* h;     // this level's texels
+    __global const float* base;  // level 0 (the pyramid's start)
+    int level;
     int w, hgt;
     int wrap;
     float fw, fh;
@@ -17,17 +19,23 @@ typedef struct {
     __global const float* aux;  // the method's precomputed data (distance map...), or NULL
 } OmHeightField;
 
-inline OmHeightField om_heightfield(__global const float* h, const OmOffsetParams* P) {
+inline OmHeightField om_heightfield_of(__global const float* h, int w, int hgt, int wrap) {
     OmHeightField f;
     f.h = h;
-    f.w = P->hf_width;
-    f.hgt = P->hf_height;
-    f.wrap = P->address_mode == OM_ADDRESS_WRAP;
-    f.fw = (float)P->hf_width;
-    f.fh = (float)P->hf_height;
+    f.base = h;
+    f.level = 0;
+    f.w = w;
+    f.hgt = hgt;
+    f.wrap = wrap;
+    f.fw = (float)w;
+    f.fh = (float)hgt;
     f.fetches = 0u;
     f.aux = 0;
     return f;
+}
+
+inline OmHeightField om_heightfield(__global const float* h, const OmOffsetParams* P) {
+    return om_heightfield_of(h, P->hf_width, P->hf_height, P->address_mode == OM_ADDRESS_WRAP);
 }
 
 // A view of mip level `level` (clamped to those present) of the height pyramid. Level k is
@@ -37,6 +45,7 @@ inline OmHeightField om_heightfield_level(__global const float* h, const OmOffse
                                           int level) {
     OmHeightField f = om_heightfield(h, P);
     level = clamp(level, 0, max(P->mip_levels - 1, 0));
+    f.level = level;
     for (int k = 0; k < level; ++k) {
         f.h += f.w * f.hgt;
         f.w = max(1, f.w / 2);

@@ -5,7 +5,7 @@
 float2 om_trace(const OmRay* r, OmHeightField* f, const OmOffsetParams* P, float* t_hit,
                 uint* flags) {
     float n_min = P->p[0], n_max = P->p[1];
-    int n = max(1, (int)(mix(n_max, n_min, r->v.z) + 0.5f));
+    int n = om_lod_count(r, mix(n_max, n_min, r->v.z));
     OmLinearHit hit = om_linear_search(r, f, n);
     float lambda = 0.0f;
     if (hit.index > 0) {

@@ -4,7 +4,7 @@
 // Cost: at most n + 1 + m fetches.
 float2 om_trace(const OmRay* r, OmHeightField* f, const OmOffsetParams* P, float* t_hit,
                 uint* flags) {
-    int n = (int)P->p[0], m = (int)P->p[1];
+    int n = om_lod_count(r, P->p[0]), m = (int)P->p[1];
     OmLinearHit hit = om_linear_search(r, f, n);
     float hi = (float)hit.index / (float)n;
     float lo = hit.index > 0 ? (float)(hit.index - 1) / (float)n : 0.0f;

@@ -27,7 +27,7 @@ inline float om_sphere_distance(const OmHeightField* f, const OmOffsetParams* P,
 
 float2 om_trace(const OmRay* r, OmHeightField* f, const OmOffsetParams* P, float* t_hit,
                 uint* flags) {
-    int res = (int)P->p[0], layers = (int)P->p[1], steps = (int)P->p[2];
+    int res = (int)P->p[0], layers = (int)P->p[1], steps = om_lod_count(r, P->p[2]);
     float span = r->t_exit - r->t_enter;
     float t = r->t_enter;
     for (int n = 0; n < steps; ++n) {

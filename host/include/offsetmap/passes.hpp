@@ -14,12 +14,24 @@ namespace offsetmap {
 
 enum class AddressMode { Wrap, Clamp };
 
+// Tatarchuk's level-of-detail system (off by default). The per-pixel mip level m comes from the
+// G-buffer's lod buffer, or from the uv footprint between neighbouring pixels when it has none.
+// Heights are read at level floor(m), step counts scale by mix(1, min_detail, m / threshold), and
+// the offset fades to plain normal mapping over `fade` levels below `threshold`.
+struct LodSettings {
+    bool enabled = false;
+    float threshold = 4.0f;    // mip level at and past which uv' = uv, [0.5, 16]
+    float fade = 1.0f;         // (0, threshold]
+    float min_detail = 0.25f;  // (0, 1]
+};
+
 // The relief's placement (DESIGN.md): surface z = scale * (H - reference_plane), in uv units.
 struct PassSettings {
     float scale = 0.05f;             // depth scale s, in uv units, [0, 1]
     float reference_plane = 1.0f;    // r in [0,1]: the polygon's height
     float min_elevation_deg = 1.0f;  // grazing rule: views lower than this are raised to it
     AddressMode address = AddressMode::Wrap;
+    LodSettings lod;
 };
 
 // Throws Error naming the setting that is out of range.
@@ -65,12 +77,18 @@ public:
     void prepare(const DeviceHeightField& field, const PassSettings& settings);
 
 private:
+    // Enqueues the footprint pre-pass after `wait`; `deps` becomes its event.
+    cl::Buffer footprint(const DeviceGBuffer& g, const DeviceHeightField& f,
+                         const std::vector<cl::Event>& wait, std::vector<cl::Event>& deps);
+
     std::shared_ptr<Runtime> runtime_;
     const MethodInfo* method_;
     std::vector<float> params_;
     cl::Kernel kernel_;
     cl::Buffer aux_;
     std::string aux_key_;  // what aux_ was built for
+    cl::Buffer footprint_;  // per-pixel mip levels when the G-buffer brings none
+    size_t footprint_pixels_ = 0;
     Precomputed precomputed_;
 };
 
