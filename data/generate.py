@@ -5,9 +5,13 @@ white = high, tiling seamlessly). Deterministic: the same files on every run.
     /usr/bin/python3 data/generate.py [output folder, default: this script's folder]
 
 Needs Debian's python3-numpy and python3-openimageio.
-  rocks.png   256x256  rounded bricks with mortar grooves and fine grain (the demo's default)
-  bumps.png   256x256  smooth sum of tiling sines (gentle slopes)
+  rocks.png   256x256  rounded bricks with mortar grooves and fine grain (brick-like cliffs; demo)
+  bumps.png   256x256  smooth bumps: a sum of low-frequency tiling sines (gentle slopes)
+  sines.png   256x256  a sine field: H = 1/2 + 1/2 sin(2 pi 4 u) sin(2 pi 4 v) (smooth, full range)
   noise.png   128x128  high-frequency value noise
+  spikes.png  256x256  thin spikes (fur-like): 1-2 texel cones of random height on a low floor
+  text.png    256x256  raised text ("OFFSET MAP"), bevelled by a small blur
+  stairs.png  256x256  eight steps along u, each a cliff of 1/8
 """
 import os
 import sys
@@ -79,9 +83,48 @@ def rocks(n=256):
     return np.clip(h, 0.0, 1.0)
 
 
+def sines(n=256):
+    u, v = grid(n)
+    return 0.5 + 0.5 * np.sin(2 * np.pi * 4 * u) * np.sin(2 * np.pi * 4 * v)
+
+
+def spikes(n=256):
+    rng = np.random.default_rng(11)
+    h = np.full((n, n), 0.05)
+    for _ in range(3000):
+        ci, cj = rng.integers(0, n, 2)
+        top = rng.uniform(0.5, 1.0)
+        radius = rng.uniform(0.8, 2.0)  # texels
+        for dj in range(-2, 3):
+            for di in range(-2, 3):
+                r = np.hypot(di, dj)
+                if r <= radius:
+                    j, i = (cj + dj) % n, (ci + di) % n
+                    h[j, i] = max(h[j, i], top * (1 - r / (radius + 1)))
+    return h
+
+
+def text(n=256):
+    buf = oiio.ImageBuf(oiio.ImageSpec(n, n, 1, "float"))
+    oiio.ImageBufAlgo.render_text(buf, 16, 105, "OFFSET", 50, "DejaVuSans-Bold", (1.0,))
+    oiio.ImageBufAlgo.render_text(buf, 42, 200, "MAP", 80, "DejaVuSans-Bold", (1.0,))
+    mask = np.asarray(buf.get_pixels(oiio.FLOAT)).reshape(n, n)
+    # A 5x5 box blur bevels the letters so the bilinear relief has slopes, not only walls.
+    padded = np.pad(mask, 2, mode="wrap")
+    soft = sum(padded[dj:dj + n, di:di + n] for dj in range(5) for di in range(5)) / 25.0
+    return 0.15 + 0.75 * np.clip(soft * 1.4, 0.0, 1.0)
+
+
+def stairs(n=256):
+    u, _ = grid(n)
+    return np.floor(u * 8) / 8 + 1.0 / 16
+
+
 if __name__ == "__main__":
     out = sys.argv[1] if len(sys.argv) > 1 else os.path.dirname(os.path.abspath(__file__))
     os.makedirs(out, exist_ok=True)
-    for name, fn in (("rocks", rocks), ("bumps", bumps), ("noise", noise)):
+    maps = (("rocks", rocks), ("bumps", bumps), ("sines", sines), ("noise", noise),
+            ("spikes", spikes), ("text", text), ("stairs", stairs))
+    for name, fn in maps:
         save(os.path.join(out, name + ".png"), fn())
         print("wrote", os.path.join(out, name + ".png"))
