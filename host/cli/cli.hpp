@@ -40,7 +40,30 @@ struct SceneOptions {
     GBuffer make() const;
 };
 
-int run_demo(const std::string& out_dir, const ReliefOptions& relief, const SceneOptions& scene,
-             int repeats);
+// Every method on one scene: shaded, uv-error and fetch-count images, contact sheet, table.
+int run_compare(const std::string& out_dir, const ReliefOptions& relief, const SceneOptions& scene,
+                int repeats);
+
+struct SweepCommand {
+    std::vector<std::string> maps;  // image files; default: the sweep maps in data_dir
+    std::string data_dir = "data";
+    std::string out_dir = "out/sweep";
+    std::vector<std::string> methods;
+    bool quick = false;
+    int repeats = 5;
+    bool charts = true;
+};
+int run_sweep_command(const SweepCommand& cmd, const ReliefOptions& relief);
+
+struct FailureCommand {
+    std::string out_dir = "out/failure";
+    std::vector<std::string> methods;
+    int samples = 256;
+    bool charts = true;
+};
+int run_failure_command(const FailureCommand& cmd, const ReliefOptions& relief);
+
+// Runs bench/<script> with Debian's Python (matplotlib); false (with a warning) when it cannot.
+bool run_chart_script(const std::string& script, const std::vector<std::string>& args);
 
 }  // namespace offsetmap::cli

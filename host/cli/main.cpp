@@ -229,20 +229,53 @@ int main(int argc, char** argv) {
     cmd_render->add_option("--error-out", error_out,
                            "heat map of uv error in texels against exact (PNG; log scale to 16)");
 
-    auto* cmd_demo = app.add_subcommand("demo", "render the scene with every method, sheet + table");
-    ReliefOptions demo_relief;
-    SceneOptions demo_scene;
-    std::string demo_out = "out/demo";
+    auto* cmd_compare = app.add_subcommand("compare", "every method on one scene: contact sheet + table");
+    ReliefOptions cmp_relief;
+    SceneOptions cmp_scene;
+    std::string cmp_out = "out/compare";
     int repeats = 5;
-    demo_relief.shadows = "soft";
-    demo_relief.add_to(*cmd_demo, true);
-    demo_scene.plane.width = 640;
-    demo_scene.plane.height = 360;
-    demo_scene.add_to(*cmd_demo);
-    cmd_demo->add_option("-o,--out", demo_out, "output folder")->capture_default_str();
-    cmd_demo->add_option("--repeats", repeats, "timed runs per method (median reported)")
+    cmp_relief.shadows = "soft";
+    cmp_relief.add_to(*cmd_compare, true);
+    cmp_scene.plane.width = 640;
+    cmp_scene.plane.height = 360;
+    cmp_scene.add_to(*cmd_compare);
+    cmd_compare->add_option("-o,--out", cmp_out, "output folder")->capture_default_str();
+    cmd_compare->add_option("--repeats", repeats, "timed runs per method (median reported)")
         ->check(CLI::Range(1, 100))
         ->capture_default_str();
+
+    auto* cmd_sweep = app.add_subcommand("sweep", "accuracy against cost over every method's settings");
+    ReliefOptions sweep_relief;
+    SweepCommand sweep;
+    sweep_relief.add_to(*cmd_sweep, false);
+    cmd_sweep->add_option("--maps", sweep.maps, "height maps (default: the sweep maps in --data)");
+    cmd_sweep->add_option("--data", sweep.data_dir, "folder of the default maps")->capture_default_str();
+    cmd_sweep->add_option("-o,--out", sweep.out_dir, "output folder")->capture_default_str();
+    cmd_sweep->add_option("--methods", sweep.methods, "methods to sweep (default: all)");
+    cmd_sweep->add_flag("--quick", sweep.quick, "3 maps, smaller views, 3 timed runs (about a minute)");
+    cmd_sweep->add_option("--repeats", sweep.repeats, "timed runs per point")->check(CLI::Range(1, 100))
+        ->capture_default_str();
+    cmd_sweep->add_flag("!--no-charts", sweep.charts, "skip the matplotlib charts");
+
+    auto* cmd_failure = app.add_subcommand("failure-map", "error over view elevation x depth scale");
+    ReliefOptions failure_relief;
+    FailureCommand failure;
+    failure_relief.add_to(*cmd_failure, true);
+    cmd_failure->add_option("-o,--out", failure.out_dir, "output folder")->capture_default_str();
+    cmd_failure->add_option("--methods", failure.methods, "methods (default: all)");
+    cmd_failure->add_option("--samples", failure.samples, "random views per cell")
+        ->check(CLI::Range(1, 65536))
+        ->capture_default_str();
+    cmd_failure->add_flag("!--no-charts", failure.charts, "skip the matplotlib figure");
+
+    auto* cmd_demo = app.add_subcommand(
+        "demo", "compare + quick sweep + failure map on the default data -> one folder");
+    ReliefOptions demo_relief;
+    std::string demo_out = "out/demo", demo_data = "data";
+    demo_relief.shadows = "soft";
+    demo_relief.add_to(*cmd_demo, false);
+    cmd_demo->add_option("-o,--out", demo_out, "output folder")->capture_default_str();
+    cmd_demo->add_option("--data", demo_data, "folder of the default maps")->capture_default_str();
 
     try {
         app.parse(argc, argv);
@@ -254,7 +287,25 @@ int main(int argc, char** argv) {
         if (*cmd_gbuffer) save_gbuffer(gb_out, gb_scene.make());
         if (*cmd_render)
             return render(relief, scene, gbuffer, method, sets, uv_out, color_out, error_out);
-        if (*cmd_demo) return run_demo(demo_out, demo_relief, demo_scene, repeats);
+        if (*cmd_compare) return run_compare(cmp_out, cmp_relief, cmp_scene, repeats);
+        if (*cmd_sweep) return run_sweep_command(sweep, sweep_relief);
+        if (*cmd_failure) return run_failure_command(failure, failure_relief);
+        if (*cmd_demo) {
+            if (demo_relief.height_map.empty()) demo_relief.height_map = demo_data + "/rocks.png";
+            SceneOptions scene;
+            scene.plane.width = 640;
+            scene.plane.height = 360;
+            run_compare(demo_out, demo_relief, scene, 5);
+            SweepCommand quick;
+            quick.data_dir = demo_data;
+            quick.out_dir = demo_out;
+            quick.quick = true;
+            run_sweep_command(quick, demo_relief);
+            FailureCommand fm;
+            fm.out_dir = demo_out;
+            fm.samples = 128;
+            return run_failure_command(fm, demo_relief);
+        }
     } catch (const offsetmap::Error& e) {
         std::cerr << "offsetmap: error: " << e.what() << "\n";
         return 1;

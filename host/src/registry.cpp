@@ -24,26 +24,41 @@ const std::vector<MethodInfo>& methods() {
          "none (the bilinear patch's own gradient gives the normal)",
          {{"safe", 0, 0, 1, true,
            "0: t = s(r-H) / (n.V), n = (-s grad H, 1), n.V >= 1e-4, t clamped to the slab; 1: Premecz safe "
-           "form t = s(r-H) N.z"}}},
+           "form t = s(r-H) N.z"}},
+         Precompute::None,
+         {{{"safe", "0"}}, {{"safe", "1"}}}},
         {"parallax-iterative", "parallax_iterative.cl",
          "the slope step repeated from the previous estimate (1 fetch per iteration)",
          "Premecz 2006, section 3", "none",
          {{"iterations", 4, 1, 64, true, "slope steps k (k = 1 is parallax-slope)"},
-          {"safe", 0, 0, 1, true, "as parallax-slope"}}},
+          {"safe", 0, 0, 1, true, "as parallax-slope"}},
+         Precompute::None,
+         {{{"iterations", "2"}}, {{"iterations", "4"}}, {{"iterations", "8"}}, {{"iterations", "16"}}}},
         {"steep", "steep.cl", "n equal depth layers, first sample at or below the relief",
          "McGuire & McGuire 2005, steep parallax mapping", "height mip pyramid (4/3 of the map)",
          {{"layers", 16, 1, 256, true, "depth layers n (at most n + 1 fetches)"},
-          {"lod", 0, 0, 15, true, "mip level held fixed during the march"}}},
+          {"lod", 0, 0, 15, true, "mip level held fixed during the march"}},
+         Precompute::None,
+         {{{"layers", "4"}}, {{"layers", "8"}}, {{"layers", "16"}}, {{"layers", "32"}},
+          {{"layers", "64"}}, {{"layers", "128"}}}},
         {"relief", "relief.cl", "linear search, then binary search",
          "Policarpo, Oliveira & Comba 2005, relief mapping; Premecz 2006 section 2.3", "none",
          {{"linear", 16, 1, 256, true, "linear search steps n"},
-          {"binary", 6, 0, 32, true, "binary search steps m"}}},
+          {"binary", 6, 0, 32, true, "binary search steps m"}},
+         Precompute::None,
+         {{{"linear", "4"}, {"binary", "2"}}, {{"linear", "8"}, {"binary", "4"}},
+          {{"linear", "16"}, {"binary", "6"}}, {{"linear", "32"}, {"binary", "8"}},
+          {{"linear", "64"}, {"binary", "10"}}}},
         {"pom", "pom.cl",
          "linear search with lerp(n_max, n_min, V.z) steps, then the ray cut with the segment "
          "between the last two samples",
          "Tatarchuk 2006, practical parallax occlusion mapping", "none",
          {{"min_samples", 8, 1, 256, true, "steps when looking straight down"},
-          {"max_samples", 32, 1, 256, true, "steps at grazing views"}}},
+          {"max_samples", 32, 1, 256, true, "steps at grazing views"}},
+         Precompute::None,
+         {{{"min_samples", "4"}, {"max_samples", "16"}}, {{"min_samples", "8"}, {"max_samples", "32"}},
+          {{"min_samples", "16"}, {"max_samples", "64"}},
+          {{"min_samples", "32"}, {"max_samples", "128"}}}},
         {"sphere", "sphere.cl",
          "sphere tracing through a conservative 3D distance map from the top plane",
          "Donnelly 2005, per-pixel displacement mapping with distance functions (GPU Gems 2 "
@@ -53,7 +68,11 @@ const std::vector<MethodInfo>& methods() {
          {{"res", 256, 8, 1024, true, "distance map voxels per side of the tile"},
           {"layers", 32, 2, 128, true, "distance map voxels through the relief slab"},
           {"steps", 64, 1, 256, true, "sphere-tracing steps (one distance fetch each)"}},
-         Precompute::DistanceMap},
+         Precompute::DistanceMap,
+         {{{"res", "64"}, {"layers", "16"}, {"steps", "16"}},
+          {{"res", "128"}, {"layers", "16"}, {"steps", "32"}},
+          {{"res", "256"}, {"layers", "32"}, {"steps", "64"}},
+          {{"res", "512"}, {"layers", "64"}, {"steps", "128"}}}},
         {"exact", "exact.cl",
          "first hit with the bilinear height field: DDA over texel cells, quadratic per patch",
          "ground truth of this project (ray / bilinear patch)", "none", {}},
@@ -105,6 +124,12 @@ std::vector<float> resolve_params(const MethodInfo& method,
         values[idx] = static_cast<float>(v);
     }
     return values;
+}
+
+std::string describe_setting(const std::map<std::string, std::string>& setting) {
+    std::string out;
+    for (const auto& [k, v] : setting) out += (out.empty() ? "" : " ") + k + "=" + v;
+    return out.empty() ? "defaults" : out;
 }
 
 void parse_assignment(const std::string& item, std::map<std::string, std::string>& out) {

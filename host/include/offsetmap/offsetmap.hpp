@@ -10,3 +10,5 @@
 #include "offsetmap/registry.hpp"
 #include "offsetmap/runtime.hpp"
 #include "offsetmap/scenes.hpp"
+#include "offsetmap/sweep.hpp"
+#include "offsetmap/failure_map.hpp"

@@ -25,7 +25,12 @@ struct MethodInfo {
     std::string precomputed;  // precomputed data and its memory, or "none"
     std::vector<ParamSpec> params;  // order = OmOffsetParams::p
     Precompute precompute = Precompute::None;
+    // Settings the accuracy-vs-cost sweep tries, cheapest first (empty: the defaults only).
+    std::vector<std::map<std::string, std::string>> sweep = {};
 };
+
+// "key=value key=value" for a setting (or "defaults" for an empty one).
+std::string describe_setting(const std::map<std::string, std::string>& setting);
 
 // All methods, in the order the CLI and the demo list them.
 const std::vector<MethodInfo>& methods();

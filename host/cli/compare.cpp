@@ -1,16 +1,17 @@
-// `offsetmap demo`: every method on one scene: shaded PNG and error heat map per method, a
-// labelled contact sheet, and a table of accuracy against `exact` and kernel time.
+// `offsetmap compare`: every method on one scene: shaded PNG, uv-error and fetch-count heat maps
+// per method, a labelled contact sheet, and a table of accuracy against `exact` and kernel time.
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <nlohmann/json.hpp>
 
 #include "cli.hpp"
 
 namespace offsetmap::cli {
 
-int run_demo(const std::string& out_dir, const ReliefOptions& relief, const SceneOptions& scene,
-             int repeats) {
+int run_compare(const std::string& out_dir, const ReliefOptions& relief, const SceneOptions& scene,
+                int repeats) {
     PassSettings settings = relief.settings();
     HeightMap map = load_height_map(relief.height_map, {relief.channel, relief.depth_map});
     GBuffer gb = scene.make();
@@ -28,7 +29,7 @@ int run_demo(const std::string& out_dir, const ReliefOptions& relief, const Scen
     OffsetPass exact_pass(rt, "exact");
     OffsetResult exact = run_offset(*rt, exact_pass, dg, field, settings, 1);
 
-    std::printf("offsetmap demo: %s (%dx%d, s = %g, r = %g) on %s, %dx%d plane scene\n",
+    std::printf("offsetmap compare: %s (%dx%d, s = %g, r = %g) on %s, %dx%d plane scene\n",
                 relief.height_map.c_str(), map.width, map.height, settings.scale,
                 settings.reference_plane, rt->device_name().c_str(), gb.width, gb.height);
     std::printf("%-18s %10s %10s %10s %14s %10s %16s\n", "method", "mean err", "p95 err", ">1 texel",
@@ -58,13 +59,23 @@ int run_demo(const std::string& out_dir, const ReliefOptions& relief, const Scen
         Rgb8 color = to_srgb8(gb.width, gb.height,
                               run_shade(*rt, shade, r, dg, field, nullptr, settings, ss));
         Rgb8 heat = heat_map(gb.width, gb.height, err, 16.0f);
+        std::vector<float> fetch_map(r.fetches.size());
+        for (size_t k = 0; k < r.fetches.size(); ++k)
+            fetch_map[k] = traced(r.flags[k]) ? static_cast<float>(r.fetches[k])
+                                              : std::numeric_limits<float>::quiet_NaN();
+        Rgb8 cost = heat_map(gb.width, gb.height, fetch_map, 256.0f);
         write_image(out_dir + "/" + m.name + ".png", color);
         write_image(out_dir + "/" + m.name + "-error.png", heat);
+        write_image(out_dir + "/" + m.name + "-fetches.png", cost);
         char label[160];
         std::snprintf(label, sizeof label, "%s   mean %.2f / p95 %.2f texels", m.name.c_str(),
                       st.mean, st.p95);
         tiles.emplace_back(label, color);
         tiles.emplace_back(m.name + ": uv error (log, white = 16 texels)", heat);
+        char fetch_label[160];
+        std::snprintf(fetch_label, sizeof fetch_label, "%s: fetches (log, white = 256), mean %.1f",
+                      m.name.c_str(), fetches);
+        tiles.emplace_back(fetch_label, cost);
         table.push_back({{"method", m.name},
                          {"mean_err_texels", st.mean},
                          {"p95_err_texels", st.p95},
@@ -75,7 +86,7 @@ int run_demo(const std::string& out_dir, const ReliefOptions& relief, const Scen
                          {"precomputed_bytes", pass.precomputed().bytes},
                          {"precompute_ms", pass.precomputed().build_ms}});
     }
-    write_image(out_dir + "/contact-sheet.png", contact_sheet(tiles, 4));  // two methods a row
+    write_image(out_dir + "/contact-sheet.png", contact_sheet(tiles, 6));  // two methods a row
     nlohmann::json summary = {{"device", rt->device_name()},
                               {"height_map", relief.height_map},
                               {"scale", settings.scale},
@@ -84,7 +95,8 @@ int run_demo(const std::string& out_dir, const ReliefOptions& relief, const Scen
                               {"height", gb.height},
                               {"methods", table}};
     std::ofstream(out_dir + "/summary.json") << summary.dump(2) << "\n";
-    std::printf("wrote %s/{<method>.png, <method>-error.png, contact-sheet.png, summary.json}\n",
+    std::printf("wrote %s/{<method>.png, <method>-error.png, <method>-fetches.png, contact-sheet.png, "
+                "summary.json}\n",
                 out_dir.c_str());
     return 0;
 }

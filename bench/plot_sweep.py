@@ -1,0 +1,113 @@
+#!/usr/bin/python3
+"""Accuracy against cost charts from `offsetmap sweep` (sweep.json).
+
+    /usr/bin/python3 bench/plot_sweep.py sweep.json OUT_DIR
+
+Writes OUT_DIR/pareto-ns.png (mean uv error against kernel ns/pixel) and OUT_DIR/pareto-fetches.png
+(against height fetches/pixel): log axes, one colour per method, each method's settings joined in
+sweep order, the Pareto front (no other point is both cheaper and more accurate) drawn and its
+members named; and OUT_DIR/pareto-by-map.png, the ns/pixel chart per height map. Every point is the
+mean over the sweep's height maps and view sets. `exact` (zero error) sits on the error floor.
+Needs Debian's python3-matplotlib.
+"""
+import json
+import sys
+from collections import OrderedDict
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+
+ERROR_FLOOR = 1e-4  # texels: zero error is drawn here on the log axis
+FETCH_FLOOR = 0.5   # fetches/pixel: zero fetches is drawn here
+
+
+def aggregate(records, key_filter=None):
+    points = OrderedDict()
+    for r in records:
+        if key_filter and not key_filter(r):
+            continue
+        key = (r["method"], r["setting"])
+        points.setdefault(key, []).append(r)
+    out = []
+    for (method, setting), rs in points.items():
+        mean = lambda f: sum(x[f] for x in rs) / len(rs)
+        out.append({"method": method, "setting": setting, "error": mean("uv_mean"),
+                    "ns": mean("ns_per_pixel"), "fetches": mean("fetches_mean"),
+                    "psnr": mean("psnr_db")})
+    return out
+
+
+def pareto(points, cost):
+    front, best = [], float("inf")
+    for p in sorted(points, key=lambda p: (p[cost], p["error"])):
+        if p["error"] < best:
+            front.append(p)
+            best = p["error"]
+    return front
+
+
+def label(p):
+    return p["method"] if p["setting"] == "defaults" else p["method"] + " " + p["setting"]
+
+
+def draw(ax, points, cost, floor, title, annotate=True):
+    methods = list(OrderedDict.fromkeys(p["method"] for p in points))
+    colours = plt.get_cmap("tab10")
+    for i, m in enumerate(methods):
+        ps = [p for p in points if p["method"] == m]
+        xs = [max(p[cost], floor) for p in ps]
+        ys = [max(p["error"], ERROR_FLOOR) for p in ps]
+        ax.plot(xs, ys, "-o", color=colours(i % 10), label=m, markersize=4, linewidth=1)
+    front = pareto(points, cost)
+    ax.step([max(p[cost], floor) for p in front], [max(p["error"], ERROR_FLOOR) for p in front],
+            where="post", color="black", linestyle="--", linewidth=1, label="Pareto front")
+    if annotate:
+        for p in front:
+            ax.annotate(label(p), (max(p[cost], floor), max(p["error"], ERROR_FLOOR)), fontsize=7,
+                        xytext=(4, 3), textcoords="offset points")
+    ax.set_xscale("log")
+    ax.set_yscale("log")
+    ax.set_ylabel("mean uv error against exact (texels)")
+    ax.set_title(title, fontsize=10)
+    ax.grid(True, which="both", alpha=0.25)
+
+
+def main():
+    if len(sys.argv) != 3:
+        sys.exit(__doc__)
+    with open(sys.argv[1]) as f:
+        doc = json.load(f)
+    records, out = doc["records"], sys.argv[2]
+    points = aggregate(records)
+    maps = sorted(set(r["map"] for r in records))
+    views = sorted(set(r["views"] for r in records))
+    where = "%d height maps x %d view sets (%s)\n%s" % (len(maps), len(views), ", ".join(views),
+                                                        doc.get("device", ""))
+    for cost, floor, xlabel, name in (
+            ("ns", 0, "kernel time per pixel (ns, median of runs)", "pareto-ns.png"),
+            ("fetches", FETCH_FLOOR, "height fetches per pixel (0 drawn at 0.5)", "pareto-fetches.png")):
+        fig, ax = plt.subplots(figsize=(10, 7))
+        draw(ax, points, cost, floor, "Accuracy against cost: " + where)
+        ax.set_xlabel(xlabel)
+        ax.legend(fontsize=8, loc="lower left")
+        fig.tight_layout()
+        fig.savefig(out + "/" + name, dpi=110)
+        plt.close(fig)
+    cols = min(4, len(maps))
+    rows = (len(maps) + cols - 1) // cols
+    fig, axes = plt.subplots(rows, cols, figsize=(4.2 * cols, 3.6 * rows), squeeze=False)
+    for ax, m in zip(axes.flat, maps):
+        draw(ax, aggregate(records, lambda r: r["map"] == m), "ns", 0, m, annotate=False)
+        ax.set_xlabel("ns/pixel")
+    for ax in list(axes.flat)[len(maps):]:
+        ax.axis("off")
+    axes.flat[0].legend(fontsize=6, loc="lower left")
+    fig.tight_layout()
+    fig.savefig(out + "/pareto-by-map.png", dpi=90)
+    print("wrote %s/pareto-ns.png, pareto-fetches.png, pareto-by-map.png" % out)
+
+
+if __name__ == "__main__":
+    main()
