@@ -1,5 +1,6 @@
 // `offsetmap sweep` and `offsetmap failure-map`: accuracy against cost over every method's
 // settings, and error over view elevation x depth scale, as CSV, JSON and matplotlib charts.
+#include <algorithm>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -111,6 +112,36 @@ int run_failure_command(const FailureCommand& cmd, const ReliefOptions& relief) 
     if (cmd.charts)
         run_chart_script("plot_failure.py", {cmd.out_dir + "/failure.csv", cmd.out_dir + "/failure-map.png",
                                              "Failure maps on " + stem(relief.height_map)});
+    return 0;
+}
+
+int run_temporal_command(const TemporalCommand& cmd, const ReliefOptions& relief) {
+    TemporalOptions o;
+    o.settings = relief.settings();
+    o.frames = cmd.frames;
+    o.methods = cmd.methods;
+    o.start.width = 480;
+    o.start.height = 270;
+    o.progress = progress_line;
+    HeightMap map = load_height_map(relief.height_map, {relief.channel, relief.depth_map});
+    make_dir(cmd.out_dir);
+    auto rt = Runtime::create(relief.device);
+    auto records = run_temporal(rt, map, o);
+    std::fprintf(stderr, "\n");
+    write_temporal_csv(cmd.out_dir + "/temporal.csv", records);
+    std::printf("temporal stability over %d frames (texels, mean of frame pairs):\n", cmd.frames);
+    std::vector<std::string> order;
+    for (const auto& r : records)
+        if (std::find(order.begin(), order.end(), r.method) == order.end()) order.push_back(r.method);
+    for (const auto& m : order) {
+        double mean = 0, pop = 0;
+        int n = 0;
+        for (const auto& r : records)
+            if (r.method == m) mean += r.mean, pop += r.pop_share, ++n;
+        std::printf("  %-18s %10.4f   %6.2f%% of pixels pop\n", m.c_str(), mean / n, 100.0 * pop / n);
+    }
+    if (cmd.charts)
+        run_chart_script("plot_temporal.py", {cmd.out_dir + "/temporal.csv", cmd.out_dir + "/temporal.png"});
     return 0;
 }
 

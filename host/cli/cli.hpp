@@ -63,6 +63,14 @@ struct FailureCommand {
 };
 int run_failure_command(const FailureCommand& cmd, const ReliefOptions& relief);
 
+struct TemporalCommand {
+    std::string out_dir = "out/temporal";
+    std::vector<std::string> methods;
+    int frames = 24;
+    bool charts = true;
+};
+int run_temporal_command(const TemporalCommand& cmd, const ReliefOptions& relief);
+
 // Runs bench/<script> with Debian's Python (matplotlib); false (with a warning) when it cannot.
 bool run_chart_script(const std::string& script, const std::vector<std::string>& args);
 

@@ -268,6 +268,17 @@ int main(int argc, char** argv) {
         ->capture_default_str();
     cmd_failure->add_flag("!--no-charts", failure.charts, "skip the matplotlib figure");
 
+    auto* cmd_temporal = app.add_subcommand("temporal", "frame-to-frame stability along a camera path");
+    ReliefOptions temporal_relief;
+    TemporalCommand temporal;
+    temporal_relief.add_to(*cmd_temporal, true);
+    cmd_temporal->add_option("-o,--out", temporal.out_dir, "output folder")->capture_default_str();
+    cmd_temporal->add_option("--methods", temporal.methods, "methods (default: all)");
+    cmd_temporal->add_option("--frames", temporal.frames, "frames on the path")
+        ->check(CLI::Range(2, 1000))
+        ->capture_default_str();
+    cmd_temporal->add_flag("!--no-charts", temporal.charts, "skip the matplotlib figure");
+
     auto* cmd_demo = app.add_subcommand(
         "demo", "compare + quick sweep + failure map on the default data -> one folder");
     ReliefOptions demo_relief;
@@ -290,6 +301,7 @@ int main(int argc, char** argv) {
         if (*cmd_compare) return run_compare(cmp_out, cmp_relief, cmp_scene, repeats);
         if (*cmd_sweep) return run_sweep_command(sweep, sweep_relief);
         if (*cmd_failure) return run_failure_command(failure, failure_relief);
+        if (*cmd_temporal) return run_temporal_command(temporal, temporal_relief);
         if (*cmd_demo) {
             if (demo_relief.height_map.empty()) demo_relief.height_map = demo_data + "/rocks.png";
             SceneOptions scene;
@@ -304,7 +316,11 @@ int main(int argc, char** argv) {
             FailureCommand fm;
             fm.out_dir = demo_out;
             fm.samples = 128;
-            return run_failure_command(fm, demo_relief);
+            run_failure_command(fm, demo_relief);
+            TemporalCommand tc;
+            tc.out_dir = demo_out;
+            tc.frames = 12;
+            return run_temporal_command(tc, demo_relief);
         }
     } catch (const offsetmap::Error& e) {
         std::cerr << "offsetmap: error: " << e.what() << "\n";

@@ -30,7 +30,7 @@ GBuffer make_scene(const PlaneScene& s) {
     GBuffer gb;
     gb.resize(s.width, s.height, s.with_light, false);
     const double yaw = s.yaw_deg * kDeg, pitch = s.pitch_deg * kDeg;
-    const glm::dvec3 eye(0.0, 0.0, s.camera_height);
+    const glm::dvec3 eye(s.camera_x, s.camera_y, s.camera_height);
     const glm::dvec3 forward(std::cos(pitch) * std::cos(yaw), std::cos(pitch) * std::sin(yaw),
                              -std::sin(pitch));
     const glm::dvec3 right = glm::normalize(glm::cross(forward, glm::dvec3(0, 0, 1)));

@@ -12,3 +12,4 @@
 #include "offsetmap/scenes.hpp"
 #include "offsetmap/sweep.hpp"
 #include "offsetmap/failure_map.hpp"
+#include "offsetmap/temporal.hpp"

@@ -11,6 +11,7 @@ namespace offsetmap {
 struct PlaneScene {
     int width = 960;
     int height = 540;
+    double camera_x = 0.0, camera_y = 0.0;  // camera position over the plane (world units)
     double camera_height = 0.4;  // world units above the plane
     double pitch_deg = 35.0;     // look-down angle below the horizon
     double yaw_deg = 30.0;       // heading, from +x toward +y
