@@ -112,6 +112,29 @@ inline double constant_field_lambda_tolerance(const std::string& method, double 
     return 0.0;
 }
 
+// Test row, part two: the most height fetches a method may make per pixel at its defaults (or
+// `params`), from its documented loop bounds; `exact`'s is the DDA cell cap of passes.cpp.
+inline double fetch_cap(const std::string& method, const PassSettings& s, const HeightMap& map,
+                        const std::map<std::string, std::string>& params = {}) {
+    const MethodInfo& m = find_method(method);
+    std::vector<float> v = resolve_params(m, params);
+    auto p = [&](const char* name) {
+        for (size_t k = 0; k < m.params.size(); ++k)
+            if (m.params[k].name == name) return static_cast<double>(v[k]);
+        throw Error(std::string("no parameter ") + name);
+    };
+    if (method == "none") return 0;
+    if (method == "parallax" || method == "parallax-limited" || method == "parallax-slope") return 1;
+    if (method == "parallax-iterative") return p("iterations");
+    if (method == "steep") return p("layers") + 1;
+    if (method == "relief") return p("linear") + 1 + p("binary");
+    if (method == "pom") return std::max(p("min_samples"), p("max_samples")) + 1;
+    if (method == "sphere") return p("steps");
+    if (method == "exact")
+        return std::ceil(s.scale / std::sin(s.min_elevation_deg * M_PI / 180.0) * (map.width + map.height)) + 4;
+    throw Error("no fetch cap row for method " + method);
+}
+
 // The methods a test row must exist for: fails loudly when a method is added without one.
 inline const std::vector<std::string>& methods_with_rows() {
     static const std::vector<std::string> rows = {"none",  "parallax", "parallax-limited",

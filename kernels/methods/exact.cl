@@ -49,7 +49,8 @@ float2 om_trace(const OmRay* r, OmHeightField* f, const OmOffsetParams* P, float
     float tx = d.x != 0.0f ? (c0.x - (float)bi) / d.x : INFINITY;
     float ty = d.y != 0.0f ? (c0.y - (float)bj) / d.y : INFINITY;
     float s = r->scale;
-    for (int n = 0; n < P->max_cells; ++n) {
+    int n = 0;
+    for (; n < P->max_cells; ++n) {
         float t_out = fmin(fmin(tx, ty), r->t_exit);
         float4 k = om_patch(f, i, j);
         f->fetches += 1u;
@@ -82,8 +83,9 @@ float2 om_trace(const OmRay* r, OmHeightField* f, const OmOffsetParams* P, float
             ty = (c0.y - (float)bj) / d.y;
         }
     }
-    // Reached only through rounding at the bottom plane (H >= 0 there) or the cap.
-    if (t < r->t_exit) *flags |= OM_FLAG_CAPPED;
+    // Reached through rounding at the bottom plane, where the gap is exactly 0 when H = 0 (the
+    // root at the segment's end can round away), or through the cap.
+    if (n == P->max_cells) *flags |= OM_FLAG_CAPPED;
     *t_hit = r->t_exit;
     return om_ray_uv(r, r->t_exit);
 }

@@ -1,0 +1,159 @@
+// Robustness: every method on adversarial G-buffers and height maps must return finite outputs,
+// respect its fetch cap and never crash; and the grazing rule must hold down to 0.1 degrees.
+#include <OpenImageIO/imageio.h>
+
+#include <filesystem>
+#include <limits>
+
+#include "support.hpp"
+
+namespace omtest {
+namespace {
+
+constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
+constexpr float kInf = std::numeric_limits<float>::infinity();
+
+// The height maps the issue names: constant 0 and 1, 1x1, non-square, non-power-of-two, a 16-bit
+// file, and a float file with values outside [0,1] (clamped on load).
+std::vector<std::pair<std::string, HeightMap>> fuzz_maps() {
+    namespace fs = std::filesystem;
+    std::vector<std::pair<std::string, HeightMap>> maps = {
+        {"zero", constant_map(0.0f, 8, 8)},
+        {"one", constant_map(1.0f, 8, 8)},
+        {"1x1", constant_map(0.6f, 1, 1)},
+        {"37x11", make_map(37, 11, [](int i, int j) { return 0.5f + 0.5f * std::sin(1.3f * i + 0.7f * j); })},
+        {"npot", noisy_map(100, 5)},
+    };
+    auto dir = fs::temp_directory_path();
+    std::string png16 = (dir / "om_fuzz16.png").string(), exr = (dir / "om_fuzz_float.exr").string();
+    {
+        std::vector<uint16_t> px(24 * 20);
+        for (size_t k = 0; k < px.size(); ++k) px[k] = static_cast<uint16_t>((k * 7919) % 65536);
+        auto out = OIIO::ImageOutput::create(png16);
+        out->open(png16, OIIO::ImageSpec(24, 20, 1, OIIO::TypeDesc::UINT16));
+        out->write_image(OIIO::TypeDesc::UINT16, px.data());
+        out->close();
+    }
+    {
+        std::vector<float> px(16 * 12);
+        for (size_t k = 0; k < px.size(); ++k) px[k] = -2.0f + 5.0f * ((k * 37) % 101) / 100.0f;
+        auto out = OIIO::ImageOutput::create(exr);
+        out->open(exr, OIIO::ImageSpec(16, 12, 1, OIIO::TypeDesc::FLOAT));
+        out->write_image(OIIO::TypeDesc::FLOAT, px.data());
+        out->close();
+    }
+    maps.emplace_back("16-bit", load_height_map(png16));
+    HeightMap f = load_height_map(exr);
+    EXPECT_GT(f.clamped, 0);
+    maps.emplace_back("float-out-of-range", f);
+    fs::remove(png16);
+    fs::remove(exr);
+    return maps;
+}
+
+// Random uv and V with one pixel in four replaced by a special value in one component.
+GBuffer fuzz_gbuffer(int w, int h, uint64_t seed) {
+    const float den = std::numeric_limits<float>::denorm_min();
+    const float specials[] = {kNaN, kInf, -kInf, 0.0f, -0.0f, den, -den, 1e-30f, 1e30f, -1e30f,
+                              3e38f, 1e6f, -1e6f, 1e-7f};
+    GBuffer gb;
+    gb.resize(w, h, false, false);
+    std::mt19937_64 rng(seed);
+    auto uni = [&rng](double lo, double hi) { return lo + (hi - lo) * ((rng() >> 11) * 0x1.0p-53); };
+    for (size_t k = 0; k < gb.pixels(); ++k) {
+        float c[5] = {static_cast<float>(uni(-2, 3)), static_cast<float>(uni(-2, 3)),
+                      static_cast<float>(uni(-1, 1)), static_cast<float>(uni(-1, 1)),
+                      static_cast<float>(uni(-0.2, 1))};
+        double len = uni(0, 1) < 0.1 ? uni(1e-3, 1e3) : 1.0;  // |V| far from 1 sometimes
+        float n = std::sqrt(c[2] * c[2] + c[3] * c[3] + c[4] * c[4]);
+        for (int a = 2; a < 5; ++a) c[a] = static_cast<float>(c[a] / n * len);
+        if (rng() % 4 == 0) c[rng() % 5] = specials[rng() % (sizeof specials / sizeof *specials)];
+        gb.uv[k] = {{c[0], c[1]}};
+        gb.view[k] = {{c[2], c[3], c[4], 0.0f}};
+    }
+    return gb;
+}
+
+TEST(Fuzz, EveryMethodStaysFiniteAndWithinItsCap) {
+    // 10^7 pixels in all, split evenly across methods and maps.
+    auto maps = fuzz_maps();
+    const auto names = method_names();
+    const size_t per_run = 10'000'000 / (names.size() * maps.size()) + 1;
+    const int w = 1024, h = static_cast<int>((per_run + w - 1) / w);
+    size_t total = 0;
+    for (size_t mi = 0; mi < maps.size(); ++mi) {
+        const auto& [map_name, map] = maps[mi];
+        PassSettings s;
+        s.scale = 0.1f;
+        s.address = mi % 2 ? AddressMode::Clamp : AddressMode::Wrap;
+        GBuffer gb = fuzz_gbuffer(w, h, 1000 + mi);
+        auto rt = runtime();
+        DeviceHeightField f = upload(*rt, map, s);
+        DeviceGBuffer g = upload(*rt, gb);
+        for (const auto& name : names) {
+            // sphere: a small distance map keeps the build quick on every map.
+            std::map<std::string, std::string> params;
+            if (name == "sphere") params = {{"res", "32"}, {"layers", "8"}};
+            OffsetPass pass(rt, name, params);
+            OffsetResult r = run_offset(*rt, pass, g, f, s, 1);
+            const double cap = fetch_cap(name, s, map, params);
+            size_t bad = 0;
+            for (size_t k = 0; k < gb.pixels(); ++k) {
+                bool uv_finite = std::isfinite(gb.uv[k].s[0]) && std::isfinite(gb.uv[k].s[1]);
+                bool empty = std::isnan(gb.uv[k].s[0]) || std::isnan(gb.uv[k].s[1]);
+                bool ok = std::isfinite(r.depth[k]) && r.fetches[k] <= cap &&
+                          (!uv_finite || (std::isfinite(r.uv[k].s[0]) && std::isfinite(r.uv[k].s[1]))) &&
+                          ((r.flags[k] & OM_FLAG_EMPTY) != 0) == empty && !(r.flags[k] & OM_FLAG_CAPPED);
+                if (!ok && bad++ < 3)
+                    ADD_FAILURE() << name << " on " << map_name << " pixel " << k << ": uv (" << gb.uv[k].s[0]
+                                  << ", " << gb.uv[k].s[1] << ") V (" << gb.view[k].s[0] << ", "
+                                  << gb.view[k].s[1] << ", " << gb.view[k].s[2] << ") -> uv' ("
+                                  << r.uv[k].s[0] << ", " << r.uv[k].s[1] << ") depth " << r.depth[k]
+                                  << " fetches " << r.fetches[k] << " (cap " << cap << ") flags "
+                                  << r.flags[k];
+            }
+            EXPECT_EQ(bad, 0u) << name << " on " << map_name;
+            total += gb.pixels();
+        }
+    }
+    std::printf("fuzzed %zu pixels over %zu methods and %zu maps\n", total, names.size(), maps.size());
+    EXPECT_GE(total, 10'000'000u);
+}
+
+TEST(Fuzz, GrazingRuleHoldsDownToATenthOfADegree) {
+    // With the minimum elevation at 0.1 degrees, every method at views from 10 degrees down to 0:
+    // flagged GRAZING exactly below the minimum, finite, within its cap, never CAPPED.
+    HeightMap m = noisy_map(64, 21);
+    PassSettings s;
+    s.scale = 0.05f;
+    s.min_elevation_deg = 0.1f;
+    std::vector<double> elevs = {10, 5, 2, 1, 0.5, 0.2, 0.15, 0.1001, 0.0999, 0.05, 0.01, 0.001, 0};
+    std::vector<std::array<float, 5>> px;
+    for (double e : elevs)
+        for (int a = 0; a < 16; ++a) {
+            auto V = view_dir(e, 22.5 * a);
+            px.push_back({static_cast<float>(0.05 * a), 0.3f, V[0], V[1], V[2]});
+        }
+    GBuffer gb = row_gbuffer(px);
+    for (const auto& name : method_names()) {
+        OffsetResult r = run(name, m, gb, s);
+        const double cap = fetch_cap(name, s, m);
+        for (size_t k = 0; k < px.size(); ++k) {
+            double e = elevs[k / 16];
+            SCOPED_TRACE(name + " at " + std::to_string(e) + " deg");
+            if (e == 0) {
+                EXPECT_TRUE(r.flags[k] & OM_FLAG_BACKFACING);  // V.z = 0 is not front-facing
+                continue;
+            }
+            EXPECT_EQ((r.flags[k] & OM_FLAG_GRAZING) != 0, e < 0.1);
+            EXPECT_FALSE(r.flags[k] & OM_FLAG_CAPPED);
+            EXPECT_LE(r.fetches[k], cap);
+            EXPECT_TRUE(std::isfinite(r.uv[k].s[0]) && std::isfinite(r.uv[k].s[1]) && std::isfinite(r.depth[k]));
+            // The march spans at most s / sin(0.1 deg) = 28.6 uv.
+            EXPECT_LE(std::fabs(r.depth[k]), s.scale / std::sin(0.1 * M_PI / 180) * 1.0001);
+        }
+    }
+}
+
+}  // namespace
+}  // namespace omtest
