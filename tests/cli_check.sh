@@ -2,6 +2,7 @@
 # cli_check.sh fail PATTERN CMD...  : CMD must exit non-zero with exactly one stderr line matching
 # cli_check.sh ok PATTERN CMD...    : CMD must exit 0 with output matching PATTERN
 # cli_check.sh roundtrip PATTERN OFFSETMAP MAP : gbuffer -> render with every output -> files exist
+# cli_check.sh analysis PATTERN OFFSETMAP DATA  : small sweep, failure map, temporal -> CSV/JSON/PNG
 set -u
 mode=$1 pattern=$2
 shift 2
@@ -28,6 +29,24 @@ roundtrip)
         { cat "$tmp/out"; exit 1; }
     grep -Eq "$pattern" "$tmp/out" || { echo "output does not match '$pattern'"; cat "$tmp/out"; exit 1; }
     for f in uv.exr c.png e.png; do [ -s "$tmp/$f" ] || { echo "missing $f"; exit 1; }; done
+    ;;
+analysis)
+    om=$1 data=$2
+    "$om" sweep --maps "$data/noise.png" --methods parallax pom exact --quick -o "$tmp/s" \
+        >"$tmp/out" 2>&1 || { cat "$tmp/out"; exit 1; }
+    "$om" failure-map --height-map "$data/bumps.png" --methods parallax exact --samples 8 \
+        -o "$tmp/f" >>"$tmp/out" 2>&1 || { cat "$tmp/out"; exit 1; }
+    "$om" temporal --height-map "$data/bumps.png" --methods none pom exact --frames 3 \
+        -o "$tmp/t" >>"$tmp/out" 2>&1 || { cat "$tmp/out"; exit 1; }
+    grep -q "warning" "$tmp/out" && { echo "a chart was not drawn:"; cat "$tmp/out"; exit 1; }
+    for f in s/sweep.csv s/sweep.json s/pareto-ns.png s/pareto-fetches.png s/pareto-by-map.png \
+             f/failure.csv f/failure-map.png t/temporal.csv t/temporal.png; do
+        [ -s "$tmp/$f" ] || { echo "missing $f"; cat "$tmp/out"; exit 1; }
+    done
+    # 3 methods x (default or grid) settings x 1 map x 2 view sets, plus the header.
+    rows=$(($(wc -l <"$tmp/s/sweep.csv") - 1))
+    [ "$rows" -eq $(((1 + 4 + 1) * 2)) ] || { echo "sweep.csv has $rows rows"; exit 1; }
+    grep -Eq "$pattern" "$tmp/out" || { echo "output does not match '$pattern'"; exit 1; }
     ;;
 esac
 exit 0
