@@ -25,7 +25,7 @@ __kernel void om_offset(const OmOffsetParams P, __global const float2* gb_uv,
         m = isfinite(m) ? m : 0.0f;
         blend = clamp((P.lod_threshold - m) / P.lod_fade, 0.0f, 1.0f);
         ray.detail = mix(1.0f, P.lod_min_detail, clamp(m / P.lod_threshold, 0.0f, 1.0f));
-        level = (int)floor(clamp(m, 0.0f, 16.0f));
+        level = (int)clamp(m, 0.0f, 16.0f);  // truncation is floor for m >= 0
     }
     OmHeightField f = om_heightfield_level(heights, &P, level);
     f.aux = aux;

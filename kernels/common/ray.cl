@@ -36,11 +36,11 @@ inline uint om_setup_ray(float2 uv, float4 v4, const OmOffsetParams* P, OmRay* r
     // Scale by the largest component first so |V| neither overflows nor underflows.
     float m = fmax(fabs(v.x), fmax(fabs(v.y), fabs(v.z)));
     if (!(m > 0.0f)) return OM_FLAG_INVALID;
-    v /= m;
-    float len = length(v);
+    v /= m;  // not * (1 / m): the reciprocal of a denormal overflows
+    float len = length(v);  // in [1, sqrt 3], so its reciprocal is safe
     uint flags = 0u;
     if (fabs(len * m - 1.0f) > 1.0e-3f) flags |= OM_FLAG_RENORMALIZED;
-    v /= len;
+    v *= 1.0f / len;
     if (!(v.z > 0.0f)) return flags | OM_FLAG_BACKFACING;
     if (v.z < P->min_vz) {
         float lxy = length(v.xy);
@@ -49,13 +49,15 @@ inline uint om_setup_ray(float2 uv, float4 v4, const OmOffsetParams* P, OmRay* r
         flags |= OM_FLAG_GRAZING;
     }
     // Tracing in a local frame keeps float precision for any tile index; the offset is added back.
-    *base = P->address_mode == OM_ADDRESS_WRAP ? floor(uv) : (float2)(0.0f);
+    *base = P->address_mode == OM_ADDRESS_WRAP ? (float2)(om_floor(uv.x), om_floor(uv.y))
+                                               : (float2)(0.0f);
     r->uv = uv - *base;
     r->v = v;
     r->scale = P->scale;
     r->ref = P->ref_plane;
-    r->t_enter = -P->scale * (1.0f - P->ref_plane) / v.z;
-    r->t_exit = P->scale * P->ref_plane / v.z;
+    float inv_vz = 1.0f / v.z;
+    r->t_enter = -P->scale * (1.0f - P->ref_plane) * inv_vz;
+    r->t_exit = P->scale * P->ref_plane * inv_vz;
     r->detail = 1.0f;
     return flags;
 }

@@ -14,6 +14,7 @@ typedef struct {
     int level;
     int w, hgt;
     int wrap;
+    int pot;  // both sizes are powers of two: wrap by mask
     float fw, fh;
     uint fetches;  // bilinear height fetches made so far by this pixel
     __global const float* aux;  // the method's precomputed data (distance map...), or NULL
@@ -27,6 +28,7 @@ inline OmHeightField om_heightfield_of(__global const float* h, int w, int hgt, 
     f.w = w;
     f.hgt = hgt;
     f.wrap = wrap;
+    f.pot = (w & (w - 1)) == 0 && (hgt & (hgt - 1)) == 0;
     f.fw = (float)w;
     f.fh = (float)hgt;
     f.fetches = 0u;
@@ -51,6 +53,7 @@ inline OmHeightField om_heightfield_level(__global const float* h, const OmOffse
         f.w = max(1, f.w / 2);
         f.hgt = max(1, f.hgt / 2);
     }
+    f.pot = (f.w & (f.w - 1)) == 0 && (f.hgt & (f.hgt - 1)) == 0;
     f.fw = (float)f.w;
     f.fh = (float)f.hgt;
     return f;
@@ -81,9 +84,29 @@ inline float2 om_cell_coord(const OmHeightField* f, float2 uv) {
 }
 
 // The four corners of bilinear patch (i, j): h00 at (i, j), h10 at (i+1, j), h01, h11.
+// Addresses are resolved once per patch, not per texel: integer % costs tens of cycles on a CPU,
+// and power-of-two maps need none (a mask also wraps negative indices).
 inline float4 om_patch(const OmHeightField* f, int i, int j) {
-    return (float4)(om_texel(f, i, j), om_texel(f, i + 1, j), om_texel(f, i, j + 1),
-                    om_texel(f, i + 1, j + 1));
+    int i0, i1, j0, j1;
+    if (f->wrap && f->pot) {
+        i0 = i & (f->w - 1);
+        i1 = (i + 1) & (f->w - 1);
+        j0 = j & (f->hgt - 1);
+        j1 = (j + 1) & (f->hgt - 1);
+    } else if (f->wrap) {
+        i0 = om_wrap_index(i, f->w);
+        i1 = i0 + 1 == f->w ? 0 : i0 + 1;
+        j0 = om_wrap_index(j, f->hgt);
+        j1 = j0 + 1 == f->hgt ? 0 : j0 + 1;
+    } else {
+        i0 = clamp(i, 0, f->w - 1);
+        i1 = clamp(i + 1, 0, f->w - 1);
+        j0 = clamp(j, 0, f->hgt - 1);
+        j1 = clamp(j + 1, 0, f->hgt - 1);
+    }
+    __global const float* r0 = f->h + j0 * f->w;
+    __global const float* r1 = f->h + j1 * f->w;
+    return (float4)(r0[i0], r0[i1], r1[i0], r1[i1]);
 }
 
 // Bilinear height H(uv) in [0,1]; counts one fetch.

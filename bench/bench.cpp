@@ -1,0 +1,355 @@
+// offsetmap_bench: throughput of every offset method on the device at hand, measured against that
+// device's own roofline (G-buffer pass-through and dependent bilinear fetches), with cost growth
+// against resolution, height-map size and step count, and the memory each method needs.
+//
+//   offsetmap_bench [--quick] [--out DIR] [--device NAME] [--target-ms T]
+//
+// Kernel times come from OpenCL profiling events: one warm-up launch, then as many launches as
+// fit in the target time (3 to 30), median and minimum reported. Output: a table on stdout,
+// DIR/bench.json, and charts by bench/plot_bench.py.
+#include <CLI/CLI.hpp>
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <iostream>
+#include <nlohmann/json.hpp>
+#include <thread>
+
+#include "offsetmap/offsetmap.hpp"
+#include "om_shared.h"
+
+using namespace offsetmap;
+using nlohmann::json;
+
+namespace {
+
+struct Timing {
+    double median_ms = 0, min_ms = 0;
+    int runs = 0;
+};
+
+Timing time_launches(const std::function<cl::Event()>& launch, double target_ms) {
+    launch().wait();  // warm-up: PoCL compiles per local size on first launch
+    cl::Event first = launch();
+    first.wait();
+    double t0 = std::max(event_ms(first), 1e-3);
+    int runs = std::clamp(static_cast<int>(target_ms / t0), 3, 30);
+    std::vector<double> ts = {t0};
+    for (int r = 1; r < runs; ++r) {
+        cl::Event e = launch();
+        e.wait();
+        ts.push_back(event_ms(e));
+    }
+    std::sort(ts.begin(), ts.end());
+    return {ts[ts.size() / 2], ts.front(), static_cast<int>(ts.size())};
+}
+
+// Several octaves of tiling sines: smooth at large scale, detailed at texel scale, so the access
+// pattern of a march is realistic for any size.
+HeightMap bench_map(int n) {
+    HeightMap m;
+    m.width = m.height = n;
+    m.h.resize(static_cast<size_t>(n) * n);
+    for (int j = 0; j < n; ++j)
+        for (int i = 0; i < n; ++i) {
+            double u = (i + 0.5) / n, v = (j + 0.5) / n, h = 0.5;
+            for (int k = 0; k < 5; ++k) {
+                double f = std::pow(2.0, k + 1), a = 0.22 / (k + 1);
+                h += a * std::sin(2 * M_PI * f * u + k) * std::sin(2 * M_PI * (f + 1) * v + 2 * k);
+            }
+            m.h[static_cast<size_t>(j) * n + i] = static_cast<float>(std::clamp(h, 0.0, 1.0));
+        }
+    return m;
+}
+
+struct Resolution {
+    const char* name;
+    int w, h;
+};
+
+GBuffer camera_gbuffer(const Resolution& r) {
+    PlaneScene p;
+    p.width = r.w;
+    p.height = r.h;
+    return make_scene(p);
+}
+
+// Host memcpy of `bytes` over all hardware threads, as GB/s of traffic (read + write).
+double host_memcpy_gbps(size_t bytes) {
+    std::vector<char> src(bytes, 1), dst(bytes, 0);
+    unsigned threads = std::max(1u, std::thread::hardware_concurrency());
+    std::vector<double> ts;
+    for (int rep = 0; rep < 7; ++rep) {
+        auto t0 = std::chrono::steady_clock::now();
+        std::vector<std::thread> pool;
+        for (unsigned t = 0; t < threads; ++t)
+            pool.emplace_back([&, t] {
+                size_t a = bytes * t / threads, b = bytes * (t + 1) / threads;
+                std::memcpy(dst.data() + a, src.data() + a, b - a);
+            });
+        for (auto& th : pool) th.join();
+        ts.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+    }
+    std::sort(ts.begin(), ts.end());
+    return 2.0 * bytes / ts[ts.size() / 2] * 1e-9;
+}
+
+struct Bench {
+    std::shared_ptr<Runtime> rt;
+    double target_ms;
+    double passthrough_ns = 0;  // per pixel
+    double fetch_ns = 0;        // per dependent bilinear fetch (chain of 32)
+    json out;
+
+    OmOffsetParams params_for(const DeviceHeightField& f, int pixels) {
+        OmOffsetParams p{};
+        p.pixel_count = pixels;
+        p.hf_width = f.width;
+        p.hf_height = f.height;
+        p.address_mode = OM_ADDRESS_WRAP;
+        p.mip_levels = f.mip_levels;
+        return p;
+    }
+
+    void roofline(const Resolution& res, const DeviceHeightField& field) {
+        GBuffer gb = camera_gbuffer(res);
+        DeviceGBuffer g = upload(*rt, gb);
+        const int n = static_cast<int>(g.pixels());
+        cl::Buffer out(rt->context(), CL_MEM_WRITE_ONLY, g.pixels() * sizeof(cl_float2));
+        cl::Program prog = rt->program({"common/sampling.cl", "bench/roofline.cl"});
+        cl::Kernel pass(prog, "om_bench_passthrough");
+        pass.setArg(0, g.uv);
+        pass.setArg(1, g.view);
+        pass.setArg(2, out);
+        pass.setArg(3, n);
+        const cl::NDRange global((g.pixels() + 63) / 64 * 64), local(64);
+        auto run = [&](cl::Kernel& k) {
+            cl::Event e;
+            rt->queue().enqueueNDRangeKernel(k, cl::NullRange, global, local, nullptr, &e);
+            return e;
+        };
+        Timing tp = time_launches([&] { return run(pass); }, target_ms);
+        passthrough_ns = tp.median_ms * 1e6 / n;
+        const double bytes = 32.0 * n;  // 24 B in, 8 B out
+        double kernel_gbps = bytes / (tp.median_ms * 1e-3) * 1e-9;
+        double memcpy_gbps = host_memcpy_gbps(static_cast<size_t>(16.0 * n));  // same traffic
+        std::printf("\nroofline at %s (%d pixels), height map %dx%d\n", res.name, n, field.width,
+                    field.height);
+        std::printf("  pass-through    %7.3f ns/pixel  %6.1f GB/s   host memcpy %6.1f GB/s  -> %5.1f%%\n",
+                    passthrough_ns, kernel_gbps, memcpy_gbps, 100.0 * kernel_gbps / memcpy_gbps);
+        json chain_rows = json::array();
+        cl::Kernel chain(prog, "om_bench_fetch_chain");
+        chain.setArg(0, params_for(field, n));
+        chain.setArg(1, field.heights);
+        chain.setArg(2, g.uv);
+        chain.setArg(3, out);
+        chain.setArg(4, n);
+        for (int len : {1, 8, 32, 128}) {
+            chain.setArg(5, len);
+            Timing t = time_launches([&] { return run(chain); }, target_ms);
+            double per_fetch = (t.median_ms * 1e6 / n - passthrough_ns) / len;
+            if (len == 32) fetch_ns = per_fetch;
+            std::printf("  %3d fetches     %7.3f ns/pixel  -> %6.3f ns per bilinear fetch\n", len,
+                        t.median_ms * 1e6 / n, per_fetch);
+            chain_rows.push_back({{"fetches", len}, {"ns_per_pixel", t.median_ms * 1e6 / n},
+                                  {"ns_per_fetch", per_fetch}});
+        }
+        out_json_roofline(res, n, kernel_gbps, memcpy_gbps, chain_rows);
+    }
+
+    void out_json_roofline(const Resolution& res, int n, double kgbps, double mgbps, const json& chain) {
+        out["roofline"] = {{"resolution", res.name},
+                           {"pixels", n},
+                           {"passthrough_ns_per_pixel", passthrough_ns},
+                           {"passthrough_gbps", kgbps},
+                           {"host_memcpy_gbps", mgbps},
+                           {"passthrough_vs_memcpy", kgbps / mgbps},
+                           {"fetch_chain", chain},
+                           {"ns_per_fetch", fetch_ns}};
+    }
+
+    // One method at one setting: time (uv' and depth written), fetches per pixel, roofline ratio.
+    json measure(const std::string& method, const std::map<std::string, std::string>& setting,
+                 const DeviceGBuffer& g, const DeviceHeightField& f, const PassSettings& s) {
+        OffsetPass pass(rt, method, setting);
+        const size_t n = g.pixels();
+        OffsetTargets t;
+        t.uv = cl::Buffer(rt->context(), CL_MEM_WRITE_ONLY, n * sizeof(cl_float2));
+        t.depth = cl::Buffer(rt->context(), CL_MEM_WRITE_ONLY, n * sizeof(float));
+        Timing tm = time_launches([&] { return pass.enqueue(g, f, s, t); }, target_ms);
+        // Fetch counts from one run with the fetch output on (not timed).
+        OffsetResult counted = run_offset(*rt, pass, g, f, s, 1);
+        double fetches = 0;
+        for (auto c : counted.fetches) fetches += c;
+        fetches /= static_cast<double>(n);
+        double ns = tm.median_ms * 1e6 / n;
+        double roof = passthrough_ns + fetches * fetch_ns;
+        return {{"method", method},
+                {"setting", describe_setting(setting)},
+                {"ns_per_pixel", ns},
+                {"min_ns_per_pixel", tm.min_ms * 1e6 / n},
+                {"mpix_per_s", n / (tm.median_ms * 1e-3) * 1e-6},
+                {"runs", tm.runs},
+                {"fetches_per_pixel", fetches},
+                {"roofline_ns_per_pixel", roof},
+                {"roofline_ratio", roof / ns},
+                {"precomputed_bytes", pass.precomputed().bytes}};
+    }
+};
+
+void print_row(const json& r, const char* extra = "") {
+    std::printf("  %-18s %-34s %9.2f %9.2f %9.1f %8.2f %9.2f %7.0f%% %s\n",
+                r["method"].get<std::string>().c_str(), r["setting"].get<std::string>().c_str(),
+                r["ns_per_pixel"].get<double>(), r["min_ns_per_pixel"].get<double>(),
+                r["mpix_per_s"].get<double>(), r["fetches_per_pixel"].get<double>(),
+                r["roofline_ns_per_pixel"].get<double>(), 100.0 * r["roofline_ratio"].get<double>(),
+                extra);
+}
+
+void print_header(const char* title) {
+    std::printf("\n%s\n  %-18s %-34s %9s %9s %9s %8s %9s %8s\n", title, "method", "setting",
+                "ns/pixel", "min", "Mpix/s", "fetches", "roof ns", "of roof");
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    CLI::App app{"offsetmap_bench: throughput of every offset method against the device's roofline"};
+    bool quick = false;
+    std::string out_dir = "out/bench", device;
+    double target_ms = 300;
+    app.add_flag("--quick", quick, "720p only, smaller maps and grids (about a minute)");
+    app.add_option("--out", out_dir, "output folder")->capture_default_str();
+    app.add_option("--device", device, "OpenCL platform/device substring ($OFFSETMAP_DEVICE)");
+    app.add_option("--target-ms", target_ms, "time spent per measurement")->capture_default_str();
+    CLI11_PARSE(app, argc, argv);
+    try {
+        std::filesystem::create_directories(out_dir);
+        Bench b;
+        b.rt = Runtime::create(device);
+        b.target_ms = quick ? std::min(target_ms, 100.0) : target_ms;
+        const cl::Device& d = b.rt->device();
+        b.out["device"] = b.rt->device_name();
+        b.out["driver"] = d.getInfo<CL_DRIVER_VERSION>();
+        b.out["opencl"] = d.getInfo<CL_DEVICE_VERSION>();
+        b.out["compute_units"] = d.getInfo<CL_DEVICE_MAX_COMPUTE_UNITS>();
+        b.out["build_options"] = "-cl-std=CL1.2";
+        b.out["local_size"] = 64;
+        b.out["quick"] = quick;
+        std::printf("offsetmap_bench on %s\n  driver %s, %s, %u compute units, kernels built with "
+                    "-cl-std=CL1.2, local size 64, buffers path\n",
+                    b.rt->device_name().c_str(), b.out["driver"].get<std::string>().c_str(),
+                    b.out["opencl"].get<std::string>().c_str(), d.getInfo<CL_DEVICE_MAX_COMPUTE_UNITS>());
+
+        const std::vector<Resolution> all_res = {{"720p", 1280, 720}, {"1080p", 1920, 1080}, {"4K", 3840, 2160}};
+        const std::vector<Resolution> resolutions = quick ? std::vector<Resolution>{all_res[0]} : all_res;
+        const Resolution main_res = quick ? all_res[0] : all_res[1];
+        const std::vector<int> map_sizes = quick ? std::vector<int>{256, 1024} : std::vector<int>{256, 1024, 4096};
+        PassSettings s;
+        s.scale = 0.05f;
+        std::map<int, DeviceHeightField> fields;
+        for (int size : map_sizes) fields[size] = upload(*b.rt, bench_map(size), s);
+        const DeviceHeightField& field = fields[1024];
+
+        b.roofline(main_res, field);
+
+        // Every method at its defaults.
+        DeviceGBuffer g_main = upload(*b.rt, camera_gbuffer(main_res));
+        print_header(("methods at their defaults, " + std::string(main_res.name) + ", 1024^2 map").c_str());
+        json rows = json::array();
+        for (const auto& m : methods()) {
+            json r = b.measure(m.name, {}, g_main, field, s);
+            print_row(r);
+            rows.push_back(r);
+        }
+        b.out["methods"] = rows;
+
+        // Cost against resolution (should be flat per pixel).
+        json by_res = json::array();
+        print_header("cost against resolution (1024^2 map)");
+        for (const auto& res : resolutions) {
+            DeviceGBuffer g = res.w == main_res.w ? g_main : upload(*b.rt, camera_gbuffer(res));
+            for (const char* m : {"none", "parallax", "steep", "pom", "exact"}) {
+                json r = b.measure(m, {}, g, field, s);
+                r["resolution"] = res.name;
+                r["pixels"] = g.pixels();
+                print_row(r, res.name);
+                by_res.push_back(r);
+            }
+        }
+        b.out["by_resolution"] = by_res;
+
+        // Cost against height-map size (cache effects).
+        json by_map = json::array();
+        print_header(("cost against height-map size (" + std::string(main_res.name) + ")").c_str());
+        for (int size : map_sizes)
+            for (const char* m : {"parallax", "pom", "exact"}) {
+                json r = b.measure(m, {}, g_main, fields[size], s);
+                r["map_size"] = size;
+                print_row(r, (std::to_string(size) + "^2").c_str());
+                by_map.push_back(r);
+            }
+        b.out["by_map_size"] = by_map;
+
+        // Cost against step count (should be linear).
+        json by_steps = json::array();
+        print_header("cost against step count");
+        std::vector<int> steps = quick ? std::vector<int>{8, 32, 128} : std::vector<int>{8, 16, 32, 64, 128};
+        for (int n : steps) {
+            auto ns = std::to_string(n);
+            for (auto [m, setting] : std::vector<std::pair<std::string, std::map<std::string, std::string>>>{
+                     {"steep", {{"layers", ns}}},
+                     {"relief", {{"linear", ns}}},
+                     {"pom", {{"min_samples", ns}, {"max_samples", ns}}},
+                     {"sphere", {{"steps", ns}, {"res", "128"}, {"layers", "16"}}}}) {
+                json r = b.measure(m, setting, g_main, field, s);
+                r["steps"] = n;
+                print_row(r);
+                by_steps.push_back(r);
+            }
+        }
+        b.out["by_steps"] = by_steps;
+
+        // Memory of every buffer per method and resolution.
+        json memory = json::array();
+        std::printf("\nmemory (MiB): G-buffer uv+view, outputs uv'+depth(+fetches+flags), height "
+                    "pyramid, normals (shading), precomputed\n");
+        for (const auto& res : all_res) {
+            double px = static_cast<double>(res.w) * res.h;
+            for (int size : {256, 1024, 4096}) {
+                double pyramid = mip_pyramid_floats(size, size, mip_level_count(size, size)) * 4.0;
+                for (const auto& m : methods()) {
+                    double pre = 0;
+                    if (m.precompute == Precompute::DistanceMap) {
+                        std::vector<float> v = resolve_params(m, {});
+                        pre = 4.0 * v[0] * v[0] * v[1] + 4.0 * v[0] * v[0];
+                    }
+                    json row = {{"resolution", res.name}, {"map_size", size}, {"method", m.name},
+                                {"gbuffer_bytes", 24 * px}, {"output_bytes", 12 * px},
+                                {"debug_output_bytes", 8 * px}, {"pyramid_bytes", pyramid},
+                                {"normals_bytes", 16.0 * size * size}, {"precomputed_bytes", pre}};
+                    memory.push_back(row);
+                    if (size == 1024 && (m.name == "pom" || m.name == "sphere"))
+                        std::printf("  %-6s %-8s 1024^2: %8.1f %8.1f (+%.1f) %8.1f %8.1f %8.1f\n", res.name,
+                                    m.name.c_str(), 24 * px / 1048576, 12 * px / 1048576, 8 * px / 1048576,
+                                    pyramid / 1048576, 16.0 * size * size / 1048576, pre / 1048576);
+                }
+            }
+        }
+        b.out["memory"] = memory;
+
+        std::ofstream(out_dir + "/bench.json") << b.out.dump(1) << "\n";
+        std::printf("\nwrote %s/bench.json\n", out_dir.c_str());
+        return 0;
+    } catch (const offsetmap::Error& e) {
+        std::cerr << "offsetmap_bench: error: " << e.what() << "\n";
+    } catch (const cl::Error& e) {
+        std::cerr << "offsetmap_bench: error: " << e.what() << ": " << describe_cl_error(e.err()) << "\n";
+    }
+    return 1;
+}
