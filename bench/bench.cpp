@@ -10,6 +10,7 @@
 #include <CLI/CLI.hpp>
 #include <algorithm>
 #include <chrono>
+#include <cstdlib>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -38,7 +39,7 @@ Timing time_launches(const std::function<cl::Event()>& launch, double target_ms)
     cl::Event first = launch();
     first.wait();
     double t0 = std::max(event_ms(first), 1e-3);
-    int runs = std::clamp(static_cast<int>(target_ms / t0), 3, 30);
+    int runs = std::clamp(static_cast<int>(target_ms / t0), target_ms > 0 ? 3 : 1, 30);
     std::vector<double> ts = {t0};
     for (int r = 1; r < runs; ++r) {
         cl::Event e = launch();
@@ -103,7 +104,7 @@ struct Bench {
     std::shared_ptr<Runtime> rt;
     double target_ms;
     double passthrough_ns = 0;  // per pixel
-    double fetch_ns = 0;        // per dependent bilinear fetch (chain of 32)
+    double fetch_ns = 0;        // per bilinear fetch: the faster of chain and line at 32
     json out;
 
     OmOffsetParams params_for(const DeviceHeightField& f, int pixels) {
@@ -143,21 +144,26 @@ struct Bench {
         std::printf("  pass-through    %7.3f ns/pixel  %6.1f GB/s   host memcpy %6.1f GB/s  -> %5.1f%%\n",
                     passthrough_ns, kernel_gbps, memcpy_gbps, 100.0 * kernel_gbps / memcpy_gbps);
         json chain_rows = json::array();
-        cl::Kernel chain(prog, "om_bench_fetch_chain");
-        chain.setArg(0, params_for(field, n));
-        chain.setArg(1, field.heights);
-        chain.setArg(2, g.uv);
-        chain.setArg(3, out);
-        chain.setArg(4, n);
-        for (int len : {1, 8, 32, 128}) {
-            chain.setArg(5, len);
-            Timing t = time_launches([&] { return run(chain); }, target_ms);
-            double per_fetch = (t.median_ms * 1e6 / n - passthrough_ns) / len;
-            if (len == 32) fetch_ns = per_fetch;
-            std::printf("  %3d fetches     %7.3f ns/pixel  -> %6.3f ns per bilinear fetch\n", len,
-                        t.median_ms * 1e6 / n, per_fetch);
-            chain_rows.push_back({{"fetches", len}, {"ns_per_pixel", t.median_ms * 1e6 / n},
-                                  {"ns_per_fetch", per_fetch}});
+        fetch_ns = 1e30;
+        for (const char* kind : {"om_bench_fetch_chain", "om_bench_fetch_line"}) {
+            cl::Kernel k(prog, kind);
+            k.setArg(0, params_for(field, n));
+            k.setArg(1, field.heights);
+            k.setArg(2, g.uv);
+            k.setArg(3, out);
+            k.setArg(4, n);
+            const bool dependent = std::string(kind) == "om_bench_fetch_chain";
+            for (int len : {1, 8, 32, 128}) {
+                k.setArg(5, len);
+                Timing t = time_launches([&] { return run(k); }, target_ms);
+                double per_fetch = (t.median_ms * 1e6 / n - passthrough_ns) / len;
+                if (len == 32) fetch_ns = std::min(fetch_ns, per_fetch);
+                std::printf("  %3d %-11s  %8.3f ns/pixel  -> %6.3f ns per bilinear fetch\n", len,
+                            dependent ? "dependent" : "independent", t.median_ms * 1e6 / n, per_fetch);
+                chain_rows.push_back({{"fetches", len}, {"dependent", dependent},
+                                      {"ns_per_pixel", t.median_ms * 1e6 / n},
+                                      {"ns_per_fetch", per_fetch}});
+            }
         }
         out_json_roofline(res, n, kernel_gbps, memcpy_gbps, chain_rows);
     }
@@ -220,19 +226,23 @@ void print_header(const char* title) {
 
 int main(int argc, char** argv) {
     CLI::App app{"offsetmap_bench: throughput of every offset method against the device's roofline"};
-    bool quick = false;
+    bool quick = false, smoke = false;
     std::string out_dir = "out/bench", device;
     double target_ms = 300;
     app.add_flag("--quick", quick, "720p only, smaller maps and grids (about a minute)");
+    app.add_flag("--smoke", smoke, "tiny sizes and one run each: checks the program, not the device");
     app.add_option("--out", out_dir, "output folder")->capture_default_str();
     app.add_option("--device", device, "OpenCL platform/device substring ($OFFSETMAP_DEVICE)");
     app.add_option("--target-ms", target_ms, "time spent per measurement")->capture_default_str();
+    bool charts = true;
+    app.add_flag("!--no-charts", charts, "skip bench/plot_bench.py");
     CLI11_PARSE(app, argc, argv);
     try {
         std::filesystem::create_directories(out_dir);
         Bench b;
         b.rt = Runtime::create(device);
-        b.target_ms = quick ? std::min(target_ms, 100.0) : target_ms;
+        quick = quick || smoke;
+        b.target_ms = smoke ? 0.0 : quick ? std::min(target_ms, 100.0) : target_ms;
         const cl::Device& d = b.rt->device();
         b.out["device"] = b.rt->device_name();
         b.out["driver"] = d.getInfo<CL_DRIVER_VERSION>();
@@ -247,16 +257,22 @@ int main(int argc, char** argv) {
                     b.out["opencl"].get<std::string>().c_str(), d.getInfo<CL_DEVICE_MAX_COMPUTE_UNITS>());
 
         const std::vector<Resolution> all_res = {{"720p", 1280, 720}, {"1080p", 1920, 1080}, {"4K", 3840, 2160}};
-        const std::vector<Resolution> resolutions = quick ? std::vector<Resolution>{all_res[0]} : all_res;
-        const Resolution main_res = quick ? all_res[0] : all_res[1];
-        const std::vector<int> map_sizes = quick ? std::vector<int>{256, 1024} : std::vector<int>{256, 1024, 4096};
+        const Resolution tiny = {"160x90", 160, 90};
+        const std::vector<Resolution> resolutions =
+            smoke ? std::vector<Resolution>{tiny} : quick ? std::vector<Resolution>{all_res[0]} : all_res;
+        const Resolution main_res = smoke ? tiny : quick ? all_res[0] : all_res[1];
+        // The roofline at 4K in a full run: a G-buffer too large for any last-level cache.
+        const Resolution roof_res = smoke ? tiny : quick ? all_res[0] : all_res[2];
+        const std::vector<int> map_sizes = smoke   ? std::vector<int>{64, 1024}
+                                           : quick ? std::vector<int>{256, 1024}
+                                                   : std::vector<int>{256, 1024, 4096};
         PassSettings s;
         s.scale = 0.05f;
         std::map<int, DeviceHeightField> fields;
         for (int size : map_sizes) fields[size] = upload(*b.rt, bench_map(size), s);
         const DeviceHeightField& field = fields[1024];
 
-        b.roofline(main_res, field);
+        b.roofline(roof_res, field);
 
         // Every method at its defaults.
         DeviceGBuffer g_main = upload(*b.rt, camera_gbuffer(main_res));
@@ -299,7 +315,9 @@ int main(int argc, char** argv) {
         // Cost against step count (should be linear).
         json by_steps = json::array();
         print_header("cost against step count");
-        std::vector<int> steps = quick ? std::vector<int>{8, 32, 128} : std::vector<int>{8, 16, 32, 64, 128};
+        std::vector<int> steps = smoke ? std::vector<int>{8}
+                                 : quick ? std::vector<int>{8, 32, 128}
+                                         : std::vector<int>{8, 16, 32, 64, 128};
         for (int n : steps) {
             auto ns = std::to_string(n);
             for (auto [m, setting] : std::vector<std::pair<std::string, std::map<std::string, std::string>>>{
@@ -345,6 +363,13 @@ int main(int argc, char** argv) {
 
         std::ofstream(out_dir + "/bench.json") << b.out.dump(1) << "\n";
         std::printf("\nwrote %s/bench.json\n", out_dir.c_str());
+        if (charts) {
+            std::string cmd = "/usr/bin/python3 '" + std::string(OFFSETMAP_SCRIPT_DIR) +
+                              "/plot_bench.py' '" + out_dir + "/bench.json' '" + out_dir + "'";
+            std::fflush(stdout);  // our table first, then the script's line
+            if (std::system(cmd.c_str()) != 0)
+                std::cerr << "offsetmap_bench: warning: charts not drawn (" << cmd << ")\n";
+        }
         return 0;
     } catch (const offsetmap::Error& e) {
         std::cerr << "offsetmap_bench: error: " << e.what() << "\n";

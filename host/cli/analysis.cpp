@@ -48,6 +48,7 @@ bool run_chart_script(const std::string& script, const std::vector<std::string>&
     std::string python = std::filesystem::exists("/usr/bin/python3") ? "/usr/bin/python3" : "python3";
     std::string cmd = python + " " + shell_quote(path);
     for (const auto& a : args) cmd += " " + shell_quote(a);
+    std::fflush(stdout);  // our lines first, then the script's
     if (std::system(cmd.c_str()) != 0) {
         std::cerr << "offsetmap: warning: drawing charts failed (" << cmd
                   << "); install python3-matplotlib\n";

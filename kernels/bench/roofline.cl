@@ -25,3 +25,18 @@ __kernel void om_bench_fetch_chain(const OmOffsetParams P, __global const float*
     }
     out[i] = p;
 }
+
+// `count` independent bilinear fetches per pixel along a line, as a linear search makes them: the
+// positions do not depend on earlier heights, so fetches can overlap. The faster of the two fetch
+// rates is the roof methods are measured against.
+__kernel void om_bench_fetch_line(const OmOffsetParams P, __global const float* heights,
+                                  __global const float2* uv, __global float2* out, int n,
+                                  int count) {
+    int i = get_global_id(0);
+    if (i >= n) return;
+    OmHeightField f = om_heightfield(heights, &P);
+    float2 p = uv[i], d = (float2)(0.61f, 0.29f) / f.fw;
+    float sum = 0.0f;
+    for (int k = 0; k < count; ++k) sum += om_height(&f, p + (float)k * d);
+    out[i] = p + sum * 0.0f;
+}
