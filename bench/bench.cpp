@@ -21,6 +21,7 @@
 #include <nlohmann/json.hpp>
 #include <thread>
 
+#include "cpu_peer.hpp"
 #include "offsetmap/offsetmap.hpp"
 #include "om_shared.h"
 
@@ -269,13 +270,18 @@ int main(int argc, char** argv) {
         PassSettings s;
         s.scale = 0.05f;
         std::map<int, DeviceHeightField> fields;
-        for (int size : map_sizes) fields[size] = upload(*b.rt, bench_map(size), s);
+        std::map<int, HeightMap> host_maps;
+        for (int size : map_sizes) {
+            host_maps[size] = bench_map(size);
+            fields[size] = upload(*b.rt, host_maps[size], s);
+        }
         const DeviceHeightField& field = fields[1024];
 
         b.roofline(roof_res, field);
 
         // Every method at its defaults.
-        DeviceGBuffer g_main = upload(*b.rt, camera_gbuffer(main_res));
+        GBuffer host_main = camera_gbuffer(main_res);
+        DeviceGBuffer g_main = upload(*b.rt, host_main);
         print_header(("methods at their defaults, " + std::string(main_res.name) + ", 1024^2 map").c_str());
         json rows = json::array();
         for (const auto& m : methods()) {
@@ -284,6 +290,27 @@ int main(int argc, char** argv) {
             rows.push_back(r);
         }
         b.out["methods"] = rows;
+
+        // The same kernel sources compiled as C++ (-O3 -march=native), threads over pixels.
+        unsigned threads = std::max(1u, std::thread::hardware_concurrency());
+        std::printf("\nkernel against the plain threaded C++ loop of the same source (%u threads, "
+                    "-O3 -march=native), %s\n  %-18s %12s %12s %10s\n",
+                    threads, main_res.name, "method", "loop ns/px", "kernel ns/px", "kernel x");
+        json peers = json::array();
+        for (auto& r : rows) {
+            const std::string name = r["method"];
+            if (find_method(name).precompute != Precompute::None) continue;
+            auto run = cpu_peer::run(name, {}, host_main, host_maps[1024], s, smoke ? 1 : 3, threads);
+            double loop_ns = run.median_ms * 1e6 / static_cast<double>(host_main.pixels());
+            double ratio = loop_ns / r["ns_per_pixel"].get<double>();
+            r["cpp_loop_ns_per_pixel"] = loop_ns;
+            r["kernel_vs_loop"] = ratio;
+            std::printf("  %-18s %12.2f %12.2f %9.2fx\n", name.c_str(), loop_ns,
+                        r["ns_per_pixel"].get<double>(), ratio);
+            peers.push_back({{"method", name}, {"loop_ns_per_pixel", loop_ns}, {"kernel_vs_loop", ratio}});
+        }
+        b.out["methods"] = rows;
+        b.out["cpp_loop"] = peers;
 
         // Cost against resolution (should be flat per pixel).
         json by_res = json::array();

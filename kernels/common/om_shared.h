@@ -7,6 +7,10 @@
 typedef float om_float;
 typedef int om_int;
 typedef uint om_uint;
+// Vector literals, spelled so the kernel sources also compile as C++ (bench/cpu_peer).
+#define OM_F2(a, b) ((float2)((a), (b)))
+#define OM_F3(a, b, c) ((float3)((a), (b), (c)))
+#define OM_F4(a, b, c, d) ((float4)((a), (b), (c), (d)))
 #else
 #include <cstdint>
 typedef float om_float;

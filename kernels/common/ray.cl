@@ -45,12 +45,12 @@ inline uint om_setup_ray(float2 uv, float4 v4, const OmOffsetParams* P, OmRay* r
     if (v.z < P->min_vz) {
         float lxy = length(v.xy);
         float k = sqrt(1.0f - P->min_vz * P->min_vz) / lxy;
-        v = (float3)(v.x * k, v.y * k, P->min_vz);
+        v = OM_F3(v.x * k, v.y * k, P->min_vz);
         flags |= OM_FLAG_GRAZING;
     }
     // Tracing in a local frame keeps float precision for any tile index; the offset is added back.
-    *base = P->address_mode == OM_ADDRESS_WRAP ? (float2)(om_floor(uv.x), om_floor(uv.y))
-                                               : (float2)(0.0f);
+    *base = P->address_mode == OM_ADDRESS_WRAP ? OM_F2(om_floor(uv.x), om_floor(uv.y))
+                                               : OM_F2(0.0f, 0.0f);
     r->uv = uv - *base;
     r->v = v;
     r->scale = P->scale;

@@ -79,8 +79,8 @@ inline float om_texel(const OmHeightField* f, int i, int j) {
 // Texel-space coordinate whose integer part is the patch's lower-left texel centre.
 // Clamping keeps the int conversion defined for any finite input (wrap callers pass local uv).
 inline float2 om_cell_coord(const OmHeightField* f, float2 uv) {
-    float2 c = (float2)(uv.x * f->fw - 0.5f, uv.y * f->fh - 0.5f);
-    return clamp(c, (float2)(-1.0e8f), (float2)(1.0e8f));
+    float2 c = OM_F2(uv.x * f->fw - 0.5f, uv.y * f->fh - 0.5f);
+    return clamp(c, OM_F2(-1.0e8f, -1.0e8f), OM_F2(1.0e8f, 1.0e8f));
 }
 
 // The four corners of bilinear patch (i, j): h00 at (i, j), h10 at (i+1, j), h01, h11.
@@ -106,7 +106,7 @@ inline float4 om_patch(const OmHeightField* f, int i, int j) {
     }
     __global const float* r0 = f->h + j0 * f->w;
     __global const float* r1 = f->h + j1 * f->w;
-    return (float4)(r0[i0], r0[i1], r1[i0], r1[i1]);
+    return OM_F4(r0[i0], r0[i1], r1[i0], r1[i1]);
 }
 
 // Bilinear height H(uv) in [0,1]; counts one fetch.

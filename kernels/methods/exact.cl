@@ -39,7 +39,7 @@ float2 om_trace(const OmRay* r, OmHeightField* f, const OmOffsetParams* P, float
                 uint* flags) {
     // Ray in cell coordinates: c(t) = c0 - t * d, where integer c is a texel centre.
     float2 c0 = om_cell_coord(f, r->uv);
-    float2 d = (float2)(r->v.x * f->fw, r->v.y * f->fh);
+    float2 d = OM_F2(r->v.x * f->fw, r->v.y * f->fh);
     float t = r->t_enter;
     float2 c = c0 - t * d;
     int i = (int)om_floor(c.x), j = (int)om_floor(c.y);
@@ -55,7 +55,7 @@ float2 om_trace(const OmRay* r, OmHeightField* f, const OmOffsetParams* P, float
         float4 k = om_patch(f, i, j);
         f->fetches += 1u;
         float e1 = k.y - k.x, e2 = k.z - k.x, e3 = k.x - k.y - k.z + k.w;
-        float2 ab = c0 - t * d - (float2)((float)i, (float)j);
+        float2 ab = c0 - t * d - OM_F2((float)i, (float)j);
         float da = -d.x, db = -d.y;
         float h0 = k.x + e1 * ab.x + e2 * ab.y + e3 * ab.x * ab.y;
         // f(tau) = z(t + tau) - s (H(tau) - r), with z(t) = -t V.z.

@@ -1,0 +1,45 @@
+// The offset kernels run as plain threaded C++ loops over pixels (the kernel sources compiled as
+// C++ with -O3 -march=native): the peer the OpenCL kernels are compared against in bench/, and an
+// independent compilation of the same code for the tests.
+#pragma once
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "offsetmap/evaluate.hpp"
+#include "offsetmap/heightmap.hpp"
+#include "offsetmap/passes.hpp"
+#include "om_shared.h"
+
+namespace offsetmap::cpu_peer {
+
+// Raw pointers as the kernel sees them (any may be null where the kernel allows it).
+struct Args {
+    OmOffsetParams params;
+    const void* uv;    // float2 per pixel
+    const void* view;  // float4 per pixel
+    const float* heights;
+    const float* aux;
+    const float* lod;
+    void* out_uv;
+    float* out_depth;
+    std::uint32_t* out_fetches;
+    std::uint32_t* out_flags;
+};
+
+// The compiled peer of a method (by kernel file, e.g. "pom.cl"); throws Error if none.
+using Entry = void (*)(const Args&, int begin, int end);
+Entry entry_for(const std::string& kernel_file);
+
+struct Run {
+    OffsetResult result;
+    double median_ms = 0;  // wall time of the threaded loop
+};
+
+// Runs `method` over the G-buffer with `threads` threads (0: all), `repeats` times after a
+// warm-up. Methods with precomputed data are not supported (throws Error).
+Run run(const std::string& method, const std::map<std::string, std::string>& params,
+        const GBuffer& gbuffer, const HeightMap& map, const PassSettings& settings, int repeats,
+        unsigned threads = 0);
+
+}  // namespace offsetmap::cpu_peer

@@ -1,0 +1,28 @@
+// One method's offset kernel compiled as C++ (built once per method file by CMake with
+// OM_METHOD_FILE, OM_NS and OM_ENTRY defined): the kernel's own source, run over a pixel range.
+#include "clc_compat.hpp"
+#include "cpu_peer.hpp"
+
+namespace OM_NS {
+using namespace ::clc;
+#include "common/sampling.cl"
+#include "common/ray.cl"
+#include "common/march.cl"
+#include OM_METHOD_FILE
+#include "offset.cl"
+}  // namespace OM_NS
+
+namespace offsetmap::cpu_peer {
+
+void OM_ENTRY(const Args& a, int begin, int end) {
+    static_assert(sizeof(::clc::float2) == 8 && sizeof(::clc::float4) == 16, "vector layout");
+    for (int id = begin; id < end; ++id) {
+        ::clc::global_id = id;
+        OM_NS::om_offset(a.params, reinterpret_cast<const ::clc::float2*>(a.uv),
+                         reinterpret_cast<const ::clc::float4*>(a.view), a.heights, a.aux, a.lod,
+                         reinterpret_cast<::clc::float2*>(a.out_uv), a.out_depth, a.out_fetches,
+                         a.out_flags);
+    }
+}
+
+}  // namespace offsetmap::cpu_peer
