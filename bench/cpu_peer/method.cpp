@@ -8,6 +8,7 @@ using namespace ::clc;
 #include "common/sampling.cl"
 #include "common/ray.cl"
 #include "common/march.cl"
+#include "common/patch.cl"
 #include OM_METHOD_FILE
 #include "offset.cl"
 }  // namespace OM_NS

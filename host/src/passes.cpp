@@ -40,8 +40,8 @@ OmOffsetParams offset_params(const PassSettings& s, int pixels, int hf_w, int hf
 
 // Every offset program: the sampling layer, the ray, the shared searches, one method, the entry.
 std::vector<std::string> offset_program_files(const MethodInfo& m) {
-    return {"common/sampling.cl", "common/ray.cl", "common/march.cl", "methods/" + m.kernel_file,
-            "offset.cl"};
+    return {"common/sampling.cl", "common/ray.cl", "common/march.cl", "common/patch.cl",
+            "methods/" + m.kernel_file, "offset.cl"};
 }
 
 void set_optional(cl::Kernel& k, cl_uint index, const cl::Buffer& b) {
