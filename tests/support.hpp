@@ -130,8 +130,10 @@ inline double fetch_cap(const std::string& method, const PassSettings& s, const 
     if (method == "relief") return p("linear") + 1 + p("binary");
     if (method == "pom") return std::max(p("min_samples"), p("max_samples")) + 1;
     if (method == "sphere") return p("steps");
-    if (method == "exact")
-        return std::ceil(s.scale / std::sin(s.min_elevation_deg * M_PI / 180.0) * (map.width + map.height)) + 4;
+    const double cells = std::ceil(s.scale / std::sin(s.min_elevation_deg * M_PI / 180.0) * (map.width + map.height)) + 4;
+    if (method == "exact") return cells;
+    // maxmip: one block test or one cell per step, at most 2 levels + 2 steps per cell crossed.
+    if (method == "maxmip") return cells * (2 * 15 + 2);
     throw Error("no fetch cap row for method " + method);
 }
 
@@ -139,7 +141,7 @@ inline double fetch_cap(const std::string& method, const PassSettings& s, const 
 inline const std::vector<std::string>& methods_with_rows() {
     static const std::vector<std::string> rows = {"none",  "parallax", "parallax-limited",
                                                   "parallax-slope", "parallax-iterative", "steep",
-                                                  "relief", "pom", "sphere", "exact"};
+                                                  "relief", "pom", "sphere", "maxmip", "exact"};
     return rows;
 }
 

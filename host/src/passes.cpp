@@ -175,45 +175,95 @@ void OffsetPass::prepare(const DeviceHeightField& f, const PassSettings& setting
         << static_cast<int>(settings.address);
     for (float p : params_) key << ' ' << p;
     if (key.str() == aux_key_) return;
+    aux_key_.clear();
+    auto start = std::chrono::steady_clock::now();
+    double kernel_ms = 0.0;
+    try {
+        kernel_ms = method_->precompute == Precompute::DistanceMap ? build_distance_map(f, settings)
+                                                                   : build_max_pyramid(f, settings);
+    } catch (const cl::Error& e) {
+        throw Error("cannot build the precomputed data of '" + method_->name + "' (" +
+                    std::to_string(precomputed_.bytes) + " bytes): " + describe_cl_error(e.err()));
+    }
+    precomputed_.build_ms = runtime_->profiling()
+                                ? kernel_ms
+                                : std::chrono::duration<double, std::milli>(
+                                      std::chrono::steady_clock::now() - start).count();
+    aux_key_ = key.str();
+}
 
+double OffsetPass::build_distance_map(const DeviceHeightField& f, const PassSettings& settings) {
     auto& rt = *runtime_;
     OmOffsetParams p = offset_params(settings, 0, f.width, f.height);
     const int res = static_cast<int>(params_[0]), layers = static_cast<int>(params_[1]);
     const size_t voxels = static_cast<size_t>(res) * res * layers;
-    auto start = std::chrono::steady_clock::now();
-    try {
-        cl::Program program = rt.program({"common/sampling.cl", "prep/distance.cl"});
-        cl::Buffer colmax(rt.context(), CL_MEM_READ_WRITE, static_cast<size_t>(res) * res * sizeof(float));
-        aux_ = cl::Buffer(rt.context(), CL_MEM_READ_WRITE, voxels * sizeof(float));
-        cl::Kernel kc(program, "om_column_max");
-        kc.setArg(0, p);
-        kc.setArg(1, f.heights);
-        kc.setArg(2, res);
-        kc.setArg(3, colmax);
-        cl::Kernel kd(program, "om_distance_map");
-        kd.setArg(0, p);
-        kd.setArg(1, colmax);
-        kd.setArg(2, res);
-        kd.setArg(3, layers);
-        kd.setArg(4, aux_);
-        cl::Event e1, e2;
-        rt.queue().enqueueNDRangeKernel(kc, cl::NullRange, cl::NDRange(res, res), cl::NullRange,
-                                        nullptr, &e1);
-        rt.queue().enqueueNDRangeKernel(kd, cl::NullRange, cl::NDRange(res, res, layers),
-                                        cl::NullRange, nullptr, &e2);
-        e2.wait();
-        precomputed_.bytes = voxels * sizeof(float);
-        precomputed_.build_ms =
-            rt.profiling() ? event_ms(e1) + event_ms(e2)
-                           : std::chrono::duration<double, std::milli>(
-                                 std::chrono::steady_clock::now() - start).count();
-    } catch (const cl::Error& e) {
-        aux_key_.clear();
-        throw Error("cannot build the distance map for '" + method_->name + "' (" +
-                    std::to_string(voxels * sizeof(float)) + " bytes): " +
-                    describe_cl_error(e.err()));
+    precomputed_.bytes = voxels * sizeof(float);
+    cl::Program program = rt.program({"common/sampling.cl", "prep/distance.cl"});
+    cl::Buffer colmax(rt.context(), CL_MEM_READ_WRITE, static_cast<size_t>(res) * res * sizeof(float));
+    aux_ = cl::Buffer(rt.context(), CL_MEM_READ_WRITE, voxels * sizeof(float));
+    cl::Kernel kc(program, "om_column_max");
+    kc.setArg(0, p);
+    kc.setArg(1, f.heights);
+    kc.setArg(2, res);
+    kc.setArg(3, colmax);
+    cl::Kernel kd(program, "om_distance_map");
+    kd.setArg(0, p);
+    kd.setArg(1, colmax);
+    kd.setArg(2, res);
+    kd.setArg(3, layers);
+    kd.setArg(4, aux_);
+    cl::Event e1, e2;
+    rt.queue().enqueueNDRangeKernel(kc, cl::NullRange, cl::NDRange(res, res), cl::NullRange,
+                                    nullptr, &e1);
+    rt.queue().enqueueNDRangeKernel(kd, cl::NullRange, cl::NDRange(res, res, layers),
+                                    cl::NullRange, nullptr, &e2);
+    e2.wait();
+    return rt.profiling() ? event_ms(e1) + event_ms(e2) : 0.0;
+}
+
+double OffsetPass::build_max_pyramid(const DeviceHeightField& f, const PassSettings& settings) {
+    auto& rt = *runtime_;
+    // Levels while both sizes stay even, in wrap mode only (as om_maxmip_levels in the kernel).
+    int levels = 0;
+    if (settings.address == AddressMode::Wrap)
+        while (levels < 15 && ((f.width >> levels) & 1) == 0 && ((f.height >> levels) & 1) == 0)
+            ++levels;
+    size_t floats = 0;
+    for (int k = 1; k <= levels; ++k) floats += static_cast<size_t>(f.width >> k) * (f.height >> k);
+    precomputed_.bytes = floats * sizeof(float);
+    aux_ = cl::Buffer(rt.context(), CL_MEM_READ_WRITE, std::max<size_t>(floats, 1) * sizeof(float));
+    if (levels == 0) return 0.0;
+    cl::Program program = rt.program({"common/sampling.cl", "prep/maxmip.cl"});
+    OmOffsetParams p = offset_params(settings, 0, f.width, f.height);
+    double ms = 0.0;
+    cl::Kernel first(program, "om_maxmip_first");
+    first.setArg(0, p);
+    first.setArg(1, f.heights);
+    first.setArg(2, aux_);
+    first.setArg(3, f.width >> 1);
+    first.setArg(4, f.height >> 1);
+    cl::Event e;
+    rt.queue().enqueueNDRangeKernel(first, cl::NullRange, cl::NDRange(f.width >> 1, f.height >> 1),
+                                    cl::NullRange, nullptr, &e);
+    e.wait();
+    if (rt.profiling()) ms += event_ms(e);
+    cl::Kernel next(program, "om_maxmip_next");
+    int offset = 0;
+    for (int k = 2; k <= levels; ++k) {
+        int pw = f.width >> (k - 1), ph = f.height >> (k - 1), cw = f.width >> k, ch = f.height >> k;
+        next.setArg(0, aux_);
+        next.setArg(1, offset);
+        next.setArg(2, pw);
+        next.setArg(3, offset + pw * ph);
+        next.setArg(4, cw);
+        next.setArg(5, ch);
+        rt.queue().enqueueNDRangeKernel(next, cl::NullRange, cl::NDRange(cw, ch), cl::NullRange,
+                                        nullptr, &e);
+        e.wait();
+        if (rt.profiling()) ms += event_ms(e);
+        offset += pw * ph;
     }
-    aux_key_ = key.str();
+    return ms;
 }
 
 cl::Buffer OffsetPass::footprint(const DeviceGBuffer& g, const DeviceHeightField& f,

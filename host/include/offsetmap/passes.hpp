@@ -77,6 +77,10 @@ public:
     void prepare(const DeviceHeightField& field, const PassSettings& settings);
 
 private:
+    // Build the method's precomputed data into aux_; return kernel milliseconds (profiling).
+    double build_distance_map(const DeviceHeightField& f, const PassSettings& settings);
+    double build_max_pyramid(const DeviceHeightField& f, const PassSettings& settings);
+
     // Enqueues the footprint pre-pass after `wait`; `deps` becomes its event.
     cl::Buffer footprint(const DeviceGBuffer& g, const DeviceHeightField& f,
                          const std::vector<cl::Event>& wait, std::vector<cl::Event>& deps);
