@@ -128,7 +128,7 @@ inline double fetch_cap(const std::string& method, const PassSettings& s, const 
     if (method == "parallax-iterative") return p("iterations");
     if (method == "steep") return p("layers") + 1;
     if (method == "relief") return p("linear") + 1 + p("binary");
-    if (method == "secant") return p("linear") + 1 + p("refine");
+    if (method == "secant") return std::max(p("min_samples"), p("max_samples")) + 1 + p("refine");
     if (method == "pom") return std::max(p("min_samples"), p("max_samples")) + 1;
     if (method == "sphere") return p("steps");
     const double cells = std::ceil(s.scale / std::sin(s.min_elevation_deg * M_PI / 180.0) * (map.width + map.height)) + 4;

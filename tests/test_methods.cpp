@@ -177,20 +177,25 @@ TEST(SeedClaims, SphereNeverOvershootsAThinSpikeSteepSkips) {
 namespace omtest {
 namespace {
 
-TEST(Secant, ConvergesFasterThanReliefAtEqualFetches) {
+TEST(Secant, RefinesFasterThanBinarySearchAndIsPomWithoutRefinement) {
     // Risser et al.: secant refinement reaches a given accuracy in fewer fetches than binary
-    // search. Same linear search (16 steps); secant with 2 refinements against relief with 2, 4, 6.
+    // search. Same 16-step linear search (min = max = 16 samples) for both.
     Bench st(15.0, 0.08f);
-    Errors sec2 = st.of("secant", {{"linear", "16"}, {"refine", "2"}, {"tol", "0"}});
-    Errors sec4 = st.of("secant", {{"linear", "16"}, {"refine", "4"}, {"tol", "0"}});
+    auto sec = [&](const char* refine) {
+        return st.of("secant", {{"min_samples", "16"}, {"max_samples", "16"}, {"refine", refine}, {"tol", "0"}});
+    };
+    Errors sec2 = sec("2"), sec4 = sec("4"), sec0 = sec("0");
     Errors rel2 = st.of("relief", {{"linear", "16"}, {"binary", "2"}});
     Errors rel6 = st.of("relief", {{"linear", "16"}, {"binary", "6"}});
-    std::printf("16 linear steps + 2 refinements: secant %.5f, relief %.5f; secant 4 %.6f vs relief 6 %.5f\n",
+    Errors pom = st.of("pom", {{"min_samples", "16"}, {"max_samples", "16"}});
+    std::printf("16 linear steps + 2 refinements: secant %.6f, relief %.5f; secant 4 %.7f vs relief 6 %.5f\n",
                 sec2.mean, rel2.mean, sec4.mean, rel6.mean);
     EXPECT_LT(sec2.mean, 0.25 * rel2.mean);
     EXPECT_LT(sec4.mean, rel6.mean);  // fewer fetches, lower error
+    for (size_t k = 0; k < sec0.per_pixel.size(); ++k)
+        ASSERT_EQ(sec0.per_pixel[k], pom.per_pixel[k]) << "refine = 0 must be pom, pixel " << k;
     // And it converges: 64 linear steps and 8 refinements on a smooth map are exact to 1e-3 texel.
-    Errors fine = st.of("secant", {{"linear", "64"}, {"refine", "8"}, {"tol", "0"}});
+    Errors fine = st.of("secant", {{"min_samples", "64"}, {"max_samples", "64"}, {"refine", "8"}, {"tol", "0"}});
     EXPECT_LT(fine.p99, 1e-3);
 }
 

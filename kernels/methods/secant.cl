@@ -1,16 +1,18 @@
 // secant (Risser, Shah & Pattanaik, "Faster relief mapping using the secant method", JGT 2007):
-// the linear search of relief mapping (n = p[0] steps), then the bracket [last sample above,
-// first sample below] refined by the secant rule on the height gap g(lambda) = H - (1 - lambda),
-// up to m = p[1] iterations or until |g| <= tol = p[2] (height units). Risser's plain secant can
+// a linear search, then the bracket [last sample above, first sample below] refined by the secant
+// rule on the height gap g(lambda) = H - (1 - lambda), up to m = p[2] iterations or until
+// |g| <= tol = p[3] (height units). The linear search takes pom's dynamic step count
+// lerp(n_max = p[1], n_min = p[0], V.z): the fixed-step search Risser uses steps over thin walls
+// at grazing views, and that, not the refinement, dominates the error there. Risser's plain secant can
 // leave the bracket; this is regula falsi (the new point replaces the end of the same sign) with
 // the Illinois modification (halve the stale end's gap), so it stays bracketed and converges
-// superlinearly. pom is this method with one secant step and no evaluation of its result.
+// superlinearly. With m = 0 this is exactly pom.
 // The answer is the first evaluated point within tol of the relief, else the secant point of the
 // final bracket (free: no fetch). Cost: at most n + 1 + m fetches.
 float2 om_trace(const OmRay* r, OmHeightField* f, const OmOffsetParams* P, float* t_hit,
                 uint* flags) {
-    int n = om_lod_count(r, P->p[0]), m = (int)P->p[1];
-    float tol = P->p[2];
+    int n = om_lod_count(r, mix(P->p[1], P->p[0], r->v.z)), m = (int)P->p[2];
+    float tol = P->p[3];
     OmLinearHit hit = om_linear_search(r, f, n);
     float lambda = 0.0f;
     if (hit.index > 0) {
