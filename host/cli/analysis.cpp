@@ -36,6 +36,12 @@ void make_dir(const std::string& dir) {
 
 }  // namespace
 
+void AnalysisOptions::add_to(CLI::App& app) {
+    app.add_option("-o,--out", out_dir, "output folder")->capture_default_str();
+    app.add_option("--methods", methods, "methods (default: all)");
+    app.add_flag("!--no-charts", charts, "skip the matplotlib charts");
+}
+
 bool run_chart_script(const std::string& script, const std::vector<std::string>& args) {
     const char* env = std::getenv("OFFSETMAP_SCRIPT_DIR");
     std::string path = std::string(env ? env : OFFSETMAP_SCRIPT_DIR) + "/" + script;

@@ -44,30 +44,33 @@ struct SceneOptions {
 int run_compare(const std::string& out_dir, const ReliefOptions& relief, const SceneOptions& scene,
                 int repeats);
 
-struct SweepCommand {
+// What every analysis command takes: where to write, which methods, whether to draw charts.
+struct AnalysisOptions {
+    std::string out_dir;
+    std::vector<std::string> methods;  // empty: every method
+    bool charts = true;
+
+    void add_to(CLI::App& app);
+};
+
+struct SweepCommand : AnalysisOptions {
     std::vector<std::string> maps;  // image files; default: the sweep maps in data_dir
     std::string data_dir = "data";
-    std::string out_dir = "out/sweep";
-    std::vector<std::string> methods;
     bool quick = false;
     int repeats = 5;
-    bool charts = true;
+    SweepCommand() { out_dir = "out/sweep"; }
 };
 int run_sweep_command(const SweepCommand& cmd, const ReliefOptions& relief);
 
-struct FailureCommand {
-    std::string out_dir = "out/failure";
-    std::vector<std::string> methods;
+struct FailureCommand : AnalysisOptions {
     int samples = 256;
-    bool charts = true;
+    FailureCommand() { out_dir = "out/failure"; }
 };
 int run_failure_command(const FailureCommand& cmd, const ReliefOptions& relief);
 
-struct TemporalCommand {
-    std::string out_dir = "out/temporal";
-    std::vector<std::string> methods;
+struct TemporalCommand : AnalysisOptions {
     int frames = 24;
-    bool charts = true;
+    TemporalCommand() { out_dir = "out/temporal"; }
 };
 int run_temporal_command(const TemporalCommand& cmd, const ReliefOptions& relief);
 

@@ -248,36 +248,30 @@ int main(int argc, char** argv) {
     ReliefOptions sweep_relief;
     SweepCommand sweep;
     sweep_relief.add_to(*cmd_sweep, false);
+    sweep.add_to(*cmd_sweep);
     cmd_sweep->add_option("--maps", sweep.maps, "height maps (default: the sweep maps in --data)");
     cmd_sweep->add_option("--data", sweep.data_dir, "folder of the default maps")->capture_default_str();
-    cmd_sweep->add_option("-o,--out", sweep.out_dir, "output folder")->capture_default_str();
-    cmd_sweep->add_option("--methods", sweep.methods, "methods to sweep (default: all)");
     cmd_sweep->add_flag("--quick", sweep.quick, "3 maps, smaller views, 3 timed runs (about a minute)");
     cmd_sweep->add_option("--repeats", sweep.repeats, "timed runs per point")->check(CLI::Range(1, 100))
         ->capture_default_str();
-    cmd_sweep->add_flag("!--no-charts", sweep.charts, "skip the matplotlib charts");
 
     auto* cmd_failure = app.add_subcommand("failure-map", "error over view elevation x depth scale");
     ReliefOptions failure_relief;
     FailureCommand failure;
     failure_relief.add_to(*cmd_failure, true);
-    cmd_failure->add_option("-o,--out", failure.out_dir, "output folder")->capture_default_str();
-    cmd_failure->add_option("--methods", failure.methods, "methods (default: all)");
+    failure.add_to(*cmd_failure);
     cmd_failure->add_option("--samples", failure.samples, "random views per cell")
         ->check(CLI::Range(1, 65536))
         ->capture_default_str();
-    cmd_failure->add_flag("!--no-charts", failure.charts, "skip the matplotlib figure");
 
     auto* cmd_temporal = app.add_subcommand("temporal", "frame-to-frame stability along a camera path");
     ReliefOptions temporal_relief;
     TemporalCommand temporal;
     temporal_relief.add_to(*cmd_temporal, true);
-    cmd_temporal->add_option("-o,--out", temporal.out_dir, "output folder")->capture_default_str();
-    cmd_temporal->add_option("--methods", temporal.methods, "methods (default: all)");
+    temporal.add_to(*cmd_temporal);
     cmd_temporal->add_option("--frames", temporal.frames, "frames on the path")
         ->check(CLI::Range(2, 1000))
         ->capture_default_str();
-    cmd_temporal->add_flag("!--no-charts", temporal.charts, "skip the matplotlib figure");
 
     auto* cmd_demo = app.add_subcommand(
         "demo", "compare + quick sweep + failure map on the default data -> one folder");

@@ -32,10 +32,8 @@ std::vector<FailureCell> run_failure_map(std::shared_ptr<Runtime> rt, const Heig
                              static_cast<float>(std::sin(e)), 0.0f}};
         }
     }
-    std::vector<std::string> names = o.methods;
-    if (names.empty())
-        for (const auto& m : methods()) names.push_back(m.name);
-    for (const auto& name : names) find_method(name);
+    std::vector<std::string> names;
+    for (const auto* m : select_methods(o.methods)) names.push_back(m->name);
 
     DeviceHeightField field = upload(*rt, map, o.settings);
     DeviceGBuffer g = upload(*rt, gb);

@@ -1,5 +1,6 @@
 #include "offsetmap/registry.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 
@@ -144,6 +145,15 @@ std::vector<float> resolve_params(const MethodInfo& method,
         values[idx] = static_cast<float>(v);
     }
     return values;
+}
+
+std::vector<const MethodInfo*> select_methods(const std::vector<std::string>& names) {
+    for (const auto& n : names) find_method(n);  // unknown names are errors
+    std::vector<const MethodInfo*> out;
+    for (const auto& m : methods())
+        if (names.empty() || std::find(names.begin(), names.end(), m.name) != names.end())
+            out.push_back(&m);
+    return out;
 }
 
 std::string describe_setting(const std::map<std::string, std::string>& setting) {

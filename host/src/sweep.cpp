@@ -62,11 +62,7 @@ double psnr_srgb(const std::vector<cl_float4>& image, const std::vector<cl_float
 
 std::vector<SweepRecord> run_sweep(std::shared_ptr<Runtime> rt, const std::vector<NamedMap>& maps,
                                    const std::vector<NamedViews>& views, const SweepOptions& o) {
-    std::vector<const MethodInfo*> chosen;
-    for (const auto& m : methods())
-        if (o.methods.empty() || std::find(o.methods.begin(), o.methods.end(), m.name) != o.methods.end())
-            chosen.push_back(&m);
-    for (const auto& name : o.methods) find_method(name);  // unknown names are errors
+    std::vector<const MethodInfo*> chosen = select_methods(o.methods);
     ShadePass shade(rt);
     std::vector<SweepRecord> out;
     size_t total = 0, done = 0;

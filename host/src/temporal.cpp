@@ -13,10 +13,8 @@ namespace offsetmap {
 std::vector<TemporalRecord> run_temporal(std::shared_ptr<Runtime> rt, const HeightMap& map,
                                          const TemporalOptions& o) {
     if (o.frames < 2) throw Error("the temporal test needs at least 2 frames");
-    std::vector<std::string> names = o.methods;
-    if (names.empty())
-        for (const auto& m : methods()) names.push_back(m.name);
-    for (const auto& n : names) find_method(n);
+    std::vector<std::string> names;
+    for (const auto* m : select_methods(o.methods)) names.push_back(m->name);
     DeviceHeightField field = upload(*rt, map, o.settings);
     std::vector<OffsetPass> passes;
     for (const auto& n : names) passes.emplace_back(rt, n);

@@ -29,6 +29,10 @@ struct MethodInfo {
     std::vector<std::map<std::string, std::string>> sweep = {};
 };
 
+// The named methods in registry order (every method when `names` is empty); throws Error for an
+// unknown name.
+std::vector<const MethodInfo*> select_methods(const std::vector<std::string>& names);
+
 // "key=value key=value" for a setting (or "defaults" for an empty one).
 std::string describe_setting(const std::map<std::string, std::string>& setting);
 
