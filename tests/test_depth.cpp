@@ -1,0 +1,39 @@
+// Pixel depth offset: the depth output is the distance along the view ray from the polygon point
+// to the hit, in uv units, so an engine can write the displaced depth (README, "Depth output").
+#include "support.hpp"
+
+namespace omtest {
+namespace {
+
+TEST(DepthOffset, MatchesTheAnalyticDepthUnderACamera) {
+    // A camera over the tiled plane (tile world units per uv); a constant field H = 0 with r = 1 is
+    // a floor s * tile world units below the polygon. Along the pixel's ray from the eye E through
+    // the polygon point P, the floor is met at distance lambda = (E.z + s tile) / E.z * |P - E|;
+    // the pass must report t with t * tile = lambda - |P - E|, and view-space depth then scales as
+    // depth_hit = depth_P * (1 + t tile / |P - E|).
+    PlaneScene cam;
+    cam.width = 96;
+    cam.height = 54;
+    cam.tile = 2.5;
+    cam.camera_height = 0.7;
+    GBuffer gb = make_scene(cam);
+    PassSettings s;
+    s.scale = 0.04f;
+    for (const char* method : {"exact", "maxmip", "pom", "parallax"}) {
+        OffsetResult r = run(method, constant_map(0.0f, 64, 64), gb, s);
+        size_t checked = 0;
+        for (size_t k = 0; k < gb.pixels(); ++k) {
+            if (!traced(r.flags[k])) continue;
+            const auto& V = gb.view[k].s;
+            double dist = cam.camera_height / V[2];  // |P - E|: E is above P along V
+            double lambda = (cam.camera_height + s.scale * cam.tile) / V[2];
+            // pom and parallax meet a plane exactly, like exact (constant-field rows).
+            EXPECT_NEAR(r.depth[k] * cam.tile, lambda - dist, 2e-5 * lambda) << method << " " << k;
+            ++checked;
+        }
+        EXPECT_GT(checked, gb.pixels() / 2);
+    }
+}
+
+}  // namespace
+}  // namespace omtest
