@@ -86,6 +86,7 @@ TEST(Fuzz, EveryMethodStaysFiniteAndWithinItsCap) {
         PassSettings s;
         s.scale = 0.1f;
         s.address = mi % 2 ? AddressMode::Clamp : AddressMode::Wrap;
+        s.grazing = mi % 3 == 0 ? GrazingPolicy::Clamp : mi % 3 == 1 ? GrazingPolicy::Limit : GrazingPolicy::Cap;
         GBuffer gb = fuzz_gbuffer(w, h, 1000 + mi);
         auto rt = runtime();
         DeviceHeightField f = upload(*rt, map, s);
@@ -151,6 +152,63 @@ TEST(Fuzz, GrazingRuleHoldsDownToATenthOfADegree) {
             EXPECT_TRUE(std::isfinite(r.uv[k].s[0]) && std::isfinite(r.uv[k].s[1]) && std::isfinite(r.depth[k]));
             // The march spans at most s / sin(0.1 deg) = 28.6 uv.
             EXPECT_LE(std::fabs(r.depth[k]), s.scale / std::sin(0.1 * M_PI / 180) * 1.0001);
+        }
+    }
+}
+
+}  // namespace
+}  // namespace omtest
+
+namespace omtest {
+namespace {
+
+TEST(GrazingPolicy, LimitIsOffsetLimitingForEveryMethod) {
+    // Under the limit policy rays run along normalize(V.x, V.y, 1): parallax then computes
+    // uv - s (r - H) V.xy, which is parallax-limited's formula, and exact meets the relief along
+    // that ray (checked against the oracle with the same policy).
+    HeightMap m = smooth_map(64);
+    PassSettings limit;
+    limit.scale = 0.1f;
+    limit.grazing = GrazingPolicy::Limit;
+    PassSettings clamp = limit;
+    clamp.grazing = GrazingPolicy::Clamp;
+    GBuffer gb = make_scene(RandomScene{64, 16, 5, 2.0, 90.0});
+    OffsetResult par = run("parallax", m, gb, limit), lim = run("parallax-limited", m, gb, clamp);
+    OffsetResult ex = run("exact", m, gb, limit);
+    for (size_t k = 0; k < gb.pixels(); ++k) {
+        for (int a = 0; a < 2; ++a) EXPECT_NEAR(par.uv[k].s[a], lim.uv[k].s[a], 2e-6) << k;
+        double V[3] = {gb.view[k].s[0], gb.view[k].s[1], gb.view[k].s[2]};
+        PreparedRay pr = prepare_ray(gb.uv[k].s[0], gb.uv[k].s[1], V, limit, m.width, m.height);
+        ExactHit o = exact_hit(m, pr.u, pr.v, pr.V, limit);
+        EXPECT_LE(std::hypot((ex.uv[k].s[0] - o.u) * m.width, (ex.uv[k].s[1] - o.v) * m.height), 1e-3) << k;
+        // No offset exceeds the slab depth s (in uv) under offset limiting.
+        EXPECT_LE(std::hypot(ex.uv[k].s[0] - gb.uv[k].s[0], ex.uv[k].s[1] - gb.uv[k].s[1]), 0.1 + 1e-6);
+    }
+}
+
+TEST(GrazingPolicy, CapBoundsEveryFootprintAndSparesSteeperViews) {
+    // Cap at 16 texels: every method's uv' stays within 16 texels of uv (a ray's whole footprint),
+    // down to 0.5 degrees; views steep enough to stay under the cap trace exactly as under clamp.
+    HeightMap m = noisy_map(64, 8);
+    PassSettings cap;
+    cap.scale = 0.1f;
+    cap.min_elevation_deg = 0.5f;
+    cap.grazing = GrazingPolicy::Cap;
+    cap.max_offset_texels = 16.0f;
+    PassSettings clamp = cap;
+    clamp.grazing = GrazingPolicy::Clamp;
+    GBuffer gb = make_scene(RandomScene{64, 16, 6, 0.5, 90.0});
+    const double steep_enough = std::atan(0.1 * 64 / 16.0) * 180 / M_PI;  // 21.8 degrees
+    for (const auto& name : method_names()) {
+        OffsetResult c = run(name, m, gb, cap), f = run(name, m, gb, clamp);
+        for (size_t k = 0; k < gb.pixels(); ++k) {
+            double foot = std::hypot((c.uv[k].s[0] - gb.uv[k].s[0]) * 64, (c.uv[k].s[1] - gb.uv[k].s[1]) * 64);
+            EXPECT_LE(foot, 16.0 + 1e-3) << name << " " << k;
+            double elev = std::asin(gb.view[k].s[2]) * 180 / M_PI;
+            if (elev > steep_enough + 0.01) {
+                EXPECT_EQ(c.uv[k].s[0], f.uv[k].s[0]) << name << " " << k;
+                EXPECT_EQ(c.uv[k].s[1], f.uv[k].s[1]) << name << " " << k;
+            }
         }
     }
 }

@@ -18,6 +18,7 @@ struct ReliefOptions {
     std::string albedo;
     PassSettings pass;
     std::string address = "wrap";
+    std::string grazing = "clamp";
     std::vector<float> light;  // x y z, tangent space, when the G-buffer has none
     std::string device;
     std::string shadows = "none";

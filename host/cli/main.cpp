@@ -31,6 +31,13 @@ void ReliefOptions::add_to(CLI::App& app, bool required) {
         ->capture_default_str();
     app.add_option("--lod-min-detail", pass.lod.min_detail, "LOD: step-count factor at the threshold")
         ->capture_default_str();
+    app.add_option("--grazing", grazing,
+                   "grazing policy: clamp (raise to --grazing-min-deg), limit (Welsh's offset "
+                   "limiting for every method), cap (footprint <= --max-offset texels)")
+        ->check(CLI::IsMember({"clamp", "limit", "cap"}))
+        ->capture_default_str();
+    app.add_option("--max-offset", pass.max_offset_texels, "cap policy: longest ray footprint (texels)")
+        ->capture_default_str();
     app.add_option("--address", address, "height addressing")
         ->check(CLI::IsMember({"wrap", "clamp"}))
         ->capture_default_str();
@@ -58,6 +65,9 @@ ShadeSettings ReliefOptions::shade_settings() const {
 PassSettings ReliefOptions::settings() const {
     PassSettings s = pass;
     s.address = address == "clamp" ? AddressMode::Clamp : AddressMode::Wrap;
+    s.grazing = grazing == "limit" ? GrazingPolicy::Limit
+                : grazing == "cap" ? GrazingPolicy::Cap
+                                   : GrazingPolicy::Clamp;
     validate(s);
     return s;
 }

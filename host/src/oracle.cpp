@@ -8,7 +8,8 @@
 
 namespace offsetmap {
 
-PreparedRay prepare_ray(double u, double v, const double view[3], const PassSettings& s) {
+PreparedRay prepare_ray(double u, double v, const double view[3], const PassSettings& s, int map_w,
+                        int map_h) {
     PreparedRay r;
     r.u = u;
     r.v = v;
@@ -22,12 +23,21 @@ PreparedRay prepare_ray(double u, double v, const double view[3], const PassSett
     for (int a = 0; a < 3; ++a) r.V[a] = view[a] / len;
     if (!(r.V[2] > 0.0)) return r.flags |= OM_FLAG_BACKFACING, r;
     double min_vz = std::sin(s.min_elevation_deg * M_PI / 180.0);
-    if (r.V[2] < min_vz) {
+    if (r.V[2] < min_vz) r.flags |= OM_FLAG_GRAZING;
+    if (s.grazing == GrazingPolicy::Cap) {
+        double k = s.scale * std::max(map_w, map_h) / s.max_offset_texels;
+        min_vz = std::max(min_vz, k / std::sqrt(1.0 + k * k));
+    }
+    if (s.grazing == GrazingPolicy::Limit) {
+        double n = std::sqrt(r.V[0] * r.V[0] + r.V[1] * r.V[1] + 1.0);
+        r.V[0] /= n;
+        r.V[1] /= n;
+        r.V[2] = 1.0 / n;
+    } else if (r.V[2] < min_vz) {
         double k = std::sqrt(1.0 - min_vz * min_vz) / std::hypot(r.V[0], r.V[1]);
         r.V[0] *= k;
         r.V[1] *= k;
         r.V[2] = min_vz;
-        r.flags |= OM_FLAG_GRAZING;
     }
     r.traced = true;
     return r;

@@ -26,6 +26,12 @@ OmOffsetParams offset_params(const PassSettings& s, int pixels, int hf_w, int hf
     p.scale = s.scale;
     p.ref_plane = s.reference_plane;
     p.min_vz = static_cast<float>(std::sin(s.min_elevation_deg * M_PI / 180.0));
+    if (s.grazing == GrazingPolicy::Cap) {
+        // Footprint s |V.xy| / V.z max(W, H) <= cap  <=>  tan(elevation) >= s max(W, H) / cap.
+        double k = s.scale * std::max(hf_w, hf_h) / s.max_offset_texels;
+        p.min_vz = std::max(p.min_vz, static_cast<float>(k / std::sqrt(1.0 + k * k)));
+    }
+    p.grazing_limit = s.grazing == GrazingPolicy::Limit ? 1 : 0;
     // A ray spans at most s / min_vz in uv between the top and bottom planes, so it crosses at
     // most that many cell rows plus columns, plus the start cell and rounding.
     double cells = std::ceil(s.scale / p.min_vz * (hf_w + hf_h)) + 4.0;
@@ -117,6 +123,7 @@ void validate(const PassSettings& s) {
     range("scale", s.scale, 0.0f, 1.0f);
     range("reference plane", s.reference_plane, 0.0f, 1.0f);
     range("minimum elevation (degrees)", s.min_elevation_deg, 0.1f, 89.0f);
+    range("maximum offset (texels)", s.max_offset_texels, 1.0f, 1.0e6f);
     if (s.lod.enabled) {
         range("LOD threshold", s.lod.threshold, 0.5f, 16.0f);
         if (!(s.lod.fade > 0.0f && s.lod.fade <= s.lod.threshold))

@@ -26,8 +26,10 @@ inline float om_ray_t(const OmRay* r, float lambda) {
 
 // Validates one G-buffer pixel and builds its ray. Returns flags; a pixel with EMPTY, INVALID or
 // BACKFACING set is passed through unchanged by the caller.
-// Grazing rule: V.z is raised to min_vz and V.xy rescaled to keep |V| = 1 and the azimuth, so every
-// march spans at most s / min_vz in uv and every loop count is bounded.
+// Grazing rule (clamp and cap policies): V.z is raised to min_vz and V.xy rescaled to keep |V| = 1
+// and the azimuth, so every march spans at most s / min_vz in uv and every loop count is bounded;
+// the cap policy only raises min_vz (host side). The limit policy replaces V by normalize(V.xy, 1).
+// Views below min_vz are flagged GRAZING under every policy.
 inline uint om_setup_ray(float2 uv, float4 v4, const OmOffsetParams* P, OmRay* r, float2* base) {
     if (isnan(uv.x) || isnan(uv.y)) return OM_FLAG_EMPTY;
     float3 v = v4.xyz;
@@ -42,11 +44,15 @@ inline uint om_setup_ray(float2 uv, float4 v4, const OmOffsetParams* P, OmRay* r
     if (fabs(len * m - 1.0f) > 1.0e-3f) flags |= OM_FLAG_RENORMALIZED;
     v *= 1.0f / len;
     if (!(v.z > 0.0f)) return flags | OM_FLAG_BACKFACING;
-    if (v.z < P->min_vz) {
+    if (v.z < P->min_vz) flags |= OM_FLAG_GRAZING;
+    if (P->grazing_limit) {
+        // Welsh's offset limiting as a ray: horizontal travel per unit of depth is |V.xy|, not
+        // |V.xy| / V.z, so no offset exceeds the depth it crosses; biased at every angle but 90.
+        v = OM_F3(v.x, v.y, 1.0f) * rsqrt(v.x * v.x + v.y * v.y + 1.0f);
+    } else if (v.z < P->min_vz) {
         float lxy = length(v.xy);
         float k = sqrt(1.0f - P->min_vz * P->min_vz) / lxy;
         v = OM_F3(v.x * k, v.y * k, P->min_vz);
-        flags |= OM_FLAG_GRAZING;
     }
     // Tracing in a local frame keeps float precision for any tile index; the offset is added back.
     *base = P->address_mode == OM_ADDRESS_WRAP ? OM_F2(om_floor(uv.x), om_floor(uv.y))

@@ -14,7 +14,9 @@ struct PreparedRay {
     double V[3] = {0, 0, 1};  // unit, grazing rule applied
 };
 
-PreparedRay prepare_ray(double u, double v, const double view[3], const PassSettings& settings);
+// The pass's input rules, grazing policy included (`cap` needs the height map's size).
+PreparedRay prepare_ray(double u, double v, const double view[3], const PassSettings& settings,
+                        int map_w = 0, int map_h = 0);
 
 struct ExactHit {
     double u, v;  // uv' (unwrapped, in the same frame as the input uv)

@@ -25,6 +25,14 @@ struct LodSettings {
     float min_detail = 0.25f;  // (0, 1]
 };
 
+// What happens at grazing views (DESIGN.md: bounded loops, finite outputs, a documented rule).
+//  Clamp: views below min_elevation_deg are traced at that elevation (the default).
+//  Limit: Welsh's offset limiting for every method: rays along normalize(V.x, V.y, 1), so an offset
+//         never exceeds the depth it crosses (biased at every view but straight down).
+//  Cap:   a march-length cap (slope limit): the ray's footprint through the whole slab is at most
+//         max_offset_texels, i.e. views are raised to atan(s max(W, H) / max_offset_texels).
+enum class GrazingPolicy { Clamp, Limit, Cap };
+
 // The relief's placement (DESIGN.md): surface z = scale * (H - reference_plane), in uv units.
 struct PassSettings {
     float scale = 0.05f;             // depth scale s, in uv units, [0, 1]
@@ -32,6 +40,8 @@ struct PassSettings {
     float min_elevation_deg = 1.0f;  // grazing rule: views lower than this are raised to it
     AddressMode address = AddressMode::Wrap;
     LodSettings lod;
+    GrazingPolicy grazing = GrazingPolicy::Clamp;
+    float max_offset_texels = 32.0f;  // Cap policy: longest footprint of a ray, [1, 1e6]
 };
 
 // Throws Error naming the setting that is out of range.
