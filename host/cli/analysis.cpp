@@ -118,7 +118,8 @@ int run_failure_command(const FailureCommand& cmd, const ReliefOptions& relief) 
     std::printf("failure map: %zu cells, wrote %s/failure.csv\n", cells.size(), cmd.out_dir.c_str());
     if (cmd.charts)
         run_chart_script("plot_failure.py", {cmd.out_dir + "/failure.csv", cmd.out_dir + "/failure-map.png",
-                                             "Failure maps on " + stem(relief.height_map)});
+                                             "Failure maps on " + stem(relief.height_map) +
+                                                 " (grazing policy: " + relief.grazing + ")"});
     return 0;
 }
 

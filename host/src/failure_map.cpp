@@ -43,7 +43,11 @@ std::vector<FailureCell> run_failure_map(std::shared_ptr<Runtime> rt, const Heig
         PassSettings s = o.settings;
         s.scale = static_cast<float>(scale);
         validate(s);
-        OffsetResult exact = run_offset(*rt, exact_pass, g, field, s, 1);
+        // The reference is the true hit: exact under the plain clamp rule, whatever policy the
+        // methods run with, so the map shows a policy's bias as well as a method's error.
+        PassSettings truth = s;
+        truth.grazing = GrazingPolicy::Clamp;
+        OffsetResult exact = run_offset(*rt, exact_pass, g, field, truth, 1);
         for (const auto& name : names) {
             OffsetPass pass(rt, name);
             OffsetResult r = run_offset(*rt, pass, g, field, s, 1);

@@ -10,7 +10,8 @@
 
 namespace offsetmap {
 
-// Error of one method at its defaults for one (view elevation, depth scale) cell.
+// Error of one method at its defaults for one (view elevation, depth scale) cell, against the true
+// hit (`exact` under the clamp rule, whatever grazing policy `settings` selects).
 struct FailureCell {
     std::string method;
     double elevation_deg = 0;
