@@ -39,6 +39,9 @@ __kernel void om_offset(const OmOffsetParams P, __global const float2* gb_uv,
                 t *= blend;
             }
             out = hit + base;
+            // On a non-tiling surface a ray that leaves the tile sees past the polygon's edge.
+            if (P.tile_mask && (out.x < 0.0f || out.x > 1.0f || out.y < 0.0f || out.y > 1.0f))
+                flags |= OM_FLAG_OUT_OF_TILE;
         } else {
             flags |= OM_FLAG_LOD_FADED;
         }

@@ -80,7 +80,7 @@ __kernel void om_shade(const OmShadeParams P, __global const float2* uv_in,
     if (id >= P.pixel_count) return;
     float2 uv = uv_in[id];
     uint flags = flags_in ? flags_in[id] : 0u;
-    if ((flags & OM_FLAG_EMPTY) || !isfinite(uv.x) || !isfinite(uv.y)) {
+    if ((flags & (OM_FLAG_EMPTY | OM_FLAG_OUT_OF_TILE)) || !isfinite(uv.x) || !isfinite(uv.y)) {
         out_rgba[id] = (float4)(0.16f, 0.17f, 0.20f, 0.0f);  // background: no surface here
         return;
     }

@@ -37,3 +37,34 @@ TEST(DepthOffset, MatchesTheAnalyticDepthUnderACamera) {
 
 }  // namespace
 }  // namespace omtest
+
+namespace omtest {
+namespace {
+
+TEST(TileMask, FlagsRaysThatLeaveTheTileAndShadingDiscardsThem) {
+    // A clamped (non-tiling) surface: near the edge u = 0, a view from +u sends the ray toward -u;
+    // with a deep floor the hit lies outside the tile, past the polygon's edge.
+    PassSettings s;
+    s.scale = 0.1f;
+    s.address = AddressMode::Clamp;
+    auto V = view_dir(30, 0);
+    GBuffer gb = row_gbuffer({{0.02f, 0.5f, V[0], V[1], V[2]}, {0.6f, 0.5f, V[0], V[1], V[2]}});
+    HeightMap floor = constant_map(0.0f, 32, 32);
+    OffsetResult off = run("exact", floor, gb, s);
+    EXPECT_LT(off.uv[0].s[0], 0.0f);
+    EXPECT_FALSE(off.flags[0] & OM_FLAG_OUT_OF_TILE);  // off by default
+    s.out_of_tile_mask = true;
+    OffsetResult on = run("exact", floor, gb, s);
+    EXPECT_TRUE(on.flags[0] & OM_FLAG_OUT_OF_TILE);
+    EXPECT_FALSE(on.flags[1] & OM_FLAG_OUT_OF_TILE);  // 0.6 - 0.17 stays inside
+    auto rt = runtime();
+    DeviceHeightField f = upload(*rt, floor, s);
+    DeviceGBuffer g = upload(*rt, gb);
+    ShadePass shade(rt);
+    auto rgba = run_shade(*rt, shade, on, g, f, nullptr, s, ShadeSettings{});
+    EXPECT_EQ(rgba[0].s[3], 0.0f);  // discarded: background
+    EXPECT_EQ(rgba[1].s[3], 1.0f);
+}
+
+}  // namespace
+}  // namespace omtest

@@ -38,6 +38,8 @@ void ReliefOptions::add_to(CLI::App& app, bool required) {
         ->capture_default_str();
     app.add_option("--max-offset", pass.max_offset_texels, "cap policy: longest ray footprint (texels)")
         ->capture_default_str();
+    app.add_flag("--tile-mask", pass.out_of_tile_mask,
+                 "flag and discard pixels whose uv' leaves [0,1] (silhouettes on non-tiling surfaces)");
     app.add_option("--address", address, "height addressing")
         ->check(CLI::IsMember({"wrap", "clamp"}))
         ->capture_default_str();

@@ -32,6 +32,7 @@ OmOffsetParams offset_params(const PassSettings& s, int pixels, int hf_w, int hf
         p.min_vz = std::max(p.min_vz, static_cast<float>(k / std::sqrt(1.0 + k * k)));
     }
     p.grazing_limit = s.grazing == GrazingPolicy::Limit ? 1 : 0;
+    p.tile_mask = s.out_of_tile_mask ? 1 : 0;
     // A ray spans at most s / min_vz in uv between the top and bottom planes, so it crosses at
     // most that many cell rows plus columns, plus the start cell and rounding.
     double cells = std::ceil(s.scale / p.min_vz * (hf_w + hf_h)) + 4.0;

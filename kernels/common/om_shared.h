@@ -28,6 +28,7 @@ typedef std::uint32_t om_uint;
 #define OM_FLAG_RENORMALIZED 16u // |V| differed from 1 by more than 1e-3 and was normalised
 #define OM_FLAG_CAPPED 32u       // a marching loop reached its iteration cap
 #define OM_FLAG_LOD_FADED 64u    // past the LOD threshold: normal mapping only (uv' = uv)
+#define OM_FLAG_OUT_OF_TILE 128u // tile mask on and uv' outside [0,1]^2: discard (a silhouette)
 
 #define OM_GRAZING_CLAMP 0  // V.z raised to min_vz (the default rule)
 #define OM_GRAZING_LIMIT 1  // offset limiting for every method: rays along normalize(V.xy, 1)
@@ -50,7 +51,8 @@ typedef struct {
     om_float lod_fade;        // levels below the threshold over which the effect fades out
     om_float lod_min_detail;  // step-count factor at the threshold (1 at level 0)
     om_int grazing_limit;     // OM_GRAZING_LIMIT: trace along normalize(V.x, V.y, 1) (Welsh)
-    om_int pad1, pad2;
+    om_int tile_mask;         // flag OM_FLAG_OUT_OF_TILE where uv' leaves [0,1]^2
+    om_int pad2;
     om_float p[OM_MAX_METHOD_PARAMS];  // method parameters, in registry order
 } OmOffsetParams;
 

@@ -42,6 +42,9 @@ struct PassSettings {
     LodSettings lod;
     GrazingPolicy grazing = GrazingPolicy::Clamp;
     float max_offset_texels = 32.0f;  // Cap policy: longest footprint of a ray, [1, 1e6]
+    // Flag pixels whose uv' leaves [0,1]^2 (OM_FLAG_OUT_OF_TILE), for silhouettes on non-tiling
+    // (clamped) surfaces; the shade pass draws them as background.
+    bool out_of_tile_mask = false;
 };
 
 // Throws Error naming the setting that is out of range.
