@@ -7,6 +7,9 @@
 // step counts are scaled by mix(1, min_detail, m / threshold) (more samples near the viewer), and
 // the offset fades linearly to plain normal mapping over the `fade` levels below the threshold:
 // uv' = uv + w (uv'_method - uv), w = clamp((threshold - m) / fade, 0, 1); w = 0 skips the trace.
+// Footprint mode instead caps step counts at the texels (of level floor(m)) the ray's footprint
+// crosses, plus one, and fades by that count over [fade_lo, fade_hi] texels: a ray that crosses
+// less than a texel at the pixel's level cannot show parallax.
 __kernel void om_offset(const OmOffsetParams P, __global const float2* gb_uv,
                         __global const float4* gb_view, __global const float* heights,
                         __global const float* aux, __global const float* lod,
@@ -23,9 +26,17 @@ __kernel void om_offset(const OmOffsetParams P, __global const float2* gb_uv,
     if (P.lod_enabled && lod) {
         float m = lod[id];
         m = isfinite(m) ? m : 0.0f;
-        blend = clamp((P.lod_threshold - m) / P.lod_fade, 0.0f, 1.0f);
-        ray.detail = mix(1.0f, P.lod_min_detail, clamp(m / P.lod_threshold, 0.0f, 1.0f));
         level = (int)clamp(m, 0.0f, 16.0f);  // truncation is floor for m >= 0
+        if (P.lod_footprint) {
+            // Texels of this pixel's level the ray's footprint crosses through the whole slab.
+            float texels = (ray.t_exit - ray.t_enter) * length(ray.v.xy) *
+                           fmax((float)P.hf_width, (float)P.hf_height) / (float)(1 << level);
+            ray.step_cap = (int)ceil(texels) + 1;
+            blend = clamp((texels - P.lod_fade_lo) / (P.lod_fade_hi - P.lod_fade_lo), 0.0f, 1.0f);
+        } else {
+            blend = clamp((P.lod_threshold - m) / P.lod_fade, 0.0f, 1.0f);
+            ray.detail = mix(1.0f, P.lod_min_detail, clamp(m / P.lod_threshold, 0.0f, 1.0f));
+        }
     }
     OmHeightField f = om_heightfield_level(heights, &P, level);
     f.aux = aux;

@@ -108,3 +108,35 @@ TEST(Lod, HeightsAreReadAtThePixelsLevel) {
 
 }  // namespace
 }  // namespace omtest
+
+namespace omtest {
+namespace {
+
+TEST(Lod, FootprintModeCapsStepsAtTheTexelsCrossedAndFadesByThem) {
+    // s = 0.1 on a 64 map: a ray at elevation e crosses 6.4 cot(e) texels of level 0 through the
+    // slab, half that at level 1. pom with 32 samples on H = 0 searches to the bottom, so its
+    // fetches are (steps + 1) with steps = min(32, ceil(texels) + 1).
+    PassSettings s;
+    s.scale = 0.1f;
+    s.lod.enabled = true;
+    s.lod.footprint = true;
+    s.lod.fade_texels_lo = 0.5f;
+    s.lod.fade_texels_hi = 2.0f;
+    std::map<std::string, std::string> p = {{"min_samples", "32"}, {"max_samples", "32"}};
+    auto V45 = view_dir(45, 0);
+    GBuffer gb = with_lod({0.0f, 1.0f, 4.0f}, V45);
+    OffsetResult r = run("pom", constant_map(0.0f, 64, 64), gb, s, p);
+    EXPECT_EQ(r.fetches[0], 9u);  // 6.4 texels: 7 + 1 = 8 steps
+    EXPECT_EQ(r.fetches[1], 6u);  // 3.2 texels: 4 + 1 = 5 steps
+    EXPECT_EQ(r.fetches[2], 0u);  // 0.4 texels at level 4: below the fade range, no trace
+    EXPECT_TRUE(r.flags[2] & OM_FLAG_LOD_FADED);
+    // Fade: at level 2 the ray crosses 1.6 texels: w = (1.6 - 0.5) / 1.5; on H = 0.3 pom meets the
+    // plane exactly, so uv' = uv - w t V.xy with t = s (1 - 0.3) / V.z.
+    GBuffer g2 = with_lod({2.0f}, V45);
+    OffsetResult f = run("pom", constant_map(0.3f, 64, 64), g2, s, p);
+    const double w = (6.4 / 4 - 0.5) / 1.5, t = 0.1 * 0.7 / V45[2];
+    EXPECT_NEAR(f.uv[0].s[0], g2.uv[0].s[0] - w * t * V45[0], 1e-5);
+}
+
+}  // namespace
+}  // namespace omtest

@@ -19,6 +19,7 @@ struct ReliefOptions {
     PassSettings pass;
     std::string address = "wrap";
     std::string grazing = "clamp";
+    std::vector<float> lod_fade_texels;  // footprint LOD: low high
     std::vector<float> light;  // x y z, tangent space, when the G-buffer has none
     std::string device;
     std::string shadows = "none";

@@ -31,6 +31,11 @@ void ReliefOptions::add_to(CLI::App& app, bool required) {
         ->capture_default_str();
     app.add_option("--lod-min-detail", pass.lod.min_detail, "LOD: step-count factor at the threshold")
         ->capture_default_str();
+    app.add_flag("--lod-footprint", pass.lod.footprint,
+                 "LOD on, footprint mode: steps = texels the ray crosses at the pixel's level")
+        ->each([this](const std::string&) { pass.lod.enabled = true; });
+    app.add_option("--lod-fade-texels", lod_fade_texels, "footprint LOD: fade over [low high] texels")
+        ->expected(2);
     app.add_option("--grazing", grazing,
                    "grazing policy: clamp (raise to --grazing-min-deg), limit (Welsh's offset "
                    "limiting for every method), cap (footprint <= --max-offset texels)")
@@ -67,6 +72,10 @@ ShadeSettings ReliefOptions::shade_settings() const {
 PassSettings ReliefOptions::settings() const {
     PassSettings s = pass;
     s.address = address == "clamp" ? AddressMode::Clamp : AddressMode::Wrap;
+    if (lod_fade_texels.size() == 2) {
+        s.lod.fade_texels_lo = lod_fade_texels[0];
+        s.lod.fade_texels_hi = lod_fade_texels[1];
+    }
     s.grazing = grazing == "limit" ? GrazingPolicy::Limit
                 : grazing == "cap" ? GrazingPolicy::Cap
                                    : GrazingPolicy::Clamp;

@@ -42,6 +42,9 @@ OmOffsetParams offset_params(const PassSettings& s, int pixels, int hf_w, int hf
     p.lod_threshold = s.lod.threshold;
     p.lod_fade = s.lod.fade;
     p.lod_min_detail = s.lod.min_detail;
+    p.lod_footprint = s.lod.footprint ? 1 : 0;
+    p.lod_fade_lo = s.lod.fade_texels_lo;
+    p.lod_fade_hi = s.lod.fade_texels_hi;
     return p;
 }
 
@@ -129,6 +132,10 @@ void validate(const PassSettings& s) {
         range("LOD threshold", s.lod.threshold, 0.5f, 16.0f);
         if (!(s.lod.fade > 0.0f && s.lod.fade <= s.lod.threshold))
             throw Error("LOD fade must be in (0, threshold], got " + std::to_string(s.lod.fade));
+        if (!(s.lod.fade_texels_lo >= 0.0f && s.lod.fade_texels_hi > s.lod.fade_texels_lo))
+            throw Error("LOD fade texel range must satisfy 0 <= low < high, got [" +
+                        std::to_string(s.lod.fade_texels_lo) + ", " +
+                        std::to_string(s.lod.fade_texels_hi) + "]");
         if (!(s.lod.min_detail > 0.0f && s.lod.min_detail <= 1.0f))
             throw Error("LOD minimum detail must be in (0, 1], got " +
                         std::to_string(s.lod.min_detail));

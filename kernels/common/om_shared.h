@@ -52,7 +52,10 @@ typedef struct {
     om_float lod_min_detail;  // step-count factor at the threshold (1 at level 0)
     om_int grazing_limit;     // OM_GRAZING_LIMIT: trace along normalize(V.x, V.y, 1) (Welsh)
     om_int tile_mask;         // flag OM_FLAG_OUT_OF_TILE where uv' leaves [0,1]^2
-    om_int pad2;
+    om_int lod_footprint;     // LOD mode: steps from the texels crossed, fade over a texel range
+    om_float lod_fade_lo;     // footprint mode: texels crossed at which the effect is gone
+    om_float lod_fade_hi;     // footprint mode: texels crossed from which it is whole
+    om_int pad3;
     om_float p[OM_MAX_METHOD_PARAMS];  // method parameters, in registry order
 } OmOffsetParams;
 

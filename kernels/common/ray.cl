@@ -8,10 +8,13 @@ typedef struct {
     float t_enter;  // ray parameter at the top plane (negative when r < 1)
     float t_exit;   // ray parameter at the bottom plane
     float detail;   // LOD step-count factor in (0, 1]: 1 near the viewer
+    int step_cap;   // LOD footprint mode: no more steps than the texels the ray crosses
 } OmRay;
 
-// A method's step count scaled by the LOD detail factor (at least 1).
-inline int om_lod_count(const OmRay* r, float n) { return max(1, (int)(n * r->detail + 0.5f)); }
+// A method's step count under LOD: scaled by the detail factor, capped, at least 1.
+inline int om_lod_count(const OmRay* r, float n) {
+    return max(1, min((int)(n * r->detail + 0.5f), r->step_cap));
+}
 
 // Height of the relief surface at H, in the ray's z units.
 inline float om_surface_z(const OmRay* r, float h) { return r->scale * (h - r->ref); }
@@ -65,5 +68,6 @@ inline uint om_setup_ray(float2 uv, float4 v4, const OmOffsetParams* P, OmRay* r
     r->t_enter = -P->scale * (1.0f - P->ref_plane) * inv_vz;
     r->t_exit = P->scale * P->ref_plane * inv_vz;
     r->detail = 1.0f;
+    r->step_cap = 0x7fffffff;
     return flags;
 }

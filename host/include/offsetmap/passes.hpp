@@ -18,11 +18,17 @@ enum class AddressMode { Wrap, Clamp };
 // G-buffer's lod buffer, or from the uv footprint between neighbouring pixels when it has none.
 // Heights are read at level floor(m), step counts scale by mix(1, min_detail, m / threshold), and
 // the offset fades to plain normal mapping over `fade` levels below `threshold`.
+// Footprint mode (footprint = true) keeps the per-pixel level and the height reads but caps each
+// method's step count at the texels of that level the ray's footprint crosses (plus one) and fades
+// to normal mapping as that count falls from fade_texels_hi to fade_texels_lo.
 struct LodSettings {
     bool enabled = false;
     float threshold = 4.0f;    // mip level at and past which uv' = uv, [0.5, 16]
     float fade = 1.0f;         // (0, threshold]
     float min_detail = 0.25f;  // (0, 1]
+    bool footprint = false;
+    float fade_texels_lo = 0.5f;  // [0, fade_texels_hi)
+    float fade_texels_hi = 2.0f;
 };
 
 // What happens at grazing views (DESIGN.md: bounded loops, finite outputs, a documented rule).
