@@ -50,7 +50,7 @@ OmOffsetParams offset_params(const PassSettings& s, int pixels, int hf_w, int hf
 
 // Every offset program: the sampling layer, the ray, the shared searches, one method, the entry.
 std::vector<std::string> offset_program_files(const MethodInfo& m) {
-    return {"common/sampling.cl", "common/ray.cl", "common/march.cl", "common/patch.cl",
+    return {"common/sampling.cl",       "common/ray.cl", "common/march.cl", "common/patch.cl",
             "methods/" + m.kernel_file, "offset.cl"};
 }
 
@@ -160,9 +160,9 @@ DeviceHeightField upload(Runtime& rt, const HeightMap& map, const PassSettings& 
             throw Error("normal map is " + std::to_string(normal_map->width) + "x" +
                         std::to_string(normal_map->height) + " but the height map is " +
                         std::to_string(map.width) + "x" + std::to_string(map.height));
-        f.normals = cl::Buffer(rt.context(), CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR,
-                               n * sizeof(cl_float4),
-                               const_cast<cl_float4*>(normal_map->texels.data()));
+        f.normals =
+            cl::Buffer(rt.context(), CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, n * sizeof(cl_float4),
+                       const_cast<cl_float4*>(normal_map->texels.data()));
         return f;
     }
     f.normals = cl::Buffer(rt.context(), CL_MEM_READ_WRITE, n * sizeof(cl_float4));
@@ -200,10 +200,11 @@ void OffsetPass::prepare(const DeviceHeightField& f, const PassSettings& setting
         throw Error("cannot build the precomputed data of '" + method_->name + "' (" +
                     std::to_string(precomputed_.bytes) + " bytes): " + describe_cl_error(e.err()));
     }
-    precomputed_.build_ms = runtime_->profiling()
-                                ? kernel_ms
-                                : std::chrono::duration<double, std::milli>(
-                                      std::chrono::steady_clock::now() - start).count();
+    precomputed_.build_ms =
+        runtime_->profiling()
+            ? kernel_ms
+            : std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
+                  .count();
     aux_key_ = key.str();
 }
 
@@ -214,7 +215,8 @@ double OffsetPass::build_distance_map(const DeviceHeightField& f, const PassSett
     const size_t voxels = static_cast<size_t>(res) * res * layers;
     precomputed_.bytes = voxels * sizeof(float);
     cl::Program program = rt.program({"common/sampling.cl", "prep/distance.cl"});
-    cl::Buffer colmax(rt.context(), CL_MEM_READ_WRITE, static_cast<size_t>(res) * res * sizeof(float));
+    cl::Buffer colmax(rt.context(), CL_MEM_READ_WRITE,
+                      static_cast<size_t>(res) * res * sizeof(float));
     aux_ = cl::Buffer(rt.context(), CL_MEM_READ_WRITE, voxels * sizeof(float));
     cl::Kernel kc(program, "om_column_max");
     kc.setArg(0, p);
@@ -230,8 +232,8 @@ double OffsetPass::build_distance_map(const DeviceHeightField& f, const PassSett
     cl::Event e1, e2;
     rt.queue().enqueueNDRangeKernel(kc, cl::NullRange, cl::NDRange(res, res), cl::NullRange,
                                     nullptr, &e1);
-    rt.queue().enqueueNDRangeKernel(kd, cl::NullRange, cl::NDRange(res, res, layers),
-                                    cl::NullRange, nullptr, &e2);
+    rt.queue().enqueueNDRangeKernel(kd, cl::NullRange, cl::NDRange(res, res, layers), cl::NullRange,
+                                    nullptr, &e2);
     e2.wait();
     return rt.profiling() ? event_ms(e1) + event_ms(e2) : 0.0;
 }
@@ -265,7 +267,8 @@ double OffsetPass::build_max_pyramid(const DeviceHeightField& f, const PassSetti
     cl::Kernel next(program, "om_maxmip_next");
     int offset = 0;
     for (int k = 2; k <= levels; ++k) {
-        int pw = f.width >> (k - 1), ph = f.height >> (k - 1), cw = f.width >> k, ch = f.height >> k;
+        int pw = f.width >> (k - 1), ph = f.height >> (k - 1), cw = f.width >> k,
+            ch = f.height >> k;
         next.setArg(0, aux_);
         next.setArg(1, offset);
         next.setArg(2, pw);
@@ -288,7 +291,9 @@ cl::Buffer OffsetPass::footprint(const DeviceGBuffer& g, const DeviceHeightField
         footprint_ = cl::Buffer(rt.context(), CL_MEM_READ_WRITE, g.pixels() * sizeof(float));
         footprint_pixels_ = g.pixels();
     }
-    cl::Kernel k(rt.program({"prep/footprint.cl"}), "om_footprint_lod");
+    if (!footprint_kernel_())
+        footprint_kernel_ = cl::Kernel(rt.program({"prep/footprint.cl"}), "om_footprint_lod");
+    cl::Kernel& k = footprint_kernel_;
     k.setArg(0, g.uv);
     k.setArg(1, g.width);
     k.setArg(2, g.height);
@@ -333,8 +338,8 @@ cl::Event OffsetPass::enqueue(const DeviceGBuffer& g, const DeviceHeightField& f
         runtime_->queue().enqueueNDRangeKernel(kernel_, cl::NullRange, padded(g.pixels()),
                                                cl::NDRange(kLocalSize), &deps, &event);
     } catch (const cl::Error& e) {
-        throw Error("cannot run the '" + method_->name + "' offset pass: " +
-                    describe_cl_error(e.err()));
+        throw Error("cannot run the '" + method_->name +
+                    "' offset pass: " + describe_cl_error(e.err()));
     }
     return event;
 }
@@ -356,11 +361,10 @@ ShadePass::ShadePass(std::shared_ptr<Runtime> runtime) : runtime_(std::move(runt
     kernel_ = cl::Kernel(runtime_->program({"common/sampling.cl", "shade.cl"}), "om_shade");
 }
 
-cl::Event ShadePass::enqueue(const cl::Buffer& uv, const cl::Buffer& flags,
-                             const DeviceGBuffer& g, const DeviceHeightField& f,
-                             const DeviceImage* albedo, const PassSettings& settings,
-                             const ShadeSettings& s, const cl::Buffer& out_rgba,
-                             const std::vector<cl::Event>& wait) {
+cl::Event ShadePass::enqueue(const cl::Buffer& uv, const cl::Buffer& flags, const DeviceGBuffer& g,
+                             const DeviceHeightField& f, const DeviceImage* albedo,
+                             const PassSettings& settings, const ShadeSettings& s,
+                             const cl::Buffer& out_rgba, const std::vector<cl::Event>& wait) {
     check_gbuffer(g);
     check_field(f);
     if (!f.normals()) throw Error("the height field has no normals");
@@ -380,7 +384,8 @@ cl::Event ShadePass::enqueue(const cl::Buffer& uv, const cl::Buffer& flags,
     if (s.shadow_steps < 1 || s.shadow_steps > 256)
         throw Error("shadow steps must be in [1, 256], got " + std::to_string(s.shadow_steps));
     if (!(s.light_size_deg > 0.0f && s.light_size_deg <= 90.0f))
-        throw Error("light size must be in (0, 90] degrees, got " + std::to_string(s.light_size_deg));
+        throw Error("light size must be in (0, 90] degrees, got " +
+                    std::to_string(s.light_size_deg));
     p.shadow_mode = s.shadow == ShadowMode::Hard   ? OM_SHADOW_HARD
                     : s.shadow == ShadowMode::Soft ? OM_SHADOW_SOFT
                                                    : OM_SHADOW_NONE;

@@ -111,6 +111,7 @@ private:
     cl::Buffer aux_;
     std::string aux_key_;  // what aux_ was built for
     cl::Buffer footprint_;  // per-pixel mip levels when the G-buffer brings none
+    cl::Kernel footprint_kernel_;  // created on first use, reused every frame
     size_t footprint_pixels_ = 0;
     Precomputed precomputed_;
 };
