@@ -109,11 +109,7 @@ struct Bench {
     json out;
 
     OmOffsetParams params_for(const DeviceHeightField& f, int pixels) {
-        OmOffsetParams p{};
-        p.pixel_count = pixels;
-        p.hf_width = f.width;
-        p.hf_height = f.height;
-        p.address_mode = OM_ADDRESS_WRAP;
+        OmOffsetParams p = offset_params(PassSettings{}, pixels, f.width, f.height);
         p.mip_levels = f.mip_levels;
         return p;
     }

@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <chrono>
-#include <climits>
 #include <cmath>
 #include <thread>
 
@@ -67,15 +66,7 @@ Run run(const std::string& method, const std::map<std::string, std::string>& par
 
     Args a{};
     OmOffsetParams& p = a.params;
-    p.pixel_count = static_cast<int>(gb.pixels());
-    p.hf_width = map.width;
-    p.hf_height = map.height;
-    p.address_mode = s.address == AddressMode::Wrap ? OM_ADDRESS_WRAP : OM_ADDRESS_CLAMP;
-    p.scale = s.scale;
-    p.ref_plane = s.reference_plane;
-    p.min_vz = static_cast<float>(std::sin(s.min_elevation_deg * M_PI / 180.0));
-    p.max_cells = static_cast<int>(std::min(
-        std::ceil(s.scale / p.min_vz * (map.width + map.height)) + 4.0, static_cast<double>(INT_MAX / 2)));
+    p = offset_params(s, static_cast<int>(gb.pixels()), map.width, map.height);
     p.mip_levels = levels;
     std::copy(values.begin(), values.end(), p.p);
 

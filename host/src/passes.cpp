@@ -17,36 +17,6 @@ constexpr size_t kLocalSize = 64;
 
 cl::NDRange padded(size_t n) { return cl::NDRange((n + kLocalSize - 1) / kLocalSize * kLocalSize); }
 
-OmOffsetParams offset_params(const PassSettings& s, int pixels, int hf_w, int hf_h) {
-    OmOffsetParams p{};
-    p.pixel_count = pixels;
-    p.hf_width = hf_w;
-    p.hf_height = hf_h;
-    p.address_mode = s.address == AddressMode::Wrap ? OM_ADDRESS_WRAP : OM_ADDRESS_CLAMP;
-    p.scale = s.scale;
-    p.ref_plane = s.reference_plane;
-    p.min_vz = static_cast<float>(std::sin(s.min_elevation_deg * M_PI / 180.0));
-    if (s.grazing == GrazingPolicy::Cap) {
-        // Footprint s |V.xy| / V.z max(W, H) <= cap  <=>  tan(elevation) >= s max(W, H) / cap.
-        double k = s.scale * std::max(hf_w, hf_h) / s.max_offset_texels;
-        p.min_vz = std::max(p.min_vz, static_cast<float>(k / std::sqrt(1.0 + k * k)));
-    }
-    p.grazing_limit = s.grazing == GrazingPolicy::Limit ? 1 : 0;
-    p.tile_mask = s.out_of_tile_mask ? 1 : 0;
-    // A ray spans at most s / min_vz in uv between the top and bottom planes, so it crosses at
-    // most that many cell rows plus columns, plus the start cell and rounding.
-    double cells = std::ceil(s.scale / p.min_vz * (hf_w + hf_h)) + 4.0;
-    p.max_cells = static_cast<om_int>(std::min(cells, static_cast<double>(INT_MAX / 2)));
-    p.mip_levels = 1;
-    p.lod_enabled = s.lod.enabled ? 1 : 0;
-    p.lod_threshold = s.lod.threshold;
-    p.lod_fade = s.lod.fade;
-    p.lod_min_detail = s.lod.min_detail;
-    p.lod_footprint = s.lod.footprint ? 1 : 0;
-    p.lod_fade_lo = s.lod.fade_texels_lo;
-    p.lod_fade_hi = s.lod.fade_texels_hi;
-    return p;
-}
 
 // Every offset program: the sampling layer, the ray, the shared searches, one method, the entry.
 std::vector<std::string> offset_program_files(const MethodInfo& m) {
@@ -95,6 +65,37 @@ void build_mips(Runtime& rt, DeviceHeightField& f) {
 }
 
 }  // namespace
+
+OmOffsetParams offset_params(const PassSettings& s, int pixels, int hf_w, int hf_h) {
+    OmOffsetParams p{};
+    p.pixel_count = pixels;
+    p.hf_width = hf_w;
+    p.hf_height = hf_h;
+    p.address_mode = s.address == AddressMode::Wrap ? OM_ADDRESS_WRAP : OM_ADDRESS_CLAMP;
+    p.scale = s.scale;
+    p.ref_plane = s.reference_plane;
+    p.min_vz = static_cast<float>(std::sin(s.min_elevation_deg * M_PI / 180.0));
+    if (s.grazing == GrazingPolicy::Cap) {
+        // Footprint s |V.xy| / V.z max(W, H) <= cap  <=>  tan(elevation) >= s max(W, H) / cap.
+        double k = s.scale * std::max(hf_w, hf_h) / s.max_offset_texels;
+        p.min_vz = std::max(p.min_vz, static_cast<float>(k / std::sqrt(1.0 + k * k)));
+    }
+    p.grazing_limit = s.grazing == GrazingPolicy::Limit ? 1 : 0;
+    p.tile_mask = s.out_of_tile_mask ? 1 : 0;
+    // A ray spans at most s / min_vz in uv between the top and bottom planes, so it crosses at
+    // most that many cell rows plus columns, plus the start cell and rounding.
+    double cells = std::ceil(s.scale / p.min_vz * (hf_w + hf_h)) + 4.0;
+    p.max_cells = static_cast<om_int>(std::min(cells, static_cast<double>(INT_MAX / 2)));
+    p.mip_levels = 1;
+    p.lod_enabled = s.lod.enabled ? 1 : 0;
+    p.lod_threshold = s.lod.threshold;
+    p.lod_fade = s.lod.fade;
+    p.lod_min_detail = s.lod.min_detail;
+    p.lod_footprint = s.lod.footprint ? 1 : 0;
+    p.lod_fade_lo = s.lod.fade_texels_lo;
+    p.lod_fade_hi = s.lod.fade_texels_hi;
+    return p;
+}
 
 int mip_level_count(int width, int height) {
     int levels = 1;

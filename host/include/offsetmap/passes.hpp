@@ -9,6 +9,7 @@
 #include "offsetmap/heightmap.hpp"
 #include "offsetmap/registry.hpp"
 #include "offsetmap/runtime.hpp"
+#include "om_shared.h"
 
 namespace offsetmap {
 
@@ -55,6 +56,10 @@ struct PassSettings {
 
 // Throws Error naming the setting that is out of range.
 void validate(const PassSettings& settings);
+
+// The kernel parameters a pass with these settings uses over a hf_w x hf_h height map (grazing
+// rule, march cap, LOD); method parameters and mip levels are the caller's to fill in.
+OmOffsetParams offset_params(const PassSettings& settings, int pixels, int hf_w, int hf_h);
 
 // Uploads heights and derives normals on the device (or takes `normal_map` when given).
 DeviceHeightField upload(Runtime& runtime, const HeightMap& map, const PassSettings& settings,
