@@ -31,7 +31,9 @@ void check_constant_field(float c, float r) {
             // Float rounding: 1e-3 texel of this 32-texel map, in t (uv) units per |V.xy|.
             double tol_t = tol_lambda * s.scale / V[2] + 3e-5 * std::max(1.0, t);
             ASSERT_NEAR(res.depth[k], t, tol_t) << name << " c=" << c << " r=" << r << " " << k;
-            if (name == "steep") ASSERT_GE(res.depth[k], t - 1e-6) << "steep stops at or below";
+            if (name == "steep") {
+                ASSERT_GE(res.depth[k], t - 1e-6) << "steep stops at or below";
+            }
             for (int a = 0; a < 2; ++a)
                 ASSERT_NEAR(res.uv[k].s[a], gb.uv[k].s[a] - res.depth[k] * V[a], 1e-5)
                     << name << ": uv' must be the ray's footprint at t";

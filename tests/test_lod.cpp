@@ -57,7 +57,9 @@ TEST(Lod, OffsetFadesLinearlyToNormalMappingPastTheThreshold) {
             EXPECT_NEAR(r.uv[k].s[a], gb.uv[k].s[a] - w[k] * t * V[a], 1e-5) << k;
         EXPECT_NEAR(r.depth[k], w[k] * t, 1e-5) << k;
         EXPECT_EQ((r.flags[k] & OM_FLAG_LOD_FADED) != 0, w[k] == 0) << k;
-        if (w[k] == 0) EXPECT_EQ(r.fetches[k], 0u) << "faded pixels cost nothing";
+        if (w[k] == 0) {
+            EXPECT_EQ(r.fetches[k], 0u) << "faded pixels cost nothing";
+        }
     }
     // LOD off: the lod channel is ignored.
     PassSettings off = lod_settings(4.0f, 1.0f);

@@ -72,7 +72,9 @@ TEST(Convergence, ReliefAndPomFallTowardZero) {
         std::printf("relief linear=%d binary=%d: mean %.5f p99 %.5f\n", n, m, e.mean, e.p99);
         EXPECT_LT(e.mean, prev);
         prev = e.mean;
-        if (n == 64) EXPECT_LT(e.p99, 1e-2);
+        if (n == 64) {
+            EXPECT_LT(e.p99, 1e-2);
+        }
     }
     prev = 1e9;
     for (int n : {8, 32, 128}) {
@@ -81,7 +83,9 @@ TEST(Convergence, ReliefAndPomFallTowardZero) {
         std::printf("pom samples=%d: mean %.5f p99 %.5f\n", n, e.mean, e.p99);
         EXPECT_LT(e.mean, 0.5 * prev);
         prev = e.mean;
-        if (n == 128) EXPECT_LT(e.p99, 1e-2);
+        if (n == 128) {
+            EXPECT_LT(e.p99, 1e-2);
+        }
     }
 }
 

@@ -153,8 +153,12 @@ TEST(Shadows, HardShadowOfABoxHasTheAnalyticLength) {
         size_t checked = 0;
         for (size_t k = 0; k < box.us.size(); ++k) {
             double u = box.us[k];
-            if (u < edge - tol) EXPECT_NEAR(c[k].s[0], lit, 1e-4) << "lit at u=" << u << " alpha " << alpha;
-            if (u > edge + tol) EXPECT_NEAR(c[k].s[0], ss.ambient, 1e-4) << "shadow at u=" << u << " alpha " << alpha;
+            if (u < edge - tol) {
+                EXPECT_NEAR(c[k].s[0], lit, 1e-4) << "lit at u=" << u << " alpha " << alpha;
+            }
+            if (u > edge + tol) {
+                EXPECT_NEAR(c[k].s[0], ss.ambient, 1e-4) << "shadow at u=" << u << " alpha " << alpha;
+            }
             checked += std::fabs(u - edge) > tol;
         }
         EXPECT_GT(checked, 100u);
@@ -183,8 +187,12 @@ TEST(Shadows, SoftShadowIsHalfLitAtTheGeometricEdgeAndWidensWithDistance) {
     // floor: (0.1 / sin 40) * (8 deg in rad) / sin 40 ~ 0.034 uv. Visibility is 0 and 1 outside.
     double half = 0.5 * 0.1 / std::sin(alpha * M_PI / 180) * (8.0 * M_PI / 180) / std::sin(alpha * M_PI / 180);
     for (size_t k = 0; k < box.us.size(); ++k) {
-        if (box.us[k] < edge - 1.5 * half) EXPECT_NEAR(vis[k], 1.0, 1e-4) << box.us[k];
-        if (box.us[k] > edge + 1.5 * half) EXPECT_NEAR(vis[k], 0.0, 1e-4) << box.us[k];
+        if (box.us[k] < edge - 1.5 * half) {
+            EXPECT_NEAR(vis[k], 1.0, 1e-4) << box.us[k];
+        }
+        if (box.us[k] > edge + 1.5 * half) {
+            EXPECT_NEAR(vis[k], 0.0, 1e-4) << box.us[k];
+        }
     }
 }
 
