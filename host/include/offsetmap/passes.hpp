@@ -97,7 +97,9 @@ public:
     };
     const Precomputed& precomputed() const { return precomputed_; }
 
-    // Builds the precomputed data for `field` now (enqueue does it on first use).
+    // Builds the precomputed data for `field` now (enqueue does it on first use). It is cached by
+    // the height buffer, size, scale, address mode and parameters: after rewriting the heights in
+    // the same buffer, use a new OffsetPass.
     void prepare(const DeviceHeightField& field, const PassSettings& settings);
 
 private:
