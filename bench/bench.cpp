@@ -369,6 +369,11 @@ int main(int argc, char** argv) {
                     if (m.precompute == Precompute::DistanceMap) {
                         std::vector<float> v = resolve_params(m, {});
                         pre = 4.0 * v[0] * v[0] * v[1] + 4.0 * v[0] * v[0];
+                    } else if (m.precompute == Precompute::MaxMip) {
+                        for (int k = 1; (size >> k) > 0 && k <= 15; ++k)
+                            pre += 4.0 * (size >> k) * (size >> k);
+                    } else if (m.precompute == Precompute::ConeMap) {
+                        pre = 8.0 * size * size;
                     }
                     json row = {{"resolution", res.name}, {"map_size", size}, {"method", m.name},
                                 {"gbuffer_bytes", 24 * px}, {"output_bytes", 12 * px},

@@ -135,6 +135,8 @@ inline double fetch_cap(const std::string& method, const PassSettings& s, const 
     if (method == "exact") return cells;
     // maxmip: one block test or one cell per step, at most 2 levels + 2 steps per cell crossed.
     if (method == "maxmip") return cells * (2 * 15 + 2);
+    // cone: each step leaves at least one cell; a cone fetch and at most one patch per step.
+    if (method == "cone") return 2 * cells;
     throw Error("no fetch cap row for method " + method);
 }
 
@@ -142,7 +144,7 @@ inline double fetch_cap(const std::string& method, const PassSettings& s, const 
 inline const std::vector<std::string>& methods_with_rows() {
     static const std::vector<std::string> rows = {"none",  "parallax", "parallax-limited",
                                                   "parallax-slope", "parallax-iterative", "steep",
-                                                  "relief", "pom", "sphere", "secant", "maxmip", "exact"};
+                                                  "relief", "pom", "sphere", "secant", "maxmip", "cone", "exact"};
     return rows;
 }
 

@@ -19,7 +19,7 @@ TEST(DepthOffset, MatchesTheAnalyticDepthUnderACamera) {
     GBuffer gb = make_scene(cam);
     PassSettings s;
     s.scale = 0.04f;
-    for (const char* method : {"exact", "maxmip", "pom", "parallax"}) {
+    for (const char* method : {"exact", "maxmip", "cone", "pom", "parallax"}) {
         OffsetResult r = run(method, constant_map(0.0f, 64, 64), gb, s);
         size_t checked = 0;
         for (size_t k = 0; k < gb.pixels(); ++k) {

@@ -99,6 +99,102 @@ TEST(MaxMip, LevelZeroIsExactAndTheHierarchySavesFetchesOnLongRays) {
     std::printf("fetches per pixel, 256^2 noise (worst case): exact %.1f, maxmip %.1f\n", nfe, nfm);
 }
 
+TEST(Cone, AgreesWithTheOracleLikeExact) {
+    // The same bound as exact: cone ends in the same patch solve, and its cone steps never cross
+    // relief, so a skipped thin feature would show up here as a wrong hit.
+    std::vector<Case> cases = {{"smooth", smooth_map(64)}, {"noisy", noisy_map(64)},
+                               {"cliffs", cliff_map(64)}, {"noisy-256", noisy_map(256, 9)},
+                               {"spikes", make_map(64, 64, [](int i, int j) {
+                                    return (i % 7 == 3 && j % 5 == 1) ? 1.0f : 0.05f;
+                                })}};
+    for (const auto& c : cases)
+        for (float scale : {0.05f, 0.2f})
+            for (float ref : {1.0f, 0.6f})
+                compare_with_oracle(c.map, c.name, scale, ref, 5.0, AddressMode::Wrap, "cone");
+    // 48 x 20 wrap: block maxima do not tile (20 % 8), so the build visits every cell in reach.
+    HeightMap m = make_map(48, 20, [](int i, int j) {
+        return static_cast<float>(0.5 + 0.45 * std::sin(0.7 * i) * std::cos(0.9 * j));
+    });
+    compare_with_oracle(m, "nonsquare-wrap", 0.1f, 0.8f, 5.0, AddressMode::Wrap, "cone");
+    compare_with_oracle(m, "nonsquare-clamp", 0.1f, 1.0f, 5.0, AddressMode::Clamp, "cone");
+}
+
+// The bilinear relief of `map` at texel-space point (x, y) (integer = texel centre), wrapped.
+double bilinear_wrap(const HeightMap& map, double x, double y) {
+    double fx = std::floor(x), fy = std::floor(y), a = x - fx, b = y - fy;
+    auto at = [&](long i, long j) {
+        i = ((i % map.width) + map.width) % map.width;
+        j = ((j % map.height) + map.height) % map.height;
+        return static_cast<double>(map.h[j * map.width + i]);
+    };
+    long i = static_cast<long>(fx), j = static_cast<long>(fy);
+    return (1 - b) * ((1 - a) * at(i, j) + a * at(i + 1, j)) + b * ((1 - a) * at(i, j + 1) + a * at(i + 1, j + 1));
+}
+
+TEST(Cone, MapHoldsNoReliefInsideAnyCellConeAndIsNotLooser) {
+    // Straight from the definition: for every cell C and relief points q sampled 5 x 5 per cell
+    // (corners and edges included) around it, dist(q, C) >= c (H(q) - Hc), and Hc bounds C's patch.
+    // max_ratio 12 bounds the cones, so points beyond 12 + sqrt 2 texels cannot matter.
+    // And not looser than the cell discretisation: a cone below max_ratio is set by a cell D at
+    // gap delta whose highest corner (sampled) lies within delta + sqrt 2 of C (for touching
+    // cells: 1 for delta = 1, sqrt 2 for delta = 1/sqrt 2), so the samples' bound is <= 2.42 c.
+    const int n = 32, reach = 15;
+    HeightMap map = noisy_map(n, 21);
+    PassSettings s;
+    auto rt = runtime();
+    DeviceHeightField f = upload(*rt, map, s);
+    OffsetPass pass(rt, "cone", {{"max_ratio", "12"}});
+    pass.prepare(f, s);
+    EXPECT_EQ(pass.precomputed().bytes, 2u * n * n * sizeof(float));
+    std::vector<float> cone(2 * n * n);
+    rt->queue().enqueueReadBuffer(pass.precomputed_buffer(), CL_TRUE, 0, cone.size() * sizeof(float), cone.data());
+    double loosest = 0.0;
+    for (int j = 0; j < n; ++j) {
+        for (int i = 0; i < n; ++i) {
+            const double hc = cone[2 * (j * n + i)], c = cone[2 * (j * n + i) + 1];
+            ASSERT_GT(c, 0.0);
+            ASSERT_LE(c, 12.0);
+            double worst = 1e9;
+            for (int sy = 4 * (j - reach); sy <= 4 * (j + reach + 1); ++sy) {
+                for (int sx = 4 * (i - reach); sx <= 4 * (i + reach + 1); ++sx) {
+                    const double x = sx / 4.0, y = sy / 4.0, h = bilinear_wrap(map, x, y);
+                    const double gx = std::max({i - x, x - (i + 1), 0.0}), gy = std::max({j - y, y - (j + 1), 0.0});
+                    if (gx == 0.0 && gy == 0.0) {
+                        ASSERT_LE(h, hc + 1e-6) << "cell " << i << "," << j;
+                        continue;
+                    }
+                    if (h > hc) worst = std::min(worst, std::hypot(gx, gy) / (h - hc));
+                }
+            }
+            ASSERT_GE(worst, c * (1 - 1e-5)) << "cell " << i << "," << j << " cone " << c;
+            if (c < 12.0) {
+                EXPECT_LE(worst, 2.42 * c) << "cell " << i << "," << j << " cone " << c;
+                loosest = std::max(loosest, worst / c);
+            }
+        }
+    }
+    std::printf("cone map 32^2 noise: sampled bound / stored cone at most %.2f\n", loosest);
+}
+
+TEST(Cone, SavesFetchesOverExactOnLongRays) {
+    PassSettings s;
+    s.scale = 0.1f;
+    GBuffer grazing = make_scene(RandomScene{64, 64, 31, 5.0, 30.0});
+    auto fetches = [&](const HeightMap& m, const std::string& method) {
+        OffsetResult r = run(method, m, grazing, s);
+        double sum = 0;
+        for (auto f : r.fetches) sum += f;
+        return sum / grazing.pixels();
+    };
+    HeightMap smooth = smooth_map(256), noise = noisy_map(256, 4);
+    const double fe = fetches(smooth, "exact"), fm = fetches(smooth, "maxmip"), fc = fetches(smooth, "cone");
+    std::printf("fetches per pixel, 256^2 smooth map, 5-30 deg, s = 0.1: exact %.1f, maxmip %.1f, cone %.1f\n",
+                fe, fm, fc);
+    EXPECT_LT(fc, 0.5 * fe);
+    std::printf("fetches per pixel, 256^2 noise: exact %.1f, maxmip %.1f, cone %.1f\n", fetches(noise, "exact"),
+                fetches(noise, "maxmip"), fetches(noise, "cone"));
+}
+
 TEST(ExactOracle, OracleMatchesBruteForceMarch) {
     // The oracle itself against a fine march with bisection (independent of its segment logic).
     HeightMap m = noisy_map(32, 3);

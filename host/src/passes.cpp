@@ -195,8 +195,12 @@ void OffsetPass::prepare(const DeviceHeightField& f, const PassSettings& setting
     auto start = std::chrono::steady_clock::now();
     double kernel_ms = 0.0;
     try {
-        kernel_ms = method_->precompute == Precompute::DistanceMap ? build_distance_map(f, settings)
-                                                                   : build_max_pyramid(f, settings);
+        switch (method_->precompute) {
+            case Precompute::DistanceMap: kernel_ms = build_distance_map(f, settings); break;
+            case Precompute::MaxMip: kernel_ms = build_max_pyramid(f, settings); break;
+            case Precompute::ConeMap: kernel_ms = build_cone_map(f, settings); break;
+            case Precompute::None: break;
+        }
     } catch (const cl::Error& e) {
         throw Error("cannot build the precomputed data of '" + method_->name + "' (" +
                     std::to_string(precomputed_.bytes) + " bytes): " + describe_cl_error(e.err()));
@@ -283,6 +287,48 @@ double OffsetPass::build_max_pyramid(const DeviceHeightField& f, const PassSetti
         offset += pw * ph;
     }
     return ms;
+}
+
+double OffsetPass::build_cone_map(const DeviceHeightField& f, const PassSettings& settings) {
+    auto& rt = *runtime_;
+    constexpr int kBlock = 8;  // OM_CONE_BLOCK in prep/cone.cl
+    const int bw = (f.width + kBlock - 1) / kBlock, bh = (f.height + kBlock - 1) / kBlock;
+    const size_t cells = static_cast<size_t>(f.width) * f.height;
+    precomputed_.bytes = 2 * cells * sizeof(float);
+    cl::Program program = rt.program({"common/sampling.cl", "prep/cone.cl"});
+    OmOffsetParams p = offset_params(settings, 0, f.width, f.height);
+    cl::Buffer blocks(rt.context(), CL_MEM_READ_WRITE, static_cast<size_t>(bw) * bh * sizeof(float));
+    aux_ = cl::Buffer(rt.context(), CL_MEM_READ_WRITE, 2 * cells * sizeof(float));
+    cl::Kernel kb(program, "om_cone_blocks");
+    kb.setArg(0, p);
+    kb.setArg(1, f.heights);
+    kb.setArg(2, bw);
+    kb.setArg(3, bh);
+    kb.setArg(4, blocks);
+    cl::Event e1, e2;
+    rt.queue().enqueueNDRangeKernel(kb, cl::NullRange, cl::NDRange(bw, bh), cl::NullRange, nullptr,
+                                    &e1);
+    std::vector<float> block_max(static_cast<size_t>(bw) * bh);
+    rt.queue().enqueueReadBuffer(blocks, CL_TRUE, 0, block_max.size() * sizeof(float),
+                                 block_max.data());
+    const float global_max = *std::max_element(block_max.begin(), block_max.end());
+    // Wrapped block indices name the same cells only when blocks tile the map.
+    const int blocks_valid = settings.address == AddressMode::Clamp ||
+                             (f.width % kBlock == 0 && f.height % kBlock == 0);
+    cl::Kernel kc(program, "om_cone_map");
+    kc.setArg(0, p);
+    kc.setArg(1, f.heights);
+    kc.setArg(2, blocks);
+    kc.setArg(3, bw);
+    kc.setArg(4, bh);
+    kc.setArg(5, blocks_valid);
+    kc.setArg(6, global_max);
+    kc.setArg(7, params_[0]);
+    kc.setArg(8, aux_);
+    rt.queue().enqueueNDRangeKernel(kc, cl::NullRange, cl::NDRange(f.width, f.height),
+                                    cl::NullRange, nullptr, &e2);
+    e2.wait();
+    return rt.profiling() ? event_ms(e1) + event_ms(e2) : 0.0;
 }
 
 cl::Buffer OffsetPass::footprint(const DeviceGBuffer& g, const DeviceHeightField& f,

@@ -94,6 +94,17 @@ const std::vector<MethodInfo>& methods() {
          {{"max_level", 15, 0, 15, true, "highest pyramid level used (0: plain DDA, as exact)"}},
          Precompute::MaxMip,
          {{{"max_level", "0"}}, {{"max_level", "3"}}, {{"max_level", "15"}}}},
+        {"cone", "cone.cl",
+         "exact first hit by cone steps over a cell-conservative cone map, min step one cell, "
+         "exact patch solve where the ray dips below a cell's maximum",
+         "Dummer 2006 and Policarpo & Oliveira 2007 (GPU Gems 3 ch. 18), cone step mapping; "
+         "Bán, Valasek et al. 2024, robust cone step mapping",
+         "cone map: 2 floats per cell (cell maximum, cone ratio), 8 W H bytes, built by a kernel "
+         "per height map with 8 x 8 block maxima to prune the search",
+         {{"max_ratio", 64, 1, 1024, true,
+           "widest cone stored, texels per unit height: bounds the build's search radius"}},
+         Precompute::ConeMap,
+         {{{"max_ratio", "4"}}, {{"max_ratio", "16"}}, {{"max_ratio", "64"}}, {{"max_ratio", "256"}}}},
         {"exact", "exact.cl",
          "first hit with the bilinear height field: DDA over texel cells, quadratic per patch",
          "ground truth of this project (ray / bilinear patch)", "none", {}},

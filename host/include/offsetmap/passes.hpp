@@ -96,6 +96,8 @@ public:
         double build_ms = 0.0;
     };
     const Precomputed& precomputed() const { return precomputed_; }
+    // The precomputed data itself on the device (layout in the method's prep kernel file).
+    const cl::Buffer& precomputed_buffer() const { return aux_; }
 
     // Builds the precomputed data for `field` now (enqueue does it on first use). It is cached by
     // the height buffer, size, scale, address mode and parameters: after rewriting the heights in
@@ -106,6 +108,7 @@ private:
     // Build the method's precomputed data into aux_; return kernel milliseconds (profiling).
     double build_distance_map(const DeviceHeightField& f, const PassSettings& settings);
     double build_max_pyramid(const DeviceHeightField& f, const PassSettings& settings);
+    double build_cone_map(const DeviceHeightField& f, const PassSettings& settings);
 
     // Enqueues the footprint pre-pass after `wait`; `deps` becomes its event.
     cl::Buffer footprint(const DeviceGBuffer& g, const DeviceHeightField& f,

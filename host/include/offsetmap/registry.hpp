@@ -15,7 +15,7 @@ struct ParamSpec {
 };
 
 // Data a method needs beyond the height pyramid, built on the device before its first pass.
-enum class Precompute { None, DistanceMap, MaxMip };
+enum class Precompute { None, DistanceMap, MaxMip, ConeMap };
 
 struct MethodInfo {
     std::string name;         // CLI and API name, e.g. "parallax-limited"
