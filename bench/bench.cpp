@@ -233,6 +233,9 @@ int main(int argc, char** argv) {
     app.add_option("--target-ms", target_ms, "time spent per measurement")->capture_default_str();
     bool charts = true;
     app.add_flag("!--no-charts", charts, "skip bench/plot_bench.py");
+    std::vector<std::string> only;
+    app.add_option("--methods", only,
+                   "only these methods: roofline, their defaults and the C++ loop (no growth charts)");
     CLI11_PARSE(app, argc, argv);
     try {
         std::filesystem::create_directories(out_dir);
@@ -280,8 +283,8 @@ int main(int argc, char** argv) {
         DeviceGBuffer g_main = upload(*b.rt, host_main);
         print_header(("methods at their defaults, " + std::string(main_res.name) + ", 1024^2 map").c_str());
         json rows = json::array();
-        for (const auto& m : methods()) {
-            json r = b.measure(m.name, {}, g_main, field, s);
+        for (const MethodInfo* m : select_methods(only)) {
+            json r = b.measure(m->name, {}, g_main, field, s);
             print_row(r);
             rows.push_back(r);
         }
@@ -307,6 +310,11 @@ int main(int argc, char** argv) {
         }
         b.out["methods"] = rows;
         b.out["cpp_loop"] = peers;
+        if (!only.empty()) {
+            std::ofstream(out_dir + "/bench.json") << b.out.dump(1) << "\n";
+            std::printf("\nwrote %s/bench.json (--methods: growth, memory and charts skipped)\n", out_dir.c_str());
+            return 0;
+        }
 
         // Cost against resolution (should be flat per pixel).
         json by_res = json::array();

@@ -17,7 +17,6 @@ constexpr size_t kLocalSize = 64;
 
 cl::NDRange padded(size_t n) { return cl::NDRange((n + kLocalSize - 1) / kLocalSize * kLocalSize); }
 
-
 // Every offset program: the sampling layer, the ray, the shared searches, one method, the entry.
 std::vector<std::string> offset_program_files(const MethodInfo& m) {
     return {"common/sampling.cl",       "common/ray.cl", "common/march.cl", "common/patch.cl",
@@ -180,7 +179,23 @@ OffsetPass::OffsetPass(std::shared_ptr<Runtime> runtime, const std::string& meth
                        const std::map<std::string, std::string>& params)
     : runtime_(std::move(runtime)), method_(&find_method(method)) {
     params_ = resolve_params(*method_, params);
-    kernel_ = cl::Kernel(runtime_->program(offset_program_files(*method_)), "om_offset");
+    kernel(false, true, true, true);  // compile now (the tools' usual outputs): errors surface here
+}
+
+cl::Kernel& OffsetPass::kernel(bool lod, bool depth, bool fetches, bool flags) {
+    // One program per combination actually used: each drops the branches it does not need.
+    std::string defines = lod ? "#define OM_LOD\n" : "";
+    if (depth) defines += "#define OM_OUT_DEPTH\n";
+    if (fetches) defines += "#define OM_OUT_FETCHES\n";
+    if (flags) defines += "#define OM_OUT_FLAGS\n";
+    auto it = kernels_.find(defines);
+    if (it == kernels_.end())
+        it = kernels_
+                 .emplace(defines,
+                          cl::Kernel(runtime_->program(offset_program_files(*method_), defines),
+                                     "om_offset"))
+                 .first;
+    return it->second;
 }
 
 void OffsetPass::prepare(const DeviceHeightField& f, const PassSettings& settings) {
@@ -196,10 +211,17 @@ void OffsetPass::prepare(const DeviceHeightField& f, const PassSettings& setting
     double kernel_ms = 0.0;
     try {
         switch (method_->precompute) {
-            case Precompute::DistanceMap: kernel_ms = build_distance_map(f, settings); break;
-            case Precompute::MaxMip: kernel_ms = build_max_pyramid(f, settings); break;
-            case Precompute::ConeMap: kernel_ms = build_cone_map(f, settings); break;
-            case Precompute::None: break;
+            case Precompute::DistanceMap:
+                kernel_ms = build_distance_map(f, settings);
+                break;
+            case Precompute::MaxMip:
+                kernel_ms = build_max_pyramid(f, settings);
+                break;
+            case Precompute::ConeMap:
+                kernel_ms = build_cone_map(f, settings);
+                break;
+            case Precompute::None:
+                break;
         }
     } catch (const cl::Error& e) {
         throw Error("cannot build the precomputed data of '" + method_->name + "' (" +
@@ -297,7 +319,8 @@ double OffsetPass::build_cone_map(const DeviceHeightField& f, const PassSettings
     precomputed_.bytes = 2 * cells * sizeof(float);
     cl::Program program = rt.program({"common/sampling.cl", "prep/cone.cl"});
     OmOffsetParams p = offset_params(settings, 0, f.width, f.height);
-    cl::Buffer blocks(rt.context(), CL_MEM_READ_WRITE, static_cast<size_t>(bw) * bh * sizeof(float));
+    cl::Buffer blocks(rt.context(), CL_MEM_READ_WRITE,
+                      static_cast<size_t>(bw) * bh * sizeof(float));
     aux_ = cl::Buffer(rt.context(), CL_MEM_READ_WRITE, 2 * cells * sizeof(float));
     cl::Kernel kb(program, "om_cone_blocks");
     kb.setArg(0, p);
@@ -313,8 +336,8 @@ double OffsetPass::build_cone_map(const DeviceHeightField& f, const PassSettings
                                  block_max.data());
     const float global_max = *std::max_element(block_max.begin(), block_max.end());
     // Wrapped block indices name the same cells only when blocks tile the map.
-    const int blocks_valid = settings.address == AddressMode::Clamp ||
-                             (f.width % kBlock == 0 && f.height % kBlock == 0);
+    const int blocks_valid =
+        settings.address == AddressMode::Clamp || (f.width % kBlock == 0 && f.height % kBlock == 0);
     cl::Kernel kc(program, "om_cone_map");
     kc.setArg(0, p);
     kc.setArg(1, f.heights);
@@ -365,15 +388,17 @@ cl::Event OffsetPass::enqueue(const DeviceGBuffer& g, const DeviceHeightField& f
     OmOffsetParams p = offset_params(settings, static_cast<int>(g.pixels()), f.width, f.height);
     p.mip_levels = f.mip_levels;
     std::copy(params_.begin(), params_.end(), p.p);
-    kernel_.setArg(0, p);
-    kernel_.setArg(1, g.uv);
-    kernel_.setArg(2, g.view);
-    kernel_.setArg(3, f.heights);
-    set_optional(kernel_, 4, aux_);
-    kernel_.setArg(6, t.uv);
-    set_optional(kernel_, 7, t.depth);
-    set_optional(kernel_, 8, t.fetches);
-    set_optional(kernel_, 9, t.flags);
+    cl::Kernel& k = kernel(settings.lod.enabled, t.depth() != nullptr, t.fetches() != nullptr,
+                           t.flags() != nullptr);
+    k.setArg(0, p);
+    k.setArg(1, g.uv);
+    k.setArg(2, g.view);
+    k.setArg(3, f.heights);
+    set_optional(k, 4, aux_);
+    k.setArg(6, t.uv);
+    set_optional(k, 7, t.depth);
+    set_optional(k, 8, t.fetches);
+    set_optional(k, 9, t.flags);
     cl::Event event;
     try {
         std::vector<cl::Event> deps = wait;
@@ -381,8 +406,8 @@ cl::Event OffsetPass::enqueue(const DeviceGBuffer& g, const DeviceHeightField& f
         if (settings.lod.enabled) {
             lod = g.lod() ? g.lod : footprint(g, f, wait, deps);
         }
-        set_optional(kernel_, 5, lod);
-        runtime_->queue().enqueueNDRangeKernel(kernel_, cl::NullRange, padded(g.pixels()),
+        set_optional(k, 5, lod);
+        runtime_->queue().enqueueNDRangeKernel(k, cl::NullRange, padded(g.pixels()),
                                                cl::NDRange(kLocalSize), &deps, &event);
     } catch (const cl::Error& e) {
         throw Error("cannot run the '" + method_->name +

@@ -114,10 +114,13 @@ private:
     cl::Buffer footprint(const DeviceGBuffer& g, const DeviceHeightField& f,
                          const std::vector<cl::Event>& wait, std::vector<cl::Event>& deps);
 
+    // The entry kernel specialised for LOD on/off and the optional outputs bound.
+    cl::Kernel& kernel(bool lod, bool depth, bool fetches, bool flags);
+
     std::shared_ptr<Runtime> runtime_;
     const MethodInfo* method_;
     std::vector<float> params_;
-    cl::Kernel kernel_;
+    std::map<std::string, cl::Kernel> kernels_;
     cl::Buffer aux_;
     std::string aux_key_;  // what aux_ was built for
     cl::Buffer footprint_;  // per-pixel mip levels when the G-buffer brings none
