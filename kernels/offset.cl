@@ -1,4 +1,4 @@
-// The one offset kernel entry: G-buffer load, validation, LOD, one method's om_trace, store.
+// The offset kernel entry for one-pixel methods (lane methods: offset_lanes.cl): G-buffer load, validation, LOD, one method's om_trace, store.
 // Compiled once per method; the method file defining om_trace is pasted in before this file.
 // aux is the method's precomputed data (NULL for most); lod is the per-pixel mip level (NULL
 // unless the LOD system is on). Optional outputs (depth, fetches, flags) may be NULL buffers.
@@ -15,6 +15,7 @@
 // LOD system is on, OM_OUT_DEPTH / OM_OUT_FETCHES / OM_OUT_FLAGS for the optional outputs bound.
 // (Measured on PoCL: no faster than runtime checks, as uniform branches cost little on a CPU; it
 // saves the GPU the checks and keeps unused outputs out of the kernel.)
+#ifndef OM_LANE_METHOD  // lane methods use offset_lanes.cl
 __kernel void om_offset(const OmOffsetParams P, __global const float2* gb_uv,
                         __global const float4* gb_view, __global const float* heights,
                         __global const float* aux, __global const float* lod,
@@ -69,3 +70,4 @@ __kernel void om_offset(const OmOffsetParams P, __global const float2* gb_uv,
     out_flags[id] = flags;
 #endif
 }
+#endif

@@ -19,8 +19,9 @@ cl::NDRange padded(size_t n) { return cl::NDRange((n + kLocalSize - 1) / kLocalS
 
 // Every offset program: the sampling layer, the ray, the shared searches, one method, the entry.
 std::vector<std::string> offset_program_files(const MethodInfo& m) {
-    return {"common/sampling.cl",       "common/ray.cl", "common/march.cl", "common/patch.cl",
-            "methods/" + m.kernel_file, "offset.cl"};
+    return {"common/sampling.cl",      "common/ray.cl",        "common/patch.cl",
+            "common/lanes.h",          "common/lane_sampling.cl", "common/lane_ray.cl",
+            "methods/" + m.kernel_file, "offset.cl",            "offset_lanes.cl"};
 }
 
 void set_optional(cl::Kernel& k, cl_uint index, const cl::Buffer& b) {
@@ -179,12 +180,17 @@ OffsetPass::OffsetPass(std::shared_ptr<Runtime> runtime, const std::string& meth
                        const std::map<std::string, std::string>& params)
     : runtime_(std::move(runtime)), method_(&find_method(method)) {
     params_ = resolve_params(*method_, params);
+    // Lane methods (kernels/common/lanes.h) take the runtime's pixels per work-item.
+    if (kernel_source("methods/" + method_->kernel_file).find("#define OM_LANE_METHOD") !=
+        std::string::npos)
+        lanes_ = runtime_->lanes();
     kernel(false, true, true, true);  // compile now (the tools' usual outputs): errors surface here
 }
 
 cl::Kernel& OffsetPass::kernel(bool lod, bool depth, bool fetches, bool flags) {
     // One program per combination actually used: each drops the branches it does not need.
-    std::string defines = lod ? "#define OM_LOD\n" : "";
+    std::string defines = lanes_ > 1 ? "#define OM_LANES " + std::to_string(lanes_) + "\n" : "";
+    if (lod) defines += "#define OM_LOD\n";
     if (depth) defines += "#define OM_OUT_DEPTH\n";
     if (fetches) defines += "#define OM_OUT_FETCHES\n";
     if (flags) defines += "#define OM_OUT_FLAGS\n";
@@ -407,7 +413,8 @@ cl::Event OffsetPass::enqueue(const DeviceGBuffer& g, const DeviceHeightField& f
             lod = g.lod() ? g.lod : footprint(g, f, wait, deps);
         }
         set_optional(k, 5, lod);
-        runtime_->queue().enqueueNDRangeKernel(k, cl::NullRange, padded(g.pixels()),
+        runtime_->queue().enqueueNDRangeKernel(k, cl::NullRange,
+                                               padded((g.pixels() + lanes_ - 1) / lanes_),
                                                cl::NDRange(kLocalSize), &deps, &event);
     } catch (const cl::Error& e) {
         throw Error("cannot run the '" + method_->name +

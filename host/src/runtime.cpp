@@ -5,6 +5,7 @@
 #include <cstdlib>
 #include <fstream>
 #include <sstream>
+#include <stdexcept>
 
 #include "kernel_sources.hpp"
 #include "offsetmap/error.hpp"
@@ -92,6 +93,20 @@ Runtime::Runtime(cl::Context context, cl::Device device, cl::CommandQueue queue)
     cl::Platform platform(device_.getInfo<CL_DEVICE_PLATFORM>());
     is_pocl_ = platform.getInfo<CL_PLATFORM_NAME>().find("Portable Computing Language") !=
                std::string::npos;
+    lanes_ = (device_.getInfo<CL_DEVICE_TYPE>() & CL_DEVICE_TYPE_CPU) ? 16 : 1;
+    if (const char* env = std::getenv("OFFSETMAP_LANES"); env && *env) {
+        try {
+            set_lanes(std::stoi(env));
+        } catch (const std::logic_error&) {
+            throw Error(std::string("OFFSETMAP_LANES must be 1, 8 or 16, got '") + env + "'");
+        }
+    }
+}
+
+void Runtime::set_lanes(int lanes) {
+    if (lanes != 1 && lanes != 8 && lanes != 16)
+        throw Error("lanes must be 1, 8 or 16, got " + std::to_string(lanes));
+    lanes_ = lanes;
 }
 
 std::string Runtime::device_name() const {

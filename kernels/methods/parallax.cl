@@ -2,10 +2,12 @@
 // intersect the ray with that plane: t = s (r - H) / V.z, uv' = uv - (r - H) P with P = s V.xy / V.z.
 // Premecz writes uv + h V.xy / V.z with h = SCALE H + BIAS; in this convention h = s (H - r), which
 // is the same expression. DESIGN.md's "uv - (1 - H) P" is the r = 1 case.
-float2 om_trace(const OmRay* r, OmHeightField* f, const OmOffsetParams* P, float* t_hit,
-                uint* flags) {
-    float h = om_height(f, r->uv);
-    float t = -om_surface_z(r, h) / r->v.z;
+#define OM_LANE_METHOD
+void om_trace_lanes(const OmLaneRay* r, const OmLaneField* f, const OmOffsetParams* P, OmI active,
+                    OmF* t_hit, OmF* u_hit, OmF* v_hit, OmI* fetches, OmI* flags) {
+    OmF h = om_lane_height(f, r->u, r->v, active, fetches);
+    OmF t = -r->scale * (h - r->ref) / r->vz;
     *t_hit = t;
-    return om_ray_uv(r, t);
+    *u_hit = r->u - t * r->vx;
+    *v_hit = r->v - t * r->vy;
 }

@@ -2,12 +2,14 @@
 // p[0] = iterations k (one fetch each; k = 1 is parallax-slope), p[1] = safe (as parallax-slope).
 // Like any fixed-point iteration it can settle on a later intersection or oscillate between
 // surfaces (Premecz: "not even the convergence is guaranteed"); the slab clamp keeps it bounded.
-float2 om_trace(const OmRay* r, OmHeightField* f, const OmOffsetParams* P, float* t_hit,
-                uint* flags) {
+#define OM_LANE_METHOD
+void om_trace_lanes(const OmLaneRay* r, const OmLaneField* f, const OmOffsetParams* P, OmI active,
+                    OmF* t_hit, OmF* u_hit, OmF* v_hit, OmI* fetches, OmI* flags) {
     int k = (int)P->p[0];
     int safe = P->p[1] != 0.0f;
-    float t = 0.0f;
-    for (int i = 0; i < k; ++i) t = om_slope_step(r, f, t, safe);
+    OmF t = 0.0f;
+    for (int i = 0; i < k; ++i) t = om_lane_slope_step(r, f, t, safe, active, fetches);
     *t_hit = t;
-    return om_ray_uv(r, t);
+    *u_hit = r->u - t * r->vx;
+    *v_hit = r->v - t * r->vy;
 }

@@ -2,20 +2,19 @@
 // at grazing views: Tatarchuk's dynamic sampling rate; p[0] = n_min, p[1] = n_max), then the ray
 // intersected with the straight segment joining the last two height samples. Tatarchuk's V.N is
 // V.z here. Cost: at most n_max + 1 fetches.
-float2 om_trace(const OmRay* r, OmHeightField* f, const OmOffsetParams* P, float* t_hit,
-                uint* flags) {
-    float n_min = P->p[0], n_max = P->p[1];
-    int n = om_lod_count(r, mix(n_max, n_min, r->v.z));
-    OmLinearHit hit = om_linear_search(r, f, n);
-    float lambda = 0.0f;
-    if (hit.index > 0) {
-        // Along the segment, height minus ray height goes from d0 < 0 (above) to d1 >= 0.
-        float l0 = (float)(hit.index - 1) / (float)n;
-        float d0 = hit.h_prev - (1.0f - l0);
-        float d1 = hit.h_cur - (1.0f - (float)hit.index / (float)n);
-        lambda = l0 + (d0 / (d0 - d1)) / (float)n;
-    }
-    float t = om_ray_t(r, lambda);
+#define OM_LANE_METHOD
+void om_trace_lanes(const OmLaneRay* r, const OmLaneField* f, const OmOffsetParams* P, OmI active,
+                    OmF* t_hit, OmF* u_hit, OmF* v_hit, OmI* fetches, OmI* flags) {
+    OmI n = om_lane_count(r, mix((OmF)P->p[1], (OmF)P->p[0], r->vz));
+    OmLaneHit hit = om_lane_linear_search(r, f, n, active, fetches);
+    // Along the segment, height minus ray height goes from d0 < 0 (above) to d1 >= 0.
+    OmF fn = OM_TO_FLOAT(n);
+    OmF l0 = OM_TO_FLOAT(hit.index - 1) / fn;
+    OmF d0 = hit.h_prev - (1.0f - l0);
+    OmF d1 = hit.h_cur - (1.0f - OM_TO_FLOAT(hit.index) / fn);
+    OmF lambda = OM_SEL((OmF)0.0f, l0 + (d0 / (d0 - d1)) / fn, hit.index > 0);
+    OmF t = om_lane_ray_t(r, lambda);
     *t_hit = t;
-    return om_ray_uv(r, t);
+    *u_hit = r->u - t * r->vx;
+    *v_hit = r->v - t * r->vy;
 }

@@ -9,42 +9,46 @@
 // superlinearly. With m = 0 this is exactly pom.
 // The answer is the first evaluated point within tol of the relief, else the secant point of the
 // final bracket (free: no fetch). Cost: at most n + 1 + m fetches.
-float2 om_trace(const OmRay* r, OmHeightField* f, const OmOffsetParams* P, float* t_hit,
-                uint* flags) {
-    int n = om_lod_count(r, mix(P->p[1], P->p[0], r->v.z)), m = (int)P->p[2];
+#define OM_LANE_METHOD
+void om_trace_lanes(const OmLaneRay* r, const OmLaneField* f, const OmOffsetParams* P, OmI active,
+                    OmF* t_hit, OmF* u_hit, OmF* v_hit, OmI* fetches, OmI* flags) {
+    OmI n = om_lane_count(r, mix((OmF)P->p[1], (OmF)P->p[0], r->vz));
+    int m = (int)P->p[2];
     float tol = P->p[3];
-    OmLinearHit hit = om_linear_search(r, f, n);
-    float lambda = 0.0f;
-    if (hit.index > 0) {
-        float la = (float)(hit.index - 1) / (float)n, lb = (float)hit.index / (float)n;
-        float ga = hit.h_prev - (1.0f - la);  // < 0: above the relief
-        float gb = hit.h_cur - (1.0f - lb);   // >= 0: on or below
-        float wa = ga, wb = gb;               // Illinois-weighted gaps that steer the next point
-        int kept = 0;                         // +1: the a end survived the last step, -1: b
-        bool done = gb <= tol;
-        lambda = lb;
-        for (int k = 0; k < m && !done; ++k) {
-            float x = la + (lb - la) * wa / (wa - wb);
-            float g = om_height(f, om_ray_uv(r, om_ray_t(r, x))) - (1.0f - x);
-            if (fabs(g) <= tol) {
-                lambda = x;
-                done = true;
-            } else if (g > 0.0f) {
-                lb = x;
-                gb = wb = g;
-                if (kept == 1) wa *= 0.5f;  // a is stale twice running
-                kept = 1;
-            } else {
-                la = x;
-                ga = wa = g;
-                if (kept == -1) wb *= 0.5f;
-                kept = -1;
-            }
-        }
-        // Otherwise the secant of the final bracket with its true gaps (refine = 0: pom's step).
-        if (!done) lambda = la + (lb - la) * ga / (ga - gb);
+    OmLaneHit hit = om_lane_linear_search(r, f, n, active, fetches);
+    OmF fn = OM_TO_FLOAT(n);
+    OmF la = OM_TO_FLOAT(hit.index - 1) / fn, lb = OM_TO_FLOAT(hit.index) / fn;
+    OmF ga = hit.h_prev - (1.0f - la);  // < 0: above the relief
+    OmF gb = hit.h_cur - (1.0f - lb);   // >= 0: on or below
+    OmF wa = ga, wb = gb;               // Illinois-weighted gaps that steer the next point
+    OmI kept = 0;                       // +1: the a end survived the last step, -1: b
+    OmI run = active & (hit.index > 0);
+    OmI done = !run || gb <= tol;
+    OmF lambda = OM_SEL((OmF)0.0f, lb, run);
+    for (int k = 0; k < m && OM_ANY(!done); ++k) {
+        OmI live = !done;
+        OmF x = la + (lb - la) * wa / (wa - wb);
+        OmF tx = om_lane_ray_t(r, x);
+        OmF g = om_lane_height(f, r->u - tx * r->vx, r->v - tx * r->vy, live, fetches) - (1.0f - x);
+        OmI conv = live & (fabs(g) <= tol);
+        OmI pos = live & !conv & (g > 0.0f);
+        OmI neg = live & !conv & !(g > 0.0f);
+        lambda = OM_SEL(lambda, x, conv);
+        lb = OM_SEL(lb, x, pos);
+        gb = OM_SEL(gb, g, pos);
+        wb = OM_SEL(wb, g, pos);
+        wa = OM_SEL(wa, 0.5f * wa, pos & (kept == 1));  // a is stale twice running
+        la = OM_SEL(la, x, neg);
+        ga = OM_SEL(ga, g, neg);
+        wa = OM_SEL(wa, g, neg);
+        wb = OM_SEL(wb, 0.5f * wb, neg & (kept == -1));
+        kept = OM_SEL(OM_SEL(kept, (OmI)-1, neg), (OmI)1, pos);
+        done |= conv;
     }
-    float t = om_ray_t(r, lambda);
+    // Otherwise the secant of the final bracket with its true gaps (refine = 0: pom's step).
+    lambda = OM_SEL(lambda, la + (lb - la) * ga / (ga - gb), !done);
+    OmF t = om_lane_ray_t(r, lambda);
     *t_hit = t;
-    return om_ray_uv(r, t);
+    *u_hit = r->u - t * r->vx;
+    *v_hit = r->v - t * r->vy;
 }

@@ -4,13 +4,14 @@
 // With LOD on, the level is the coarser of p[1] and the pixel's.
 // McGuire steps t += E.xy * bumpScale / (n E.z) from the polygon at height 1: the same march with
 // the top plane at the polygon (r = 1). Cost: at most n + 1 fetches.
-float2 om_trace(const OmRay* r, OmHeightField* f, const OmOffsetParams* P, float* t_hit,
-                uint* flags) {
-    int n = om_lod_count(r, P->p[0]);
-    OmHeightField level = om_heightfield_level(f->base, P, max(f->level, (int)P->p[1]));
-    OmLinearHit hit = om_linear_search(r, &level, n);
-    f->fetches += level.fetches;
-    float t = om_ray_t(r, (float)hit.index / (float)n);
+#define OM_LANE_METHOD
+void om_trace_lanes(const OmLaneRay* r, const OmLaneField* f, const OmOffsetParams* P, OmI active,
+                    OmF* t_hit, OmF* u_hit, OmF* v_hit, OmI* fetches, OmI* flags) {
+    OmI n = om_lane_count(r, (OmF)P->p[0]);
+    OmLaneField level = om_lane_field(f->h, P, max(f->level, (int)P->p[1]));
+    OmLaneHit hit = om_lane_linear_search(r, &level, n, active, fetches);
+    OmF t = om_lane_ray_t(r, OM_TO_FLOAT(hit.index) / OM_TO_FLOAT(n));
     *t_hit = t;
-    return om_ray_uv(r, t);
+    *u_hit = r->u - t * r->vx;
+    *v_hit = r->v - t * r->vy;
 }

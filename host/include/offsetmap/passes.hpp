@@ -88,6 +88,7 @@ public:
 
     const MethodInfo& method() const { return *method_; }
     const std::vector<float>& params() const { return params_; }
+    int lanes() const { return lanes_; }  // pixels per work-item
 
     // The method's precomputed data for the last field it ran on (bytes 0 when it needs none),
     // and the time its build took (kernel time from profiling events, else wall time).
@@ -121,6 +122,7 @@ private:
     const MethodInfo* method_;
     std::vector<float> params_;
     std::map<std::string, cl::Kernel> kernels_;
+    int lanes_ = 1;  // pixels per work-item: the runtime's for lane methods, else 1
     cl::Buffer aux_;
     std::string aux_key_;  // what aux_ was built for
     cl::Buffer footprint_;  // per-pixel mip levels when the G-buffer brings none

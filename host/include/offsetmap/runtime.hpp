@@ -28,6 +28,11 @@ public:
     bool profiling() const { return profiling_; }
     bool is_pocl() const { return is_pocl_; }
 
+    // Pixels per work-item for lane methods (kernels/common/lanes.h): 16 on a CPU device, where
+    // they fill SIMD registers, 1 on a GPU; $OFFSETMAP_LANES (1, 8 or 16) or set_lanes overrides.
+    int lanes() const { return lanes_; }
+    void set_lanes(int lanes);
+
     // The program assembled from the shared header, then `files` (paths under kernels/) in order,
     // after `defines` ("-D" style lines are not used: `defines` is OpenCL C text). Built once.
     cl::Program program(const std::vector<std::string>& files, const std::string& defines = "");
@@ -38,6 +43,7 @@ private:
     cl::CommandQueue queue_;
     bool profiling_ = false;
     bool is_pocl_ = false;
+    int lanes_ = 1;
     std::mutex mutex_;
     std::map<std::string, cl::Program> programs_;
 };

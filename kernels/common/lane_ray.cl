@@ -1,0 +1,129 @@
+// The eye ray for lane methods: ray.cl's OmRay, validation and grazing rule, per lane, without
+// branches (a rejected lane gets a harmless ray: uv 0, V = +z, and its result is dropped).
+// Also the searches the marching methods share: the linear search and the slope step.
+
+typedef struct {
+    OmF u, v;        // start point in the local frame
+    OmF vx, vy, vz;  // unit view vector, V.z >= min_vz
+    float scale;     // s
+    float ref;       // r
+    OmF t_enter, t_exit;
+    OmF detail;    // LOD step-count factor in (0, 1]
+    OmI step_cap;  // LOD footprint mode: no more steps than the texels the ray crosses
+} OmLaneRay;
+
+inline OmI om_lane_count(const OmLaneRay* r, OmF n) {
+    return max(1, min(OM_TO_INT(n * r->detail + 0.5f), r->step_cap));
+}
+
+inline OmF om_lane_ray_t(const OmLaneRay* r, OmF lambda) {
+    return r->t_enter + lambda * (r->t_exit - r->t_enter);
+}
+
+// Validation and ray set-up of om_setup_ray (ray.cl), same flags, same arithmetic.
+inline OmI om_lane_setup(OmF u, OmF v, OmF vx, OmF vy, OmF vz, const OmOffsetParams* P,
+                         OmLaneRay* r, OmF* base_u, OmF* base_v) {
+    OmI empty = isnan(u) || isnan(v);
+    OmI finite = isfinite(u) && isfinite(v) && isfinite(vx) && isfinite(vy) && isfinite(vz);
+    OmF m = fmax(fabs(vx), fmax(fabs(vy), fabs(vz)));
+    OmI invalid = !finite || !(m > 0.0f);
+    m = OM_SEL(m, 1.0f, invalid);
+    vx = OM_SEL(vx / m, 0.0f, invalid);  // not * (1 / m): 1 / denormal overflows
+    vy = OM_SEL(vy / m, 0.0f, invalid);
+    vz = OM_SEL(vz / m, 1.0f, invalid);
+    u = OM_SEL(u, 0.0f, !finite);
+    v = OM_SEL(v, 0.0f, !finite);
+    OmF len = sqrt(vx * vx + vy * vy + vz * vz);  // in [1, sqrt 3]
+    OmI flags = OM_SEL((OmI)0, (OmI)OM_FLAG_RENORMALIZED, fabs(len * m - 1.0f) > 1.0e-3f);
+    OmF inv = 1.0f / len;
+    vx *= inv;
+    vy *= inv;
+    vz *= inv;
+    OmI backfacing = !(vz > 0.0f);
+    vx = OM_SEL(vx, 0.0f, backfacing);
+    vy = OM_SEL(vy, 0.0f, backfacing);
+    vz = OM_SEL(vz, 1.0f, backfacing);
+    OmI grazing = vz < P->min_vz;
+    flags |= OM_SEL((OmI)0, (OmI)OM_FLAG_GRAZING, grazing);
+    if (P->grazing_limit) {
+        // Welsh's offset limiting as a ray (see om_setup_ray).
+        OmF k = rsqrt(vx * vx + vy * vy + 1.0f);
+        vx *= k;
+        vy *= k;
+        vz = k;
+    } else {
+        OmF k = sqrt(1.0f - P->min_vz * P->min_vz) / sqrt(vx * vx + vy * vy);
+        vx = OM_SEL(vx, vx * k, grazing);
+        vy = OM_SEL(vy, vy * k, grazing);
+        vz = OM_SEL(vz, (OmF)P->min_vz, grazing);
+    }
+    bool wrap = P->address_mode == OM_ADDRESS_WRAP;
+    *base_u = wrap ? OM_LFLOOR(u) : (OmF)0.0f;
+    *base_v = wrap ? OM_LFLOOR(v) : (OmF)0.0f;
+    r->u = u - *base_u;
+    r->v = v - *base_v;
+    r->vx = vx;
+    r->vy = vy;
+    r->vz = vz;
+    r->scale = P->scale;
+    r->ref = P->ref_plane;
+    OmF inv_vz = 1.0f / vz;
+    r->t_enter = -P->scale * (1.0f - P->ref_plane) * inv_vz;
+    r->t_exit = P->scale * P->ref_plane * inv_vz;
+    r->detail = 1.0f;
+    r->step_cap = 0x7fffffff;
+    flags = OM_SEL(flags, (flags & (int)OM_FLAG_RENORMALIZED) | (int)OM_FLAG_BACKFACING, backfacing);
+    flags = OM_SEL(flags, (OmI)OM_FLAG_INVALID, invalid);
+    return OM_SEL(flags, (OmI)OM_FLAG_EMPTY, empty);
+}
+
+typedef struct {
+    OmI index;   // first sample i in 0..n with H(lambda_i) >= 1 - lambda_i
+    OmF h_prev;  // height at sample index - 1 (1 when index is 0)
+    OmF h_cur;   // height at sample index
+} OmLaneHit;
+
+// n + 1 samples at lambda_i = i / n from the top plane down, each lane with its own n, stopping at
+// the first sample at or below the relief (lambda_n = 1 is the bottom plane where every H >= 0, so
+// each lane stops by i = n); the loop ends when every lane has.
+inline OmLaneHit om_lane_linear_search(const OmLaneRay* r, const OmLaneField* f, OmI n,
+                                       OmI active, OmI* fetches) {
+    OmLaneHit hit;
+    hit.index = n;
+    hit.h_prev = 1.0f;
+    hit.h_cur = 0.0f;
+    OmF h_prev = 1.0f, inv_n = 1.0f / OM_TO_FLOAT(n);
+    OmI searching = active;
+    for (int i = 0; OM_ANY(searching); ++i) {
+        OmF lambda = OM_TO_FLOAT((OmI)i) * inv_n;
+        OmF t = om_lane_ray_t(r, lambda);
+        OmF h = om_lane_height(f, r->u - t * r->vx, r->v - t * r->vy, searching, fetches);
+        OmI found = searching & (h >= 1.0f - lambda || (OmI)i >= n);
+        hit.index = OM_SEL(hit.index, (OmI)i, found);
+        hit.h_prev = OM_SEL(hit.h_prev, h_prev, found);
+        hit.h_cur = OM_SEL(hit.h_cur, h, found);
+        searching &= !found;
+        h_prev = h;
+    }
+    return hit;
+}
+
+// One step of parallax with slope (Premecz 2006, section 3), from the ray point at t: intersect
+// the ray with the plane through the relief point above p(t).xy with the relief's normal there.
+// Premecz traces (u, v, 0) + V t with h = SCALE H + BIAS <= 0; here t runs the other way
+// (p(t) = (u, v, 0) - t V) and h = s (H - r), so his uv + h N.z / (N.V) V.xy is uv - t' V.xy with
+//   t' = t - gap N.z / (N.V),   gap = s (H - r) + t V.z  (relief height minus ray height).
+// exact form: N.z / (N.V) = 1 / (n.V) for n = (-s dH/du, -s dH/dv, 1). Guard: n.V below 1e-4
+//   (plane parallel to or facing away from the ray) is taken as 1e-4, so the step runs to the slab.
+// safe form (Premecz's "safer" variant): the division dropped, t' = t - gap N.z with N unit.
+// Either way t' is clamped to the slab [t_enter, t_exit].
+inline OmF om_lane_slope_step(const OmLaneRay* r, const OmLaneField* f, OmF t, int safe,
+                              OmI active, OmI* fetches) {
+    OmF gu, gv;
+    OmF h = om_lane_height_grad(f, r->u - t * r->vx, r->v - t * r->vy, active, fetches, &gu, &gv);
+    OmF gap = r->scale * (h - r->ref) + t * r->vz;
+    OmF su = r->scale * gu, sv = r->scale * gv;
+    OmF dt = safe ? gap * rsqrt(1.0f + su * su + sv * sv)
+                  : gap / fmax(r->vz - (su * r->vx + sv * r->vy), 1.0e-4f);
+    return clamp(t - dt, r->t_enter, r->t_exit);
+}

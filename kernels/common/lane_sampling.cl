@@ -1,0 +1,93 @@
+// Height sampling for lane methods (lanes.h): the bilinear fetch of sampling.cl (same texel-centre
+// convention, same wrap / clamp addressing, same arithmetic) for OM_LANES pixels at once. Each
+// lane may read its own mip level (LOD), so the level's offset and size are per lane.
+
+typedef struct {
+    __global const float* h;  // level 0 (the pyramid's start)
+    OmI level;                // each lane's mip level
+    OmI offset;               // start of each lane's level
+    OmI w, hgt;               // each lane's level size
+    OmF fw, fh;
+    int wrap;
+    int pot;  // level 0 is a power of two both ways, so every level is: wrap by mask
+} OmLaneField;
+
+// The field at each lane's mip level (clamped to the levels present), as om_heightfield_level.
+inline OmLaneField om_lane_field(__global const float* h, const OmOffsetParams* P, OmI level) {
+    OmLaneField f;
+    f.h = h;
+    f.wrap = P->address_mode == OM_ADDRESS_WRAP;
+    f.pot = (P->hf_width & (P->hf_width - 1)) == 0 && (P->hf_height & (P->hf_height - 1)) == 0;
+    level = clamp(level, 0, max(P->mip_levels - 1, 0));
+    OmI w = P->hf_width, hgt = P->hf_height, offset = 0;
+    for (int k = 0; k < P->mip_levels - 1; ++k) {
+        OmI below = k < level;
+        offset = OM_SEL(offset, offset + w * hgt, below);
+        w = OM_SEL(w, max(w / 2, 1), below);
+        hgt = OM_SEL(hgt, max(hgt / 2, 1), below);
+    }
+    f.level = level;
+    f.offset = offset;
+    f.w = w;
+    f.hgt = hgt;
+    f.fw = OM_TO_FLOAT(w);
+    f.fh = OM_TO_FLOAT(hgt);
+    return f;
+}
+
+inline OmI om_lane_wrap(OmI i, OmI n) {
+    OmI r = i % n;
+    return OM_SEL(r, r + n, r < 0);
+}
+
+// The four corners of each lane's patch and its position (a, b) inside it, as om_patch.
+inline void om_lane_patch(const OmLaneField* f, OmF u, OmF v, OmF* a, OmF* b, OmF* k00, OmF* k10,
+                          OmF* k01, OmF* k11) {
+    OmF cx = clamp(u * f->fw - 0.5f, -1.0e8f, 1.0e8f);
+    OmF cy = clamp(v * f->fh - 0.5f, -1.0e8f, 1.0e8f);
+    OmF fx = OM_LFLOOR(cx), fy = OM_LFLOOR(cy);
+    *a = cx - fx;
+    *b = cy - fy;
+    OmI i = OM_TO_INT(fx), j = OM_TO_INT(fy);
+    OmI i0, i1, j0, j1;
+    if (f->wrap && f->pot) {
+        i0 = i & (f->w - 1);
+        i1 = (i + 1) & (f->w - 1);
+        j0 = j & (f->hgt - 1);
+        j1 = (j + 1) & (f->hgt - 1);
+    } else if (f->wrap) {
+        i0 = om_lane_wrap(i, f->w);
+        i1 = OM_SEL(i0 + 1, 0, i0 + 1 == f->w);
+        j0 = om_lane_wrap(j, f->hgt);
+        j1 = OM_SEL(j0 + 1, 0, j0 + 1 == f->hgt);
+    } else {
+        i0 = clamp(i, 0, f->w - 1);
+        i1 = clamp(i + 1, 0, f->w - 1);
+        j0 = clamp(j, 0, f->hgt - 1);
+        j1 = clamp(j + 1, 0, f->hgt - 1);
+    }
+    OmI r0 = f->offset + j0 * f->w, r1 = f->offset + j1 * f->w;
+    *k00 = OM_GATHER(f->h, r0 + i0);
+    *k10 = OM_GATHER(f->h, r0 + i1);
+    *k01 = OM_GATHER(f->h, r1 + i0);
+    *k11 = OM_GATHER(f->h, r1 + i1);
+}
+
+// Bilinear height H(u, v) per lane; counts one fetch in the lanes of `active`.
+inline OmF om_lane_height(const OmLaneField* f, OmF u, OmF v, OmI active, OmI* fetches) {
+    OmF a, b, k00, k10, k01, k11;
+    om_lane_patch(f, u, v, &a, &b, &k00, &k10, &k01, &k11);
+    *fetches += OM_ONE(active);
+    return mix(mix(k00, k10, a), mix(k01, k11, a), b);
+}
+
+// Bilinear height and the patch's exact gradient (dH/du, dH/dv), as om_height_grad.
+inline OmF om_lane_height_grad(const OmLaneField* f, OmF u, OmF v, OmI active, OmI* fetches,
+                               OmF* gu, OmF* gv) {
+    OmF a, b, k00, k10, k01, k11;
+    om_lane_patch(f, u, v, &a, &b, &k00, &k10, &k01, &k11);
+    *fetches += OM_ONE(active);
+    *gu = mix(k10 - k00, k11 - k01, b) * f->fw;
+    *gv = mix(k01 - k00, k11 - k10, a) * f->fh;
+    return mix(mix(k00, k10, a), mix(k01, k11, a), b);
+}

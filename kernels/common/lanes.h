@@ -1,0 +1,55 @@
+// Lanes: the methods that march (lane methods, methods/*.cl defining om_trace_lanes) are written
+// once over OmF / OmI, which are float / int when OM_LANES is 1 (one pixel per work-item: GPUs,
+// the C++ peer) and float8 / float16 (8 or 16 consecutive pixels per work-item) on a CPU, where
+// the compiler then keeps every pixel of a work-item in one SIMD register (DESIGN.md, performance
+// facts: PoCL does not vectorise data-dependent loops across work-items by itself).
+// Masks (comparison results) are OmI: 1 / 0 as scalars, -1 / 0 as vectors; use the macros below,
+// which work with either.
+#ifndef OM_LANES
+#define OM_LANES 1
+#endif
+
+#if OM_LANES == 1
+typedef float OmF;
+typedef int OmI;
+#define OM_ANY(m) ((m) != 0)
+#define OM_SEL(a, b, m) ((m) ? (b) : (a))  // b where m, else a
+#define OM_TO_INT(x) ((int)(x))
+#define OM_TO_FLOAT(x) ((float)(x))
+#define OM_LFLOOR(x) om_floor(x)
+#define OM_GATHER(p, i) ((p)[i])
+#define OM_HMAX(x) (x)
+#elif OM_LANES == 8
+typedef float8 OmF;
+typedef int8 OmI;
+#define OM_ANY(m) any(m)
+#define OM_SEL(a, b, m) select((a), (b), (m))
+#define OM_TO_INT(x) convert_int8(x)
+#define OM_TO_FLOAT(x) convert_float8(x)
+#define OM_LFLOOR(x) floor(x)
+#define OM_GATHER(p, i)                                                                  \
+    ((float8)((p)[(i).s0], (p)[(i).s1], (p)[(i).s2], (p)[(i).s3], (p)[(i).s4], (p)[(i).s5], \
+              (p)[(i).s6], (p)[(i).s7]))
+#define OM_HMAX(x) \
+    max(max(max((x).s0, (x).s1), max((x).s2, (x).s3)), max(max((x).s4, (x).s5), max((x).s6, (x).s7)))
+#elif OM_LANES == 16
+typedef float16 OmF;
+typedef int16 OmI;
+#define OM_ANY(m) any(m)
+#define OM_SEL(a, b, m) select((a), (b), (m))
+#define OM_TO_INT(x) convert_int16(x)
+#define OM_TO_FLOAT(x) convert_float16(x)
+#define OM_LFLOOR(x) floor(x)
+#define OM_GATHER(p, i)                                                                    \
+    ((float16)((p)[(i).s0], (p)[(i).s1], (p)[(i).s2], (p)[(i).s3], (p)[(i).s4], (p)[(i).s5],  \
+               (p)[(i).s6], (p)[(i).s7], (p)[(i).s8], (p)[(i).s9], (p)[(i).sa], (p)[(i).sb], \
+               (p)[(i).sc], (p)[(i).sd], (p)[(i).se], (p)[(i).sf]))
+#define OM_HMAX(x) max(OM_HMAX8((x).lo), OM_HMAX8((x).hi))
+#define OM_HMAX8(x) \
+    max(max(max((x).s0, (x).s1), max((x).s2, (x).s3)), max(max((x).s4, (x).s5), max((x).s6, (x).s7)))
+#else
+#error "OM_LANES must be 1, 8 or 16"
+#endif
+
+// 1 where the mask is set, else 0 (for counting), with either mask convention.
+#define OM_ONE(m) ((m) & 1)

@@ -1,0 +1,149 @@
+// The offset kernel entry for lane methods (those defining OM_LANE_METHOD and om_trace_lanes):
+// offset.cl's entry with OM_LANES consecutive pixels per work-item (lanes.h). Same arguments, same
+// outputs, same LOD and flag rules; the host launches ceil(pixels / OM_LANES) work-items.
+#ifdef OM_LANE_METHOD
+
+// Pixel ids base .. base + OM_LANES - 1; the last work-item may hold fewer than OM_LANES pixels:
+// its loads repeat the last pixel and its stores stop at pixel_count.
+#if OM_LANES == 1
+#define OM_LOAD_F(dst, p, base, n) dst = (p)[base]
+#define OM_STORE_F(src, p, base, n) (p)[base] = (src)
+#define OM_STORE_I(src, p, base, n) (p)[base] = (uint)(src)
+#else
+#define OM_LOAD_F(dst, p, base, n)                                                  \
+    do {                                                                            \
+        float tmp_[OM_LANES];                                                       \
+        for (int k_ = 0; k_ < OM_LANES; ++k_) tmp_[k_] = (p)[min((base) + k_, (n) - 1)]; \
+        dst = OM_VLOAD(tmp_);                                                       \
+    } while (0)
+#define OM_STORE_F(src, p, base, n)                                                 \
+    do {                                                                            \
+        float tmp_[OM_LANES];                                                       \
+        OM_VSTORE(src, tmp_);                                                       \
+        for (int k_ = 0; k_ < OM_LANES && (base) + k_ < (n); ++k_) (p)[(base) + k_] = tmp_[k_]; \
+    } while (0)
+#define OM_STORE_I(src, p, base, n)                                                 \
+    do {                                                                            \
+        int tmp_[OM_LANES];                                                         \
+        OM_VSTORE_I(src, tmp_);                                                     \
+        for (int k_ = 0; k_ < OM_LANES && (base) + k_ < (n); ++k_) (p)[(base) + k_] = (uint)tmp_[k_]; \
+    } while (0)
+#if OM_LANES == 8
+#define OM_VLOAD(p) vload8(0, p)
+#define OM_VSTORE(v, p) vstore8(v, 0, p)
+#define OM_VSTORE_I(v, p) vstore8(v, 0, p)
+#else
+#define OM_VLOAD(p) vload16(0, p)
+#define OM_VSTORE(v, p) vstore16(v, 0, p)
+#define OM_VSTORE_I(v, p) vstore16(v, 0, p)
+#endif
+#endif
+
+__kernel void om_offset(const OmOffsetParams P, __global const float2* gb_uv2,
+                        __global const float4* gb_view4, __global const float* heights,
+                        __global const float* aux, __global const float* lod,
+                        __global float2* out_uv2, __global float* out_depth,
+                        __global uint* out_fetches, __global uint* out_flags) {
+    // The G-buffer is interleaved (uv: 2 floats, view: 4 per pixel): read as floats, split into
+    // planes.
+    __global const float* gb_uv = (__global const float*)gb_uv2;
+    __global const float* gb_view = (__global const float*)gb_view4;
+    __global float* out_uv = (__global float*)out_uv2;
+    const int n = P.pixel_count;
+    const int base = (int)get_global_id(0) * OM_LANES;
+    if (base >= n) return;
+    OmF u, v, vx, vy, vz;
+#if OM_LANES == 1
+    u = gb_uv[2 * base];
+    v = gb_uv[2 * base + 1];
+    vx = gb_view[4 * base];
+    vy = gb_view[4 * base + 1];
+    vz = gb_view[4 * base + 2];
+#else
+    {
+        float tu[2 * OM_LANES], tv[4 * OM_LANES];
+        for (int k = 0; k < OM_LANES; ++k) {
+            int id = min(base + k, n - 1);
+            tu[2 * k] = gb_uv[2 * id];
+            tu[2 * k + 1] = gb_uv[2 * id + 1];
+            for (int c = 0; c < 4; ++c) tv[4 * k + c] = gb_view[4 * id + c];
+        }
+        float pu[OM_LANES], pv[OM_LANES], px[OM_LANES], py[OM_LANES], pz[OM_LANES];
+        for (int k = 0; k < OM_LANES; ++k) {
+            pu[k] = tu[2 * k];
+            pv[k] = tu[2 * k + 1];
+            px[k] = tv[4 * k];
+            py[k] = tv[4 * k + 1];
+            pz[k] = tv[4 * k + 2];
+        }
+        u = OM_VLOAD(pu);
+        v = OM_VLOAD(pv);
+        vx = OM_VLOAD(px);
+        vy = OM_VLOAD(py);
+        vz = OM_VLOAD(pz);
+    }
+#endif
+    OmLaneRay ray;
+    OmF base_u, base_v;
+    OmI flags = om_lane_setup(u, v, vx, vy, vz, &P, &ray, &base_u, &base_v);
+    OmF blend = 1.0f;
+    OmI level = 0;
+#ifdef OM_LOD
+    OmF m;
+    OM_LOAD_F(m, lod, base, n);
+    m = OM_SEL(m, 0.0f, !isfinite(m));
+    level = OM_TO_INT(clamp(m, 0.0f, 16.0f));  // truncation is floor for m >= 0
+    if (P.lod_footprint) {
+        OmF texels = (ray.t_exit - ray.t_enter) * sqrt(ray.vx * ray.vx + ray.vy * ray.vy) *
+                     fmax((float)P.hf_width, (float)P.hf_height) / OM_TO_FLOAT((OmI)1 << level);
+        ray.step_cap = OM_TO_INT(ceil(texels)) + 1;
+        blend = clamp((texels - P.lod_fade_lo) / (P.lod_fade_hi - P.lod_fade_lo), 0.0f, 1.0f);
+    } else {
+        blend = clamp((P.lod_threshold - m) / P.lod_fade, 0.0f, 1.0f);
+        ray.detail = mix((OmF)1.0f, (OmF)P.lod_min_detail, clamp(m / P.lod_threshold, 0.0f, 1.0f));
+    }
+#endif
+    OmLaneField f = om_lane_field(heights, &P, level);
+    OmI rejected = (flags & (int)(OM_FLAG_EMPTY | OM_FLAG_INVALID | OM_FLAG_BACKFACING)) != 0;
+    OmI traced = !rejected && blend > 0.0f;
+    OmF t = 0.0f, hu = ray.u, hv = ray.v;
+    OmI fetches = 0, trace_flags = 0;
+    if (OM_ANY(traced)) om_trace_lanes(&ray, &f, &P, traced, &t, &hu, &hv, &fetches, &trace_flags);
+    // LOD fade toward normal mapping (blend = 1 without LOD).
+    hu = ray.u + blend * (hu - ray.u);
+    hv = ray.v + blend * (hv - ray.v);
+    OmF ou = hu + base_u, ov = hv + base_v;
+    // On a non-tiling surface a ray that leaves the tile sees past the polygon's edge.
+    OmI outside = P.tile_mask ? (OmI)(ou < 0.0f || ou > 1.0f || ov < 0.0f || ov > 1.0f) : (OmI)0;
+    flags |= OM_SEL(OM_SEL((OmI)OM_FLAG_LOD_FADED, (OmI)0, rejected),
+                    trace_flags | OM_SEL((OmI)0, (OmI)OM_FLAG_OUT_OF_TILE, outside), traced);
+    ou = OM_SEL(u, ou, traced);  // rejected lanes pass their G-buffer uv through (NaN included)
+    ov = OM_SEL(v, ov, traced);
+    t = OM_SEL((OmF)0.0f, t * blend, traced);
+    fetches = OM_SEL((OmI)0, fetches, traced);
+#if OM_LANES == 1
+    out_uv[2 * base] = ou;
+    out_uv[2 * base + 1] = ov;
+#else
+    {
+        float pu[OM_LANES], pv[OM_LANES];
+        OM_VSTORE(ou, pu);
+        OM_VSTORE(ov, pv);
+        for (int k = 0; k < OM_LANES && base + k < n; ++k) {
+            out_uv[2 * (base + k)] = pu[k];
+            out_uv[2 * (base + k) + 1] = pv[k];
+        }
+    }
+#endif
+#ifdef OM_OUT_DEPTH
+    OM_STORE_F(t, out_depth, base, n);
+#endif
+#ifdef OM_OUT_FETCHES
+    OM_STORE_I(fetches, out_fetches, base, n);
+#endif
+#ifdef OM_OUT_FLAGS
+    OM_STORE_I(flags, out_flags, base, n);
+#endif
+}
+
+#endif  // OM_LANE_METHOD
