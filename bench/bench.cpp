@@ -10,9 +10,9 @@
 #include <CLI/CLI.hpp>
 #include <algorithm>
 #include <chrono>
-#include <cstdlib>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -119,7 +119,9 @@ struct Bench {
         DeviceGBuffer g = upload(*rt, gb);
         const int n = static_cast<int>(g.pixels());
         cl::Buffer out(rt->context(), CL_MEM_WRITE_ONLY, g.pixels() * sizeof(cl_float2));
-        cl::Program prog = rt->program({"common/sampling.cl", "bench/roofline.cl"});
+        const std::vector<std::string> roof_files = {
+            "common/sampling.cl", "common/lanes.h", "common/lane_sampling.cl", "bench/roofline.cl"};
+        cl::Program prog = rt->program(roof_files);
         cl::Kernel pass(prog, "om_bench_passthrough");
         pass.setArg(0, g.uv);
         pass.setArg(1, g.view);
@@ -138,26 +140,46 @@ struct Bench {
         double memcpy_gbps = host_memcpy_gbps(static_cast<size_t>(16.0 * n));  // same traffic
         std::printf("\nroofline at %s (%d pixels), height map %dx%d\n", res.name, n, field.width,
                     field.height);
-        std::printf("  pass-through    %7.3f ns/pixel  %6.1f GB/s   host memcpy %6.1f GB/s  -> %5.1f%%\n",
-                    passthrough_ns, kernel_gbps, memcpy_gbps, 100.0 * kernel_gbps / memcpy_gbps);
+        std::printf(
+            "  pass-through    %7.3f ns/pixel  %6.1f GB/s   host memcpy %6.1f GB/s  -> %5.1f%%\n",
+            passthrough_ns, kernel_gbps, memcpy_gbps, 100.0 * kernel_gbps / memcpy_gbps);
         json chain_rows = json::array();
         fetch_ns = 1e30;
-        for (const char* kind : {"om_bench_fetch_chain", "om_bench_fetch_line"}) {
-            cl::Kernel k(prog, kind);
+        // One pixel per work-item, then the runtime's lanes (the lane methods' form).
+        const int lanes = rt->lanes();
+        const std::string lane_defines = "#define OM_LANES " + std::to_string(lanes) + "\n";
+        cl::Program lane_prog = rt->program(roof_files, lane_defines);
+        const cl::NDRange lane_global((g.pixels() + lanes * 64 - 1) / (lanes * 64) * 64);
+        for (std::string kind : {"om_bench_fetch_chain", "om_bench_fetch_line",
+                                 "om_bench_fetch_chain_lanes", "om_bench_fetch_line_lanes"}) {
+            const bool in_lanes = kind.find("_lanes") != std::string::npos;
+            cl::Kernel k(in_lanes ? lane_prog : prog, kind.c_str());
             k.setArg(0, params_for(field, n));
             k.setArg(1, field.heights);
             k.setArg(2, g.uv);
             k.setArg(3, out);
             k.setArg(4, n);
-            const bool dependent = std::string(kind) == "om_bench_fetch_chain";
+            const bool dependent = kind.find("chain") != std::string::npos;
             for (int len : {1, 8, 32, 128}) {
                 k.setArg(5, len);
-                Timing t = time_launches([&] { return run(k); }, target_ms);
+                Timing t = time_launches(
+                    [&] {
+                        if (!in_lanes) return run(k);
+                        cl::Event e;
+                        rt->queue().enqueueNDRangeKernel(k, cl::NullRange, lane_global, local,
+                                                         nullptr, &e);
+                        return e;
+                    },
+                    target_ms);
                 double per_fetch = (t.median_ms * 1e6 / n - passthrough_ns) / len;
                 if (len == 32) fetch_ns = std::min(fetch_ns, per_fetch);
-                std::printf("  %3d %-11s  %8.3f ns/pixel  -> %6.3f ns per bilinear fetch\n", len,
-                            dependent ? "dependent" : "independent", t.median_ms * 1e6 / n, per_fetch);
-                chain_rows.push_back({{"fetches", len}, {"dependent", dependent},
+                std::printf("  %3d %-11s %-9s %8.3f ns/pixel  -> %6.3f ns per bilinear fetch\n",
+                            len, dependent ? "dependent" : "independent",
+                            in_lanes ? ("x" + std::to_string(lanes) + " lanes").c_str() : "1 pixel",
+                            t.median_ms * 1e6 / n, per_fetch);
+                chain_rows.push_back({{"fetches", len},
+                                      {"dependent", dependent},
+                                      {"lanes", in_lanes ? lanes : 1},
                                       {"ns_per_pixel", t.median_ms * 1e6 / n},
                                       {"ns_per_fetch", per_fetch}});
             }
@@ -165,7 +187,8 @@ struct Bench {
         out_json_roofline(res, n, kernel_gbps, memcpy_gbps, chain_rows);
     }
 
-    void out_json_roofline(const Resolution& res, int n, double kgbps, double mgbps, const json& chain) {
+    void out_json_roofline(const Resolution& res, int n, double kgbps, double mgbps,
+                           const json& chain) {
         out["roofline"] = {{"resolution", res.name},
                            {"pixels", n},
                            {"passthrough_ns_per_pixel", passthrough_ns},
@@ -222,20 +245,23 @@ void print_header(const char* title) {
 }  // namespace
 
 int main(int argc, char** argv) {
-    CLI::App app{"offsetmap_bench: throughput of every offset method against the device's roofline"};
+    CLI::App app{
+        "offsetmap_bench: throughput of every offset method against the device's roofline"};
     bool quick = false, smoke = false;
     std::string out_dir = "out/bench", device;
     double target_ms = 300;
     app.add_flag("--quick", quick, "720p only, smaller maps and grids (about a minute)");
-    app.add_flag("--smoke", smoke, "tiny sizes and one run each: checks the program, not the device");
+    app.add_flag("--smoke", smoke,
+                 "tiny sizes and one run each: checks the program, not the device");
     app.add_option("--out", out_dir, "output folder")->capture_default_str();
     app.add_option("--device", device, "OpenCL platform/device substring ($OFFSETMAP_DEVICE)");
     app.add_option("--target-ms", target_ms, "time spent per measurement")->capture_default_str();
     bool charts = true;
     app.add_flag("!--no-charts", charts, "skip bench/plot_bench.py");
     std::vector<std::string> only;
-    app.add_option("--methods", only,
-                   "only these methods: roofline, their defaults and the C++ loop (no growth charts)");
+    app.add_option(
+        "--methods", only,
+        "only these methods: roofline, their defaults and the C++ loop (no growth charts)");
     CLI11_PARSE(app, argc, argv);
     try {
         std::filesystem::create_directories(out_dir);
@@ -251,15 +277,18 @@ int main(int argc, char** argv) {
         b.out["build_options"] = "-cl-std=CL1.2";
         b.out["local_size"] = 64;
         b.out["quick"] = quick;
-        std::printf("offsetmap_bench on %s\n  driver %s, %s, %u compute units, kernels built with "
-                    "-cl-std=CL1.2, local size 64, buffers path\n",
-                    b.rt->device_name().c_str(), b.out["driver"].get<std::string>().c_str(),
-                    b.out["opencl"].get<std::string>().c_str(), d.getInfo<CL_DEVICE_MAX_COMPUTE_UNITS>());
+        std::printf(
+            "offsetmap_bench on %s\n  driver %s, %s, %u compute units, kernels built with "
+            "-cl-std=CL1.2, local size 64, buffers path\n",
+            b.rt->device_name().c_str(), b.out["driver"].get<std::string>().c_str(),
+            b.out["opencl"].get<std::string>().c_str(), d.getInfo<CL_DEVICE_MAX_COMPUTE_UNITS>());
 
-        const std::vector<Resolution> all_res = {{"720p", 1280, 720}, {"1080p", 1920, 1080}, {"4K", 3840, 2160}};
+        const std::vector<Resolution> all_res = {
+            {"720p", 1280, 720}, {"1080p", 1920, 1080}, {"4K", 3840, 2160}};
         const Resolution tiny = {"160x90", 160, 90};
-        const std::vector<Resolution> resolutions =
-            smoke ? std::vector<Resolution>{tiny} : quick ? std::vector<Resolution>{all_res[0]} : all_res;
+        const std::vector<Resolution> resolutions = smoke   ? std::vector<Resolution>{tiny}
+                                                    : quick ? std::vector<Resolution>{all_res[0]}
+                                                            : all_res;
         const Resolution main_res = smoke ? tiny : quick ? all_res[0] : all_res[1];
         // The roofline at 4K in a full run: a G-buffer too large for any last-level cache.
         const Resolution roof_res = smoke ? tiny : quick ? all_res[0] : all_res[2];
@@ -281,7 +310,8 @@ int main(int argc, char** argv) {
         // Every method at its defaults.
         GBuffer host_main = camera_gbuffer(main_res);
         DeviceGBuffer g_main = upload(*b.rt, host_main);
-        print_header(("methods at their defaults, " + std::string(main_res.name) + ", 1024^2 map").c_str());
+        print_header(
+            ("methods at their defaults, " + std::string(main_res.name) + ", 1024^2 map").c_str());
         json rows = json::array();
         for (const MethodInfo* m : select_methods(only)) {
             json r = b.measure(m->name, {}, g_main, field, s);
@@ -292,27 +322,31 @@ int main(int argc, char** argv) {
 
         // The same kernel sources compiled as C++ (-O3 -march=native), threads over pixels.
         unsigned threads = std::max(1u, std::thread::hardware_concurrency());
-        std::printf("\nkernel against the plain threaded C++ loop of the same source (%u threads, "
-                    "-O3 -march=native), %s\n  %-18s %12s %12s %10s\n",
-                    threads, main_res.name, "method", "loop ns/px", "kernel ns/px", "kernel x");
+        std::printf(
+            "\nkernel against the plain threaded C++ loop of the same source (%u threads, "
+            "-O3 -march=native), %s\n  %-18s %12s %12s %10s\n",
+            threads, main_res.name, "method", "loop ns/px", "kernel ns/px", "kernel x");
         json peers = json::array();
         for (auto& r : rows) {
             const std::string name = r["method"];
             if (find_method(name).precompute != Precompute::None) continue;
-            auto run = cpu_peer::run(name, {}, host_main, host_maps[1024], s, smoke ? 1 : 3, threads);
+            auto run =
+                cpu_peer::run(name, {}, host_main, host_maps[1024], s, smoke ? 1 : 3, threads);
             double loop_ns = run.median_ms * 1e6 / static_cast<double>(host_main.pixels());
             double ratio = loop_ns / r["ns_per_pixel"].get<double>();
             r["cpp_loop_ns_per_pixel"] = loop_ns;
             r["kernel_vs_loop"] = ratio;
             std::printf("  %-18s %12.2f %12.2f %9.2fx\n", name.c_str(), loop_ns,
                         r["ns_per_pixel"].get<double>(), ratio);
-            peers.push_back({{"method", name}, {"loop_ns_per_pixel", loop_ns}, {"kernel_vs_loop", ratio}});
+            peers.push_back(
+                {{"method", name}, {"loop_ns_per_pixel", loop_ns}, {"kernel_vs_loop", ratio}});
         }
         b.out["methods"] = rows;
         b.out["cpp_loop"] = peers;
         if (!only.empty()) {
             std::ofstream(out_dir + "/bench.json") << b.out.dump(1) << "\n";
-            std::printf("\nwrote %s/bench.json (--methods: growth, memory and charts skipped)\n", out_dir.c_str());
+            std::printf("\nwrote %s/bench.json (--methods: growth, memory and charts skipped)\n",
+                        out_dir.c_str());
             return 0;
         }
 
@@ -346,12 +380,13 @@ int main(int argc, char** argv) {
         // Cost against step count (should be linear).
         json by_steps = json::array();
         print_header("cost against step count");
-        std::vector<int> steps = smoke ? std::vector<int>{8}
+        std::vector<int> steps = smoke   ? std::vector<int>{8}
                                  : quick ? std::vector<int>{8, 32, 128}
                                          : std::vector<int>{8, 16, 32, 64, 128};
         for (int n : steps) {
             auto ns = std::to_string(n);
-            for (auto [m, setting] : std::vector<std::pair<std::string, std::map<std::string, std::string>>>{
+            for (auto [m, setting] :
+                 std::vector<std::pair<std::string, std::map<std::string, std::string>>>{
                      {"steep", {{"layers", ns}}},
                      {"relief", {{"linear", ns}}},
                      {"pom", {{"min_samples", ns}, {"max_samples", ns}}},
@@ -366,8 +401,9 @@ int main(int argc, char** argv) {
 
         // Memory of every buffer per method and resolution.
         json memory = json::array();
-        std::printf("\nmemory (MiB): G-buffer uv+view, outputs uv'+depth(+fetches+flags), height "
-                    "pyramid, normals (shading), precomputed\n");
+        std::printf(
+            "\nmemory (MiB): G-buffer uv+view, outputs uv'+depth(+fetches+flags), height "
+            "pyramid, normals (shading), precomputed\n");
         for (const auto& res : all_res) {
             double px = static_cast<double>(res.w) * res.h;
             for (int size : {256, 1024, 4096}) {
@@ -383,15 +419,17 @@ int main(int argc, char** argv) {
                     } else if (m.precompute == Precompute::ConeMap) {
                         pre = 8.0 * size * size;
                     }
-                    json row = {{"resolution", res.name}, {"map_size", size}, {"method", m.name},
-                                {"gbuffer_bytes", 24 * px}, {"output_bytes", 12 * px},
-                                {"debug_output_bytes", 8 * px}, {"pyramid_bytes", pyramid},
-                                {"normals_bytes", 16.0 * size * size}, {"precomputed_bytes", pre}};
+                    json row = {{"resolution", res.name},   {"map_size", size},
+                                {"method", m.name},         {"gbuffer_bytes", 24 * px},
+                                {"output_bytes", 12 * px},  {"debug_output_bytes", 8 * px},
+                                {"pyramid_bytes", pyramid}, {"normals_bytes", 16.0 * size * size},
+                                {"precomputed_bytes", pre}};
                     memory.push_back(row);
                     if (size == 1024 && (m.name == "pom" || m.name == "sphere"))
-                        std::printf("  %-6s %-8s 1024^2: %8.1f %8.1f (+%.1f) %8.1f %8.1f %8.1f\n", res.name,
-                                    m.name.c_str(), 24 * px / 1048576, 12 * px / 1048576, 8 * px / 1048576,
-                                    pyramid / 1048576, 16.0 * size * size / 1048576, pre / 1048576);
+                        std::printf("  %-6s %-8s 1024^2: %8.1f %8.1f (+%.1f) %8.1f %8.1f %8.1f\n",
+                                    res.name, m.name.c_str(), 24 * px / 1048576, 12 * px / 1048576,
+                                    8 * px / 1048576, pyramid / 1048576,
+                                    16.0 * size * size / 1048576, pre / 1048576);
                 }
             }
         }
@@ -410,7 +448,8 @@ int main(int argc, char** argv) {
     } catch (const offsetmap::Error& e) {
         std::cerr << "offsetmap_bench: error: " << e.what() << "\n";
     } catch (const cl::Error& e) {
-        std::cerr << "offsetmap_bench: error: " << e.what() << ": " << describe_cl_error(e.err()) << "\n";
+        std::cerr << "offsetmap_bench: error: " << e.what() << ": " << describe_cl_error(e.err())
+                  << "\n";
     }
     return 1;
 }

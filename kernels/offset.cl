@@ -1,7 +1,8 @@
-// The offset kernel entry for one-pixel methods (lane methods: offset_lanes.cl): G-buffer load, validation, LOD, one method's om_trace, store.
-// Compiled once per method; the method file defining om_trace is pasted in before this file.
-// aux is the method's precomputed data (NULL for most); lod is the per-pixel mip level (NULL
-// unless the LOD system is on). Optional outputs (depth, fetches, flags) may be NULL buffers.
+// The offset kernel entry for one-pixel methods (lane methods: offset_lanes.cl): G-buffer load,
+// validation, LOD, one method's om_trace, store. Compiled once per method; the method file defining
+// om_trace is pasted in before this file. aux is the method's precomputed data (NULL for most); lod
+// is the per-pixel mip level (NULL unless the LOD system is on). Optional outputs (depth, fetches,
+// flags) may be NULL buffers.
 //
 // LOD (Tatarchuk 2006): at mip level m the heights are read from level floor(m) of the pyramid,
 // step counts are scaled by mix(1, min_detail, m / threshold) (more samples near the viewer), and

@@ -10,23 +10,32 @@
 #define OM_STORE_F(src, p, base, n) (p)[base] = (src)
 #define OM_STORE_I(src, p, base, n) (p)[base] = (uint)(src)
 #else
-#define OM_LOAD_F(dst, p, base, n)                                                  \
-    do {                                                                            \
-        float tmp_[OM_LANES];                                                       \
-        for (int k_ = 0; k_ < OM_LANES; ++k_) tmp_[k_] = (p)[min((base) + k_, (n) - 1)]; \
-        dst = OM_VLOAD(tmp_);                                                       \
+#define OM_LOAD_F(dst, p, base, n)                                                     \
+    do {                                                                               \
+        float tmp_[OM_LANES];                                                          \
+        for (int k_ = 0; k_ < OM_LANES; ++k_) tmp_[k_] = (p)[min((base) + k_, (n)-1)]; \
+        dst = OM_VLOAD(tmp_);                                                          \
     } while (0)
-#define OM_STORE_F(src, p, base, n)                                                 \
-    do {                                                                            \
-        float tmp_[OM_LANES];                                                       \
-        OM_VSTORE(src, tmp_);                                                       \
+#define OM_STORE_F(src, p, base, n)                                                             \
+    do {                                                                                        \
+        if ((base) + OM_LANES <= (n)) {                                                         \
+            OM_VSTORE(src, (p) + (base));                                                       \
+            break;                                                                              \
+        }                                                                                       \
+        float tmp_[OM_LANES];                                                                   \
+        OM_VSTORE(src, tmp_);                                                                   \
         for (int k_ = 0; k_ < OM_LANES && (base) + k_ < (n); ++k_) (p)[(base) + k_] = tmp_[k_]; \
     } while (0)
-#define OM_STORE_I(src, p, base, n)                                                 \
-    do {                                                                            \
-        int tmp_[OM_LANES];                                                         \
-        OM_VSTORE_I(src, tmp_);                                                     \
-        for (int k_ = 0; k_ < OM_LANES && (base) + k_ < (n); ++k_) (p)[(base) + k_] = (uint)tmp_[k_]; \
+#define OM_STORE_I(src, p, base, n)                                \
+    do {                                                           \
+        if ((base) + OM_LANES <= (n)) {                            \
+            OM_VSTORE_I(src, (__global int*)(p) + (base));         \
+            break;                                                 \
+        }                                                          \
+        int tmp_[OM_LANES];                                        \
+        OM_VSTORE_I(src, tmp_);                                    \
+        for (int k_ = 0; k_ < OM_LANES && (base) + k_ < (n); ++k_) \
+            (p)[(base) + k_] = (uint)tmp_[k_];                     \
     } while (0)
 #if OM_LANES == 8
 #define OM_VLOAD(p) vload8(0, p)
@@ -36,6 +45,45 @@
 #define OM_VLOAD(p) vload16(0, p)
 #define OM_VSTORE(v, p) vstore16(v, 0, p)
 #define OM_VSTORE_I(v, p) vstore16(v, 0, p)
+#endif
+
+// A full work-item's G-buffer (interleaved uv and view) split into planes with vector loads and
+// shuffles, and its uv' interleaved back. Works on global or private memory (generic macros).
+#if OM_LANES == 8
+#define om_lane_load_full(pu, pv, u, v, vx, vy, vz)       \
+    do {                                                  \
+        float16 a_ = vload16(0, pu);                      \
+        float16 b_ = vload16(0, pv), c_ = vload16(1, pv); \
+        *(u) = a_.even;                                   \
+        *(v) = a_.odd;                                    \
+        *(vx) = (float8)(b_.s048c, c_.s048c);             \
+        *(vy) = (float8)(b_.s159d, c_.s159d);             \
+        *(vz) = (float8)(b_.s26ae, c_.s26ae);             \
+    } while (0)
+#define om_lane_store_uv(ou, ov, p)                                                                \
+    vstore16(shuffle2((ou), (ov), (uint16)(0, 8, 1, 9, 2, 10, 3, 11, 4, 12, 5, 13, 6, 14, 7, 15)), \
+             0, p)
+#elif OM_LANES == 16
+#define om_lane_load_full(pu, pv, u, v, vx, vy, vz)                            \
+    do {                                                                       \
+        float16 a_ = vload16(0, pu), b_ = vload16(1, pu);                      \
+        float16 c_ = vload16(0, pv), d_ = vload16(1, pv), e_ = vload16(2, pv), \
+                f_ = vload16(3, pv);                                           \
+        *(u) = (float16)(a_.even, b_.even);                                    \
+        *(v) = (float16)(a_.odd, b_.odd);                                      \
+        *(vx) = (float16)(c_.s048c, d_.s048c, e_.s048c, f_.s048c);             \
+        *(vy) = (float16)(c_.s159d, d_.s159d, e_.s159d, f_.s159d);             \
+        *(vz) = (float16)(c_.s26ae, d_.s26ae, e_.s26ae, f_.s26ae);             \
+    } while (0)
+#define om_lane_store_uv(ou, ov, p)                                                                \
+    do {                                                                                           \
+        vstore16(shuffle2((ou), (ov),                                                              \
+                          (uint16)(0, 16, 1, 17, 2, 18, 3, 19, 4, 20, 5, 21, 6, 22, 7, 23)),       \
+                 0, p);                                                                            \
+        vstore16(shuffle2((ou), (ov),                                                              \
+                          (uint16)(8, 24, 9, 25, 10, 26, 11, 27, 12, 28, 13, 29, 14, 30, 15, 31)), \
+                 1, p);                                                                            \
+    } while (0)
 #endif
 #endif
 
@@ -60,7 +108,9 @@ __kernel void om_offset(const OmOffsetParams P, __global const float2* gb_uv2,
     vy = gb_view[4 * base + 1];
     vz = gb_view[4 * base + 2];
 #else
-    {
+    if (base + OM_LANES <= n) {
+        om_lane_load_full(gb_uv + 2 * base, gb_view + 4 * base, &u, &v, &vx, &vy, &vz);
+    } else {
         float tu[2 * OM_LANES], tv[4 * OM_LANES];
         for (int k = 0; k < OM_LANES; ++k) {
             int id = min(base + k, n - 1);
@@ -68,19 +118,7 @@ __kernel void om_offset(const OmOffsetParams P, __global const float2* gb_uv2,
             tu[2 * k + 1] = gb_uv[2 * id + 1];
             for (int c = 0; c < 4; ++c) tv[4 * k + c] = gb_view[4 * id + c];
         }
-        float pu[OM_LANES], pv[OM_LANES], px[OM_LANES], py[OM_LANES], pz[OM_LANES];
-        for (int k = 0; k < OM_LANES; ++k) {
-            pu[k] = tu[2 * k];
-            pv[k] = tu[2 * k + 1];
-            px[k] = tv[4 * k];
-            py[k] = tv[4 * k + 1];
-            pz[k] = tv[4 * k + 2];
-        }
-        u = OM_VLOAD(pu);
-        v = OM_VLOAD(pv);
-        vx = OM_VLOAD(px);
-        vy = OM_VLOAD(py);
-        vz = OM_VLOAD(pz);
+        om_lane_load_full(tu, tv, &u, &v, &vx, &vy, &vz);
     }
 #endif
     OmLaneRay ray;
@@ -125,7 +163,9 @@ __kernel void om_offset(const OmOffsetParams P, __global const float2* gb_uv2,
     out_uv[2 * base] = ou;
     out_uv[2 * base + 1] = ov;
 #else
-    {
+    if (base + OM_LANES <= n) {
+        om_lane_store_uv(ou, ov, out_uv + 2 * base);
+    } else {
         float pu[OM_LANES], pv[OM_LANES];
         OM_VSTORE(ou, pu);
         OM_VSTORE(ov, pv);

@@ -4,6 +4,7 @@
 // line, as the threaded CPU peer of bench/ and as a cross-check in the tests.
 #pragma once
 #include <algorithm>
+#include <cfloat>
 #include <cmath>
 #include <cstdint>
 

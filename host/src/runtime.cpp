@@ -27,14 +27,20 @@ std::string full_name(const cl::Platform& p, const cl::Device& d) {
 
 std::string describe_cl_error(int code) {
     switch (code) {
-        case CL_DEVICE_NOT_FOUND: return "no OpenCL device found (CL_DEVICE_NOT_FOUND)";
-        case CL_OUT_OF_RESOURCES: return "the device ran out of resources (CL_OUT_OF_RESOURCES)";
-        case CL_OUT_OF_HOST_MEMORY: return "out of host memory (CL_OUT_OF_HOST_MEMORY)";
+        case CL_DEVICE_NOT_FOUND:
+            return "no OpenCL device found (CL_DEVICE_NOT_FOUND)";
+        case CL_OUT_OF_RESOURCES:
+            return "the device ran out of resources (CL_OUT_OF_RESOURCES)";
+        case CL_OUT_OF_HOST_MEMORY:
+            return "out of host memory (CL_OUT_OF_HOST_MEMORY)";
         case CL_MEM_OBJECT_ALLOCATION_FAILURE:
             return "the device could not allocate a buffer (CL_MEM_OBJECT_ALLOCATION_FAILURE)";
-        case CL_INVALID_BUFFER_SIZE: return "a buffer has an invalid size (CL_INVALID_BUFFER_SIZE)";
-        case -1001: return "no OpenCL platform found (is an ICD such as pocl-opencl-icd installed?)";
-        default: return "OpenCL error " + std::to_string(code);
+        case CL_INVALID_BUFFER_SIZE:
+            return "a buffer has an invalid size (CL_INVALID_BUFFER_SIZE)";
+        case -1001:
+            return "no OpenCL platform found (is an ICD such as pocl-opencl-icd installed?)";
+        default:
+            return "OpenCL error " + std::to_string(code);
     }
 }
 
@@ -71,7 +77,8 @@ std::shared_ptr<Runtime> Runtime::create(const std::string& filter_arg) {
             }
         if (!chosen) {
             std::string names;
-            for (auto& pd : all) names += (names.empty() ? "" : "; ") + full_name(pd.first, pd.second);
+            for (auto& pd : all)
+                names += (names.empty() ? "" : "; ") + full_name(pd.first, pd.second);
             throw Error("no OpenCL device matches '" + filter + "' (devices here: " + names + ")");
         }
     } else {
@@ -133,8 +140,7 @@ cl::Program Runtime::program(const std::vector<std::string>& files, const std::s
         for (const auto& f : files) what += (what.empty() ? "" : " + ") + f;
         throw Error("kernel build failed for " + what + " on " + device_name() + ":\n" + log);
     } catch (const cl::Error& e) {
-        throw Error("kernel build failed on " + device_name() + ": " +
-                    describe_cl_error(e.err()));
+        throw Error("kernel build failed on " + device_name() + ": " + describe_cl_error(e.err()));
     }
     programs_.emplace(key, program);
     return program;
@@ -144,7 +150,8 @@ std::string kernel_source(const std::string& path) {
     if (const char* dir = std::getenv("OFFSETMAP_KERNEL_DIR")) {
         std::string full = std::string(dir) + "/" + path;
         std::ifstream in(full, std::ios::binary);
-        if (!in) throw Error("cannot read kernel file '" + full + "' (OFFSETMAP_KERNEL_DIR is set)");
+        if (!in)
+            throw Error("cannot read kernel file '" + full + "' (OFFSETMAP_KERNEL_DIR is set)");
         std::ostringstream text;
         text << in.rdbuf();
         return text.str();

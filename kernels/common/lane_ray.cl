@@ -25,6 +25,7 @@ inline OmI om_lane_setup(OmF u, OmF v, OmF vx, OmF vy, OmF vz, const OmOffsetPar
                          OmLaneRay* r, OmF* base_u, OmF* base_v) {
     OmI empty = isnan(u) || isnan(v);
     OmI finite = isfinite(u) && isfinite(v) && isfinite(vx) && isfinite(vy) && isfinite(vz);
+    // Scale by the largest component first so |V| neither overflows nor underflows.
     OmF m = fmax(fabs(vx), fmax(fabs(vy), fabs(vz)));
     OmI invalid = !finite || !(m > 0.0f);
     m = OM_SEL(m, 1.0f, invalid);
@@ -72,7 +73,8 @@ inline OmI om_lane_setup(OmF u, OmF v, OmF vx, OmF vy, OmF vz, const OmOffsetPar
     r->t_exit = P->scale * P->ref_plane * inv_vz;
     r->detail = 1.0f;
     r->step_cap = 0x7fffffff;
-    flags = OM_SEL(flags, (flags & (int)OM_FLAG_RENORMALIZED) | (int)OM_FLAG_BACKFACING, backfacing);
+    flags =
+        OM_SEL(flags, (flags & (int)OM_FLAG_RENORMALIZED) | (int)OM_FLAG_BACKFACING, backfacing);
     flags = OM_SEL(flags, (OmI)OM_FLAG_INVALID, invalid);
     return OM_SEL(flags, (OmI)OM_FLAG_EMPTY, empty);
 }
@@ -86,16 +88,16 @@ typedef struct {
 // n + 1 samples at lambda_i = i / n from the top plane down, each lane with its own n, stopping at
 // the first sample at or below the relief (lambda_n = 1 is the bottom plane where every H >= 0, so
 // each lane stops by i = n); the loop ends when every lane has.
-inline OmLaneHit om_lane_linear_search(const OmLaneRay* r, const OmLaneField* f, OmI n,
-                                       OmI active, OmI* fetches) {
+inline OmLaneHit om_lane_linear_search(const OmLaneRay* r, const OmLaneField* f, OmI n, OmI active,
+                                       OmI* fetches) {
     OmLaneHit hit;
     hit.index = n;
     hit.h_prev = 1.0f;
     hit.h_cur = 0.0f;
-    OmF h_prev = 1.0f, inv_n = 1.0f / OM_TO_FLOAT(n);
+    OmF h_prev = 1.0f, fn = OM_TO_FLOAT(n);
     OmI searching = active;
     for (int i = 0; OM_ANY(searching); ++i) {
-        OmF lambda = OM_TO_FLOAT((OmI)i) * inv_n;
+        OmF lambda = OM_TO_FLOAT((OmI)i) / fn;  // as the methods compute it: the same samples
         OmF t = om_lane_ray_t(r, lambda);
         OmF h = om_lane_height(f, r->u - t * r->vx, r->v - t * r->vy, searching, fetches);
         OmI found = searching & (h >= 1.0f - lambda || (OmI)i >= n);
@@ -117,8 +119,8 @@ inline OmLaneHit om_lane_linear_search(const OmLaneRay* r, const OmLaneField* f,
 //   (plane parallel to or facing away from the ray) is taken as 1e-4, so the step runs to the slab.
 // safe form (Premecz's "safer" variant): the division dropped, t' = t - gap N.z with N unit.
 // Either way t' is clamped to the slab [t_enter, t_exit].
-inline OmF om_lane_slope_step(const OmLaneRay* r, const OmLaneField* f, OmF t, int safe,
-                              OmI active, OmI* fetches) {
+inline OmF om_lane_slope_step(const OmLaneRay* r, const OmLaneField* f, OmF t, int safe, OmI active,
+                              OmI* fetches) {
     OmF gu, gv;
     OmF h = om_lane_height_grad(f, r->u - t * r->vx, r->v - t * r->vy, active, fetches, &gu, &gv);
     OmF gap = r->scale * (h - r->ref) + t * r->vz;

@@ -20,7 +20,7 @@ inline OmLaneField om_lane_field(__global const float* h, const OmOffsetParams* 
     f.pot = (P->hf_width & (P->hf_width - 1)) == 0 && (P->hf_height & (P->hf_height - 1)) == 0;
     level = clamp(level, 0, max(P->mip_levels - 1, 0));
     OmI w = P->hf_width, hgt = P->hf_height, offset = 0;
-    for (int k = 0; k < P->mip_levels - 1; ++k) {
+    for (int k = 0; k < P->mip_levels - 1 && OM_ANY(level > k); ++k) {
         OmI below = k < level;
         offset = OM_SEL(offset, offset + w * hgt, below);
         w = OM_SEL(w, max(w / 2, 1), below);

@@ -3,10 +3,10 @@
 // a maximum-height pyramid (kernels/prep/maxmip.cl) instead of every cell: where the ray stays
 // above a block's maximum the whole block is skipped; where it dips below, the walk descends, down
 // to single cells solved exactly (om_patch_hit, shared with `exact`). Inside a block the ray first
-// jumps to where it reaches the block's maximum height. p[0] = the highest level used (0: plain DDA,
-// identical to `exact`). Cost: O(log n) block tests plus the cells near the hit.
-// The hierarchy needs wrap addressing and level 0 of the height pyramid (no LOD level); otherwise
-// the walk stays at level 0 and is `exact`.
+// jumps to where it reaches the block's maximum height. p[0] = the highest level used (0: plain
+// DDA, identical to `exact`). Cost: O(log n) block tests plus the cells near the hit. The hierarchy
+// needs wrap addressing and level 0 of the height pyramid (no LOD level); otherwise the walk stays
+// at level 0 and is `exact`.
 
 // Levels of the max pyramid for this map: while both sizes stay even (blocks tile the map).
 inline int om_maxmip_levels(const OmOffsetParams* P) {
@@ -33,7 +33,8 @@ float2 om_trace(const OmRay* r, OmHeightField* f, const OmOffsetParams* P, float
     int top = f->level == 0 ? min(om_maxmip_levels(P), (int)P->p[0]) : 0;
     int offset[16];  // start of level k in the aux buffer (level 1 at 0)
     offset[1] = 0;
-    for (int k = 1; k < top; ++k) offset[k + 1] = offset[k] + (P->hf_width >> k) * (P->hf_height >> k);
+    for (int k = 1; k < top; ++k)
+        offset[k + 1] = offset[k] + (P->hf_width >> k) * (P->hf_height >> k);
 
     float2 c0 = om_cell_coord(f, r->uv);
     float2 d = OM_F2(r->v.x * f->fw, r->v.y * f->fh);

@@ -3,9 +3,9 @@
 // rule on the height gap g(lambda) = H - (1 - lambda), up to m = p[2] iterations or until
 // |g| <= tol = p[3] (height units). The linear search takes pom's dynamic step count
 // lerp(n_max = p[1], n_min = p[0], V.z): the fixed-step search Risser uses steps over thin walls
-// at grazing views, and that, not the refinement, dominates the error there. Risser's plain secant can
-// leave the bracket; this is regula falsi (the new point replaces the end of the same sign) with
-// the Illinois modification (halve the stale end's gap), so it stays bracketed and converges
+// at grazing views, and that, not the refinement, dominates the error there. Risser's plain secant
+// can leave the bracket; this is regula falsi (the new point replaces the end of the same sign)
+// with the Illinois modification (halve the stale end's gap), so it stays bracketed and converges
 // superlinearly. With m = 0 this is exactly pom.
 // The answer is the first evaluated point within tol of the relief, else the secant point of the
 // final bracket (free: no fetch). Cost: at most n + 1 + m fetches.

@@ -11,7 +11,7 @@
 // grazing views, where each step shrinks the gap by a factor of about 1 - V.z).
 // Cost: one distance fetch per step, counted as one fetch.
 inline float om_sphere_distance(const OmHeightField* f, const OmOffsetParams* P, int res,
-                                 int layers, float2 uv, float w) {
+                                int layers, float2 uv, float w) {
     float x = clamp(uv.x * res, -1.0e7f, 1.0e7f), y = clamp(uv.y * res, -1.0e7f, 1.0e7f);
     int i = (int)om_floor(x), j = (int)om_floor(y);
     int k = clamp((int)(w / P->scale * layers), 0, layers - 1);

@@ -1,0 +1,85 @@
+// Lane methods run OM_LANES pixels per work-item (kernels/common/lanes.h): 1 on GPUs and in the
+// C++ peer, 8 or 16 on CPUs. Every lane count must give the same frame: the same arithmetic per
+// pixel, only spread over SIMD lanes, so results are compared bit for bit, including the flags
+// and fetch counts of rejected pixels and a last work-item that is only partly filled.
+#include <cstring>
+#include <limits>
+#include <map>
+
+#include "support.hpp"
+
+namespace omtest {
+namespace {
+
+GBuffer mixed_scene() {
+    GBuffer gb = make_scene(RandomScene{37, 7, 99, 0.5, 90.0});  // 259 pixels: 16 x 16 + 3
+    const float nan = std::numeric_limits<float>::quiet_NaN(),
+                inf = std::numeric_limits<float>::infinity();
+    const float bad[][5] = {{nan, 0.5f, 0, 0, 1},      {0.5f, 0.5f, inf, 0, 1},
+                            {0.5f, 0.5f, 0, 0, 0},     {0.5f, 0.5f, 0.6f, 0, -0.8f},
+                            {0.5f, 0.5f, 6, 0, 8},     {1e6f, -1e6f, 0.6f, 0, 0.8f},
+                            {0.5f, 0.5f, 1, 0, 1e-30f}};
+    for (size_t k = 0; k < std::size(bad); ++k) {
+        const size_t at = 13 * k + 5;
+        gb.uv[at] = {{bad[k][0], bad[k][1]}};
+        gb.view[at] = {{bad[k][2], bad[k][3], bad[k][4], 0.0f}};
+    }
+    return gb;
+}
+
+std::shared_ptr<Runtime> runtime_with_lanes(int lanes) {
+    static std::map<int, std::shared_ptr<Runtime>> runtimes;
+    auto& rt = runtimes[lanes];
+    if (!rt) {
+        rt = Runtime::create();
+        rt->set_lanes(lanes);
+    }
+    return rt;
+}
+
+OffsetResult run_with_lanes(int lanes, const std::string& method, const HeightMap& map,
+                            const GBuffer& gb, const PassSettings& s) {
+    auto rt = runtime_with_lanes(lanes);
+    DeviceHeightField f = upload(*rt, map, s);
+    DeviceGBuffer g = upload(*rt, gb);
+    OffsetPass pass(rt, method);
+    EXPECT_EQ(pass.lanes(), lanes) << method;
+    return run_offset(*rt, pass, g, f, s, 1);
+}
+
+TEST(Lanes, EveryLaneCountGivesTheSameFrame) {
+    HeightMap map = noisy_map(64, 17);
+    GBuffer gb = mixed_scene();
+    // Wrap with the clamp grazing rule; and clamp addressing, offset limiting and footprint LOD.
+    PassSettings plain, other;
+    plain.scale = other.scale = 0.1f;
+    other.lod.enabled = other.lod.footprint = true;
+    other.grazing = GrazingPolicy::Limit;
+    other.address = AddressMode::Clamp;
+    int lane_methods = 0;
+    for (const auto& name : method_names()) {
+        if (OffsetPass(runtime_with_lanes(16), name).lanes() == 1) continue;  // a one-pixel method
+        ++lane_methods;
+        for (const PassSettings* s : {&plain, &other}) {
+            OffsetResult ref = run_with_lanes(1, name, map, gb, *s);
+            for (int lanes : {8, 16}) {
+                if (lanes == 8 && s == &other) continue;  // 8 and 16 share every code path
+                OffsetResult r = run_with_lanes(lanes, name, map, gb, *s);
+                for (size_t k = 0; k < gb.pixels(); ++k) {
+                    SCOPED_TRACE(name + " lanes " + std::to_string(lanes) + " pixel " +
+                                 std::to_string(k));
+                    ASSERT_EQ(std::memcmp(&r.uv[k], &ref.uv[k], sizeof(cl_float2)), 0)
+                        << r.uv[k].s[0] << "," << r.uv[k].s[1] << " vs " << ref.uv[k].s[0] << ","
+                        << ref.uv[k].s[1];
+                    ASSERT_EQ(std::memcmp(&r.depth[k], &ref.depth[k], sizeof(float)), 0);
+                    ASSERT_EQ(r.flags[k], ref.flags[k]);
+                    ASSERT_EQ(r.fetches[k], ref.fetches[k]);
+                }
+            }
+        }
+    }
+    EXPECT_GE(lane_methods, 9);  // none, the parallax family, steep, relief, pom, secant
+}
+
+}  // namespace
+}  // namespace omtest
