@@ -276,12 +276,14 @@ int main(int argc, char** argv) {
         b.out["compute_units"] = d.getInfo<CL_DEVICE_MAX_COMPUTE_UNITS>();
         b.out["build_options"] = "-cl-std=CL1.2";
         b.out["local_size"] = 64;
+        b.out["lanes"] = b.rt->lanes();
         b.out["quick"] = quick;
         std::printf(
             "offsetmap_bench on %s\n  driver %s, %s, %u compute units, kernels built with "
-            "-cl-std=CL1.2, local size 64, buffers path\n",
+            "-cl-std=CL1.2, local size 64, buffers path, lane methods %d pixels per work-item\n",
             b.rt->device_name().c_str(), b.out["driver"].get<std::string>().c_str(),
-            b.out["opencl"].get<std::string>().c_str(), d.getInfo<CL_DEVICE_MAX_COMPUTE_UNITS>());
+            b.out["opencl"].get<std::string>().c_str(), d.getInfo<CL_DEVICE_MAX_COMPUTE_UNITS>(),
+            b.rt->lanes());
 
         const std::vector<Resolution> all_res = {
             {"720p", 1280, 720}, {"1080p", 1920, 1080}, {"4K", 3840, 2160}};
@@ -425,7 +427,7 @@ int main(int argc, char** argv) {
                                 {"pyramid_bytes", pyramid}, {"normals_bytes", 16.0 * size * size},
                                 {"precomputed_bytes", pre}};
                     memory.push_back(row);
-                    if (size == 1024 && (m.name == "pom" || m.name == "sphere"))
+                    if (size == 1024 && (m.name == "pom" || m.precompute != Precompute::None))
                         std::printf("  %-6s %-8s 1024^2: %8.1f %8.1f (+%.1f) %8.1f %8.1f %8.1f\n",
                                     res.name, m.name.c_str(), 24 * px / 1048576, 12 * px / 1048576,
                                     8 * px / 1048576, pyramid / 1048576,
