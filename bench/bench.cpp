@@ -277,13 +277,14 @@ int main(int argc, char** argv) {
         b.out["build_options"] = "-cl-std=CL1.2";
         b.out["local_size"] = 64;
         b.out["lanes"] = b.rt->lanes();
+        b.out["heights_path"] = b.rt->images() ? "images" : "buffers";
         b.out["quick"] = quick;
         std::printf(
             "offsetmap_bench on %s\n  driver %s, %s, %u compute units, kernels built with "
-            "-cl-std=CL1.2, local size 64, buffers path, lane methods %d pixels per work-item\n",
+            "-cl-std=CL1.2, local size 64, lane methods %d pixels per work-item, heights via %s\n",
             b.rt->device_name().c_str(), b.out["driver"].get<std::string>().c_str(),
             b.out["opencl"].get<std::string>().c_str(), d.getInfo<CL_DEVICE_MAX_COMPUTE_UNITS>(),
-            b.rt->lanes());
+            b.rt->lanes(), b.rt->images() ? "images" : "buffers");
 
         const std::vector<Resolution> all_res = {
             {"720p", 1280, 720}, {"1080p", 1920, 1080}, {"4K", 3840, 2160}};

@@ -91,7 +91,7 @@ __kernel void om_offset(const OmOffsetParams P, __global const float2* gb_uv2,
                         __global const float4* gb_view4, __global const float* heights,
                         __global const float* aux, __global const float* lod,
                         __global float2* out_uv2, __global float* out_depth,
-                        __global uint* out_fetches, __global uint* out_flags) {
+                        __global uint* out_fetches, __global uint* out_flags OM_IMG_PARAM) {
     // The G-buffer is interleaved (uv: 2 floats, view: 4 per pixel): read as floats, split into
     // planes.
     __global const float* gb_uv = (__global const float*)gb_uv2;
@@ -146,7 +146,8 @@ __kernel void om_offset(const OmOffsetParams P, __global const float2* gb_uv2,
     OmI traced = !rejected && blend > 0.0f;
     OmF t = 0.0f, hu = ray.u, hv = ray.v;
     OmI fetches = 0, trace_flags = 0;
-    if (OM_ANY(traced)) om_trace_lanes(&ray, &f, &P, traced, &t, &hu, &hv, &fetches, &trace_flags);
+    if (OM_ANY(traced))
+        om_trace_lanes(&ray, &f, &P, traced, &t, &hu, &hv, &fetches, &trace_flags OM_IMG_ARG);
     // LOD fade toward normal mapping (blend = 1 without LOD).
     hu = ray.u + blend * (hu - ray.u);
     hv = ray.v + blend * (hv - ray.v);

@@ -1,7 +1,8 @@
 // Lane methods run OM_LANES pixels per work-item (kernels/common/lanes.h): 1 on GPUs and in the
-// C++ peer, 8 or 16 on CPUs. Every lane count must give the same frame: the same arithmetic per
-// pixel, only spread over SIMD lanes, so results are compared bit for bit, including the flags
-// and fetch counts of rejected pixels and a last work-item that is only partly filled.
+// C++ peer, 8 or 16 on CPUs, and read heights from the buffer or (GPUs) through an image view of
+// it. Every lane count and both paths must give the same frame: the same arithmetic per pixel, only
+// spread over SIMD lanes or read through another path, so results are compared bit for bit,
+// including the flags and fetch counts of rejected pixels and a last work-item only partly filled.
 #include <cstring>
 #include <limits>
 #include <map>
@@ -27,19 +28,20 @@ GBuffer mixed_scene() {
     return gb;
 }
 
-std::shared_ptr<Runtime> runtime_with_lanes(int lanes) {
-    static std::map<int, std::shared_ptr<Runtime>> runtimes;
-    auto& rt = runtimes[lanes];
+std::shared_ptr<Runtime> runtime_with_lanes(int lanes, bool images = false) {
+    static std::map<std::pair<int, bool>, std::shared_ptr<Runtime>> runtimes;
+    auto& rt = runtimes[{lanes, images}];
     if (!rt) {
         rt = Runtime::create();
         rt->set_lanes(lanes);
+        rt->set_images(images);
     }
     return rt;
 }
 
 OffsetResult run_with_lanes(int lanes, const std::string& method, const HeightMap& map,
-                            const GBuffer& gb, const PassSettings& s) {
-    auto rt = runtime_with_lanes(lanes);
+                            const GBuffer& gb, const PassSettings& s, bool images = false) {
+    auto rt = runtime_with_lanes(lanes, images);
     DeviceHeightField f = upload(*rt, map, s);
     DeviceGBuffer g = upload(*rt, gb);
     OffsetPass pass(rt, method);
@@ -47,7 +49,7 @@ OffsetResult run_with_lanes(int lanes, const std::string& method, const HeightMa
     return run_offset(*rt, pass, g, f, s, 1);
 }
 
-TEST(Lanes, EveryLaneCountGivesTheSameFrame) {
+TEST(Lanes, EveryLaneCountAndTheImagePathGiveTheSameFrame) {
     HeightMap map = noisy_map(64, 17);
     GBuffer gb = mixed_scene();
     // Wrap with the clamp grazing rule; and clamp addressing, offset limiting and footprint LOD.
@@ -62,12 +64,13 @@ TEST(Lanes, EveryLaneCountGivesTheSameFrame) {
         ++lane_methods;
         for (const PassSettings* s : {&plain, &other}) {
             OffsetResult ref = run_with_lanes(1, name, map, gb, *s);
-            for (int lanes : {8, 16}) {
+            // Lanes 8 and 16 from the buffer; lanes 1 and 16 through the image path.
+            for (auto [lanes, images] : {std::pair{8, false}, {16, false}, {1, true}, {16, true}}) {
                 if (lanes == 8 && s == &other) continue;  // 8 and 16 share every code path
-                OffsetResult r = run_with_lanes(lanes, name, map, gb, *s);
+                OffsetResult r = run_with_lanes(lanes, name, map, gb, *s, images);
                 for (size_t k = 0; k < gb.pixels(); ++k) {
-                    SCOPED_TRACE(name + " lanes " + std::to_string(lanes) + " pixel " +
-                                 std::to_string(k));
+                    SCOPED_TRACE(name + " lanes " + std::to_string(lanes) +
+                                 (images ? " images" : "") + " pixel " + std::to_string(k));
                     ASSERT_EQ(std::memcmp(&r.uv[k], &ref.uv[k], sizeof(cl_float2)), 0)
                         << r.uv[k].s[0] << "," << r.uv[k].s[1] << " vs " << ref.uv[k].s[0] << ","
                         << ref.uv[k].s[1];

@@ -185,13 +185,16 @@ OffsetPass::OffsetPass(std::shared_ptr<Runtime> runtime, const std::string& meth
     // Lane methods (kernels/common/lanes.h) take the runtime's pixels per work-item.
     if (kernel_source("methods/" + method_->kernel_file).find("#define OM_LANE_METHOD") !=
         std::string::npos)
-        lanes_ = runtime_->lanes();
-    kernel(false, true, true, true);  // compile now (the tools' usual outputs): errors surface here
+        lane_method_ = true;
+    if (lane_method_) lanes_ = runtime_->lanes();
+    // Compile now (the tools' usual outputs), so a method's build errors surface here.
+    kernel(false, true, true, true, lane_method_ && runtime_->images());
 }
 
-cl::Kernel& OffsetPass::kernel(bool lod, bool depth, bool fetches, bool flags) {
+cl::Kernel& OffsetPass::kernel(bool lod, bool depth, bool fetches, bool flags, bool images) {
     // One program per combination actually used: each drops the branches it does not need.
     std::string defines = lanes_ > 1 ? "#define OM_LANES " + std::to_string(lanes_) + "\n" : "";
+    if (images) defines += "#define OM_IMAGES\n";
     if (lod) defines += "#define OM_LOD\n";
     if (depth) defines += "#define OM_OUT_DEPTH\n";
     if (fetches) defines += "#define OM_OUT_FETCHES\n";
@@ -362,6 +365,16 @@ double OffsetPass::build_cone_map(const DeviceHeightField& f, const PassSettings
     return rt.profiling() ? event_ms(e1) + event_ms(e2) : 0.0;
 }
 
+const cl::Image1DBuffer& OffsetPass::heights_image(const DeviceHeightField& f) {
+    if (image_of_ != f.heights()) {
+        const size_t floats = f.heights.getInfo<CL_MEM_SIZE>() / sizeof(float);
+        heights_image_ = cl::Image1DBuffer(runtime_->context(), CL_MEM_READ_ONLY,
+                                           cl::ImageFormat(CL_R, CL_FLOAT), floats, f.heights);
+        image_of_ = f.heights();
+    }
+    return heights_image_;
+}
+
 cl::Buffer OffsetPass::footprint(const DeviceGBuffer& g, const DeviceHeightField& f,
                                  const std::vector<cl::Event>& wait, std::vector<cl::Event>& deps) {
     auto& rt = *runtime_;
@@ -396,8 +409,12 @@ cl::Event OffsetPass::enqueue(const DeviceGBuffer& g, const DeviceHeightField& f
     OmOffsetParams p = offset_params(settings, static_cast<int>(g.pixels()), f.width, f.height);
     p.mip_levels = f.mip_levels;
     std::copy(params_.begin(), params_.end(), p.p);
+    // The image path where the runtime wants it and the pyramid fits an image1d_buffer.
+    const size_t floats = f.heights.getInfo<CL_MEM_SIZE>() / sizeof(float);
+    const bool images = lane_method_ && runtime_->images() &&
+                        floats <= runtime_->device().getInfo<CL_DEVICE_IMAGE_MAX_BUFFER_SIZE>();
     cl::Kernel& k = kernel(settings.lod.enabled, t.depth() != nullptr, t.fetches() != nullptr,
-                           t.flags() != nullptr);
+                           t.flags() != nullptr, images);
     k.setArg(0, p);
     k.setArg(1, g.uv);
     k.setArg(2, g.view);
@@ -407,6 +424,7 @@ cl::Event OffsetPass::enqueue(const DeviceGBuffer& g, const DeviceHeightField& f
     set_optional(k, 7, t.depth);
     set_optional(k, 8, t.fetches);
     set_optional(k, 9, t.flags);
+    if (images) k.setArg(10, heights_image(f));
     cl::Event event;
     try {
         std::vector<cl::Event> deps = wait;

@@ -106,6 +106,20 @@ Runtime::Runtime(cl::Context context, cl::Device device, cl::CommandQueue queue)
             throw Error("OFFSETMAP_LANES must be 1, 8 or 16, got '" + text + "'");
         lanes_ = std::stoi(text);
     }
+    images_ = (device_.getInfo<CL_DEVICE_TYPE>() & CL_DEVICE_TYPE_GPU) &&
+              device_.getInfo<CL_DEVICE_IMAGE_SUPPORT>();
+    if (const char* env = std::getenv("OFFSETMAP_IMAGES"); env && *env) {
+        const std::string text = env;
+        if (text != "0" && text != "1")
+            throw Error("OFFSETMAP_IMAGES must be 0 or 1, got '" + text + "'");
+        set_images(text == "1");
+    }
+}
+
+void Runtime::set_images(bool images) {
+    if (images && !device_.getInfo<CL_DEVICE_IMAGE_SUPPORT>())
+        throw Error("the device " + device_name() + " has no image support");
+    images_ = images;
 }
 
 void Runtime::set_lanes(int lanes) {

@@ -51,7 +51,7 @@ __kernel void om_bench_fetch_chain_lanes(const OmOffsetParams P, __global const 
     OmF u = OM_GATHER(uv, 2 * id), v = OM_GATHER(uv, 2 * id + 1);
     OmI fetches = 0;
     for (int k = 0; k < chain; ++k) {
-        OmF h = om_lane_height(&f, u, v, (OmI)1, &fetches);
+        OmF h = om_lane_height(&f, u, v, (OmI)1, &fetches OM_IMG_ARG);
         u += 0.37f * h / f.fw;
         v += 0.11f * h / f.fh;
     }
@@ -71,7 +71,8 @@ __kernel void om_bench_fetch_line_lanes(const OmOffsetParams P, __global const f
     OmF du = 0.61f / f.fw, dv = 0.29f / f.fh, sum = 0.0f;
     OmI fetches = 0;
     for (int k = 0; k < count; ++k)
-        sum += om_lane_height(&f, u + (float)k * du, v + (float)k * dv, (OmI)1, &fetches);
+        sum +=
+            om_lane_height(&f, u + (float)k * du, v + (float)k * dv, (OmI)1, &fetches OM_IMG_ARG);
     OmF r = u + v + sum * 0.0f + OM_TO_FLOAT(fetches) * 0.0f;
     for (int k = 0; k < OM_LANES; ++k) {
         int i = (int)get_global_id(0) * OM_LANES + k;

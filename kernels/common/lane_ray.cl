@@ -89,7 +89,7 @@ typedef struct {
 // the first sample at or below the relief (lambda_n = 1 is the bottom plane where every H >= 0, so
 // each lane stops by i = n); the loop ends when every lane has.
 inline OmLaneHit om_lane_linear_search(const OmLaneRay* r, const OmLaneField* f, OmI n, OmI active,
-                                       OmI* fetches) {
+                                       OmI* fetches OM_IMG_PARAM) {
     OmLaneHit hit;
     hit.index = n;
     hit.h_prev = 1.0f;
@@ -99,7 +99,8 @@ inline OmLaneHit om_lane_linear_search(const OmLaneRay* r, const OmLaneField* f,
     for (int i = 0; OM_ANY(searching); ++i) {
         OmF lambda = OM_TO_FLOAT((OmI)i) / fn;  // as the methods compute it: the same samples
         OmF t = om_lane_ray_t(r, lambda);
-        OmF h = om_lane_height(f, r->u - t * r->vx, r->v - t * r->vy, searching, fetches);
+        OmF h =
+            om_lane_height(f, r->u - t * r->vx, r->v - t * r->vy, searching, fetches OM_IMG_ARG);
         OmI found = searching & (h >= 1.0f - lambda || (OmI)i >= n);
         hit.index = OM_SEL(hit.index, (OmI)i, found);
         hit.h_prev = OM_SEL(hit.h_prev, h_prev, found);
@@ -120,9 +121,10 @@ inline OmLaneHit om_lane_linear_search(const OmLaneRay* r, const OmLaneField* f,
 // safe form (Premecz's "safer" variant): the division dropped, t' = t - gap N.z with N unit.
 // Either way t' is clamped to the slab [t_enter, t_exit].
 inline OmF om_lane_slope_step(const OmLaneRay* r, const OmLaneField* f, OmF t, int safe, OmI active,
-                              OmI* fetches) {
+                              OmI* fetches OM_IMG_PARAM) {
     OmF gu, gv;
-    OmF h = om_lane_height_grad(f, r->u - t * r->vx, r->v - t * r->vy, active, fetches, &gu, &gv);
+    OmF h = om_lane_height_grad(f, r->u - t * r->vx, r->v - t * r->vy, active, fetches, &gu,
+                                &gv OM_IMG_ARG);
     OmF gap = r->scale * (h - r->ref) + t * r->vz;
     OmF su = r->scale * gu, sv = r->scale * gv;
     OmF dt = safe ? gap * rsqrt(1.0f + su * su + sv * sv)

@@ -42,7 +42,7 @@ inline OmI om_lane_wrap(OmI i, OmI n) {
 
 // The four corners of each lane's patch and its position (a, b) inside it, as om_patch.
 inline void om_lane_patch(const OmLaneField* f, OmF u, OmF v, OmF* a, OmF* b, OmF* k00, OmF* k10,
-                          OmF* k01, OmF* k11) {
+                          OmF* k01, OmF* k11 OM_IMG_PARAM) {
     OmF cx = clamp(u * f->fw - 0.5f, -1.0e8f, 1.0e8f);
     OmF cy = clamp(v * f->fh - 0.5f, -1.0e8f, 1.0e8f);
     OmF fx = OM_LFLOOR(cx), fy = OM_LFLOOR(cy);
@@ -67,25 +67,26 @@ inline void om_lane_patch(const OmLaneField* f, OmF u, OmF v, OmF* a, OmF* b, Om
         j1 = clamp(j + 1, 0, f->hgt - 1);
     }
     OmI r0 = f->offset + j0 * f->w, r1 = f->offset + j1 * f->w;
-    *k00 = OM_GATHER(f->h, r0 + i0);
-    *k10 = OM_GATHER(f->h, r0 + i1);
-    *k01 = OM_GATHER(f->h, r1 + i0);
-    *k11 = OM_GATHER(f->h, r1 + i1);
+    *k00 = OM_HEIGHTS(f->h, r0 + i0);
+    *k10 = OM_HEIGHTS(f->h, r0 + i1);
+    *k01 = OM_HEIGHTS(f->h, r1 + i0);
+    *k11 = OM_HEIGHTS(f->h, r1 + i1);
 }
 
 // Bilinear height H(u, v) per lane; counts one fetch in the lanes of `active`.
-inline OmF om_lane_height(const OmLaneField* f, OmF u, OmF v, OmI active, OmI* fetches) {
+inline OmF om_lane_height(const OmLaneField* f, OmF u, OmF v, OmI active,
+                          OmI* fetches OM_IMG_PARAM) {
     OmF a, b, k00, k10, k01, k11;
-    om_lane_patch(f, u, v, &a, &b, &k00, &k10, &k01, &k11);
+    om_lane_patch(f, u, v, &a, &b, &k00, &k10, &k01, &k11 OM_IMG_ARG);
     *fetches += OM_ONE(active);
     return mix(mix(k00, k10, a), mix(k01, k11, a), b);
 }
 
 // Bilinear height and the patch's exact gradient (dH/du, dH/dv), as om_height_grad.
 inline OmF om_lane_height_grad(const OmLaneField* f, OmF u, OmF v, OmI active, OmI* fetches,
-                               OmF* gu, OmF* gv) {
+                               OmF* gu, OmF* gv OM_IMG_PARAM) {
     OmF a, b, k00, k10, k01, k11;
-    om_lane_patch(f, u, v, &a, &b, &k00, &k10, &k01, &k11);
+    om_lane_patch(f, u, v, &a, &b, &k00, &k10, &k01, &k11 OM_IMG_ARG);
     *fetches += OM_ONE(active);
     *gu = mix(k10 - k00, k11 - k01, b) * f->fw;
     *gv = mix(k01 - k00, k11 - k10, a) * f->fh;

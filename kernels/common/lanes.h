@@ -56,5 +56,31 @@ typedef int16 OmI;
 #error "OM_LANES must be 1, 8 or 16"
 #endif
 
+// Heights come from a float buffer (the CPU path), or with OM_IMAGES through an image1d_buffer_t
+// view of the same buffer (a GPU's texture path; the same floats, so the same frame). OpenCL C
+// allows images only as function parameters, so the sampling calls carry it as a last parameter.
+#ifdef OM_IMAGES
+#define OM_IMG_PARAM , __read_only image1d_buffer_t om_img
+#define OM_IMG_ARG , om_img
+#define OM_TEXEL1(i) read_imagef(om_img, (i)).x
+#if OM_LANES == 1
+#define OM_HEIGHTS(p, i) OM_TEXEL1(i)
+#elif OM_LANES == 8
+#define OM_HEIGHTS(p, i)                                                                  \
+    ((float8)(OM_TEXEL1((i).s0), OM_TEXEL1((i).s1), OM_TEXEL1((i).s2), OM_TEXEL1((i).s3), \
+              OM_TEXEL1((i).s4), OM_TEXEL1((i).s5), OM_TEXEL1((i).s6), OM_TEXEL1((i).s7)))
+#else
+#define OM_HEIGHTS(p, i)                                                                   \
+    ((float16)(OM_TEXEL1((i).s0), OM_TEXEL1((i).s1), OM_TEXEL1((i).s2), OM_TEXEL1((i).s3), \
+               OM_TEXEL1((i).s4), OM_TEXEL1((i).s5), OM_TEXEL1((i).s6), OM_TEXEL1((i).s7), \
+               OM_TEXEL1((i).s8), OM_TEXEL1((i).s9), OM_TEXEL1((i).sa), OM_TEXEL1((i).sb), \
+               OM_TEXEL1((i).sc), OM_TEXEL1((i).sd), OM_TEXEL1((i).se), OM_TEXEL1((i).sf)))
+#endif
+#else
+#define OM_IMG_PARAM
+#define OM_IMG_ARG
+#define OM_HEIGHTS(p, i) OM_GATHER(p, i)
+#endif
+
 // 1 where the mask is set, else 0 (for counting), with either mask convention.
 #define OM_ONE(m) ((m)&1)

@@ -41,7 +41,7 @@ inline uint om_setup_ray(float2 uv, float4 v4, const OmOffsetParams* P, OmRay* r
     // Scale by the largest component first so |V| neither overflows nor underflows.
     float m = fmax(fabs(v.x), fmax(fabs(v.y), fabs(v.z)));
     if (!(m > 0.0f)) return OM_FLAG_INVALID;
-    v /= m;  // not * (1 / m): the reciprocal of a denormal overflows
+    v /= m;                 // not * (1 / m): the reciprocal of a denormal overflows
     float len = length(v);  // in [1, sqrt 3], so its reciprocal is safe
     uint flags = 0u;
     if (fabs(len * m - 1.0f) > 1.0e-3f) flags |= OM_FLAG_RENORMALIZED;

@@ -16,7 +16,7 @@ typedef struct {
     int wrap;
     int pot;  // both sizes are powers of two: wrap by mask
     float fw, fh;
-    uint fetches;  // bilinear height fetches made so far by this pixel
+    uint fetches;               // bilinear height fetches made so far by this pixel
     __global const float* aux;  // the method's precomputed data (distance map...), or NULL
 } OmHeightField;
 

@@ -4,11 +4,11 @@
 // surfaces (Premecz: "not even the convergence is guaranteed"); the slab clamp keeps it bounded.
 #define OM_LANE_METHOD
 void om_trace_lanes(const OmLaneRay* r, const OmLaneField* f, const OmOffsetParams* P, OmI active,
-                    OmF* t_hit, OmF* u_hit, OmF* v_hit, OmI* fetches, OmI* flags) {
+                    OmF* t_hit, OmF* u_hit, OmF* v_hit, OmI* fetches, OmI* flags OM_IMG_PARAM) {
     int k = (int)P->p[0];
     int safe = P->p[1] != 0.0f;
     OmF t = 0.0f;
-    for (int i = 0; i < k; ++i) t = om_lane_slope_step(r, f, t, safe, active, fetches);
+    for (int i = 0; i < k; ++i) t = om_lane_slope_step(r, f, t, safe, active, fetches OM_IMG_ARG);
     *t_hit = t;
     *u_hit = r->u - t * r->vx;
     *v_hit = r->v - t * r->vy;

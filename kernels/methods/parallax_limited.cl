@@ -4,8 +4,8 @@
 // relief.
 #define OM_LANE_METHOD
 void om_trace_lanes(const OmLaneRay* r, const OmLaneField* f, const OmOffsetParams* P, OmI active,
-                    OmF* t_hit, OmF* u_hit, OmF* v_hit, OmI* fetches, OmI* flags) {
-    OmF h = om_lane_height(f, r->u, r->v, active, fetches);
+                    OmF* t_hit, OmF* u_hit, OmF* v_hit, OmI* fetches, OmI* flags OM_IMG_PARAM) {
+    OmF h = om_lane_height(f, r->u, r->v, active, fetches OM_IMG_ARG);
     OmF t = -r->scale * (h - r->ref);
     *t_hit = t;
     *u_hit = r->u - t * r->vx;

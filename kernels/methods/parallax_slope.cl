@@ -3,8 +3,8 @@
 // the n.V guard, 1: Premecz's form without the N.V division). See om_slope_step in march.cl.
 #define OM_LANE_METHOD
 void om_trace_lanes(const OmLaneRay* r, const OmLaneField* f, const OmOffsetParams* P, OmI active,
-                    OmF* t_hit, OmF* u_hit, OmF* v_hit, OmI* fetches, OmI* flags) {
-    OmF t = om_lane_slope_step(r, f, (OmF)0.0f, P->p[0] != 0.0f, active, fetches);
+                    OmF* t_hit, OmF* u_hit, OmF* v_hit, OmI* fetches, OmI* flags OM_IMG_PARAM) {
+    OmF t = om_lane_slope_step(r, f, (OmF)0.0f, P->p[0] != 0.0f, active, fetches OM_IMG_ARG);
     *t_hit = t;
     *u_hit = r->u - t * r->vx;
     *v_hit = r->v - t * r->vy;

@@ -4,9 +4,9 @@
 // V.z here. Cost: at most n_max + 1 fetches.
 #define OM_LANE_METHOD
 void om_trace_lanes(const OmLaneRay* r, const OmLaneField* f, const OmOffsetParams* P, OmI active,
-                    OmF* t_hit, OmF* u_hit, OmF* v_hit, OmI* fetches, OmI* flags) {
+                    OmF* t_hit, OmF* u_hit, OmF* v_hit, OmI* fetches, OmI* flags OM_IMG_PARAM) {
     OmI n = om_lane_count(r, mix((OmF)P->p[1], (OmF)P->p[0], r->vz));
-    OmLaneHit hit = om_lane_linear_search(r, f, n, active, fetches);
+    OmLaneHit hit = om_lane_linear_search(r, f, n, active, fetches OM_IMG_ARG);
     // Along the segment, height minus ray height goes from d0 < 0 (above) to d1 >= 0.
     OmF fn = OM_TO_FLOAT(n);
     OmF l0 = OM_TO_FLOAT(hit.index - 1) / fn;

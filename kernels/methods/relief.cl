@@ -4,10 +4,10 @@
 // Cost: at most n + 1 + m fetches.
 #define OM_LANE_METHOD
 void om_trace_lanes(const OmLaneRay* r, const OmLaneField* f, const OmOffsetParams* P, OmI active,
-                    OmF* t_hit, OmF* u_hit, OmF* v_hit, OmI* fetches, OmI* flags) {
+                    OmF* t_hit, OmF* u_hit, OmF* v_hit, OmI* fetches, OmI* flags OM_IMG_PARAM) {
     OmI n = om_lane_count(r, (OmF)P->p[0]);
     int m = (int)P->p[1];
-    OmLaneHit hit = om_lane_linear_search(r, f, n, active, fetches);
+    OmLaneHit hit = om_lane_linear_search(r, f, n, active, fetches OM_IMG_ARG);
     OmF fn = OM_TO_FLOAT(n);
     OmF hi = OM_TO_FLOAT(hit.index) / fn;
     OmF lo = OM_SEL((OmF)0.0f, OM_TO_FLOAT(hit.index - 1) / fn, hit.index > 0);
@@ -15,7 +15,7 @@ void om_trace_lanes(const OmLaneRay* r, const OmLaneField* f, const OmOffsetPara
     for (int k = 0; k < m && OM_ANY(refine); ++k) {
         OmF mid = 0.5f * (lo + hi);
         OmF tm = om_lane_ray_t(r, mid);
-        OmF h = om_lane_height(f, r->u - tm * r->vx, r->v - tm * r->vy, refine, fetches);
+        OmF h = om_lane_height(f, r->u - tm * r->vx, r->v - tm * r->vy, refine, fetches OM_IMG_ARG);
         OmI below = h >= 1.0f - mid;
         hi = OM_SEL(hi, mid, refine & below);
         lo = OM_SEL(lo, mid, refine & !below);

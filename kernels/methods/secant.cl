@@ -11,11 +11,11 @@
 // final bracket (free: no fetch). Cost: at most n + 1 + m fetches.
 #define OM_LANE_METHOD
 void om_trace_lanes(const OmLaneRay* r, const OmLaneField* f, const OmOffsetParams* P, OmI active,
-                    OmF* t_hit, OmF* u_hit, OmF* v_hit, OmI* fetches, OmI* flags) {
+                    OmF* t_hit, OmF* u_hit, OmF* v_hit, OmI* fetches, OmI* flags OM_IMG_PARAM) {
     OmI n = om_lane_count(r, mix((OmF)P->p[1], (OmF)P->p[0], r->vz));
     int m = (int)P->p[2];
     float tol = P->p[3];
-    OmLaneHit hit = om_lane_linear_search(r, f, n, active, fetches);
+    OmLaneHit hit = om_lane_linear_search(r, f, n, active, fetches OM_IMG_ARG);
     OmF fn = OM_TO_FLOAT(n);
     OmF la = OM_TO_FLOAT(hit.index - 1) / fn, lb = OM_TO_FLOAT(hit.index) / fn;
     OmF ga = hit.h_prev - (1.0f - la);  // < 0: above the relief
@@ -29,7 +29,8 @@ void om_trace_lanes(const OmLaneRay* r, const OmLaneField* f, const OmOffsetPara
         OmI live = !done;
         OmF x = la + (lb - la) * wa / (wa - wb);
         OmF tx = om_lane_ray_t(r, x);
-        OmF g = om_lane_height(f, r->u - tx * r->vx, r->v - tx * r->vy, live, fetches) - (1.0f - x);
+        OmF g = om_lane_height(f, r->u - tx * r->vx, r->v - tx * r->vy, live, fetches OM_IMG_ARG) -
+                (1.0f - x);
         OmI conv = live & (fabs(g) <= tol);
         OmI pos = live & !conv & (g > 0.0f);
         OmI neg = live & !conv & !(g > 0.0f);

@@ -6,10 +6,10 @@
 // the top plane at the polygon (r = 1). Cost: at most n + 1 fetches.
 #define OM_LANE_METHOD
 void om_trace_lanes(const OmLaneRay* r, const OmLaneField* f, const OmOffsetParams* P, OmI active,
-                    OmF* t_hit, OmF* u_hit, OmF* v_hit, OmI* fetches, OmI* flags) {
+                    OmF* t_hit, OmF* u_hit, OmF* v_hit, OmI* fetches, OmI* flags OM_IMG_PARAM) {
     OmI n = om_lane_count(r, (OmF)P->p[0]);
     OmLaneField level = om_lane_field(f->h, P, max(f->level, (int)P->p[1]));
-    OmLaneHit hit = om_lane_linear_search(r, &level, n, active, fetches);
+    OmLaneHit hit = om_lane_linear_search(r, &level, n, active, fetches OM_IMG_ARG);
     OmF t = om_lane_ray_t(r, OM_TO_FLOAT(hit.index) / OM_TO_FLOAT(n));
     *t_hit = t;
     *u_hit = r->u - t * r->vx;

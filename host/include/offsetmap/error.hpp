@@ -7,7 +7,7 @@ namespace offsetmap {
 // Every user-facing failure (bad file, bad parameter, no device, kernel build failure) is an Error
 // whose what() is a complete sentence naming the file, parameter or device concerned.
 class Error : public std::runtime_error {
-public:
+  public:
     explicit Error(const std::string& message) : std::runtime_error(message) {}
 };
 

@@ -20,8 +20,8 @@ struct HeightMap {
 };
 
 struct HeightLoadOptions {
-    int channel = 0;           // which channel of the image holds the heights
-    bool depth_map = false;    // the file stores depth (white = deep): H = 1 - value
+    int channel = 0;         // which channel of the image holds the heights
+    bool depth_map = false;  // the file stores depth (white = deep): H = 1 - value
 };
 
 // Loads any image OpenImageIO reads (8/16-bit PNG, JPEG, TIFF, float EXR...). Integer formats map

@@ -2,6 +2,7 @@
 #pragma once
 #include "offsetmap/error.hpp"
 #include "offsetmap/evaluate.hpp"
+#include "offsetmap/failure_map.hpp"
 #include "offsetmap/gbuffer.hpp"
 #include "offsetmap/heightmap.hpp"
 #include "offsetmap/image_io.hpp"
@@ -11,5 +12,4 @@
 #include "offsetmap/runtime.hpp"
 #include "offsetmap/scenes.hpp"
 #include "offsetmap/sweep.hpp"
-#include "offsetmap/failure_map.hpp"
 #include "offsetmap/temporal.hpp"

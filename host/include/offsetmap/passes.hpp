@@ -78,7 +78,7 @@ struct OffsetTargets {
 // One method's offset pass. Enqueues on the runtime's queue (the caller's, when the runtime wraps
 // the caller's objects) after `wait`, and returns the kernel's event.
 class OffsetPass {
-public:
+  public:
     OffsetPass(std::shared_ptr<Runtime> runtime, const std::string& method,
                const std::map<std::string, std::string>& params = {});
 
@@ -105,7 +105,7 @@ public:
     // the same buffer, use a new OffsetPass.
     void prepare(const DeviceHeightField& field, const PassSettings& settings);
 
-private:
+  private:
     // Build the method's precomputed data into aux_; return kernel milliseconds (profiling).
     double build_distance_map(const DeviceHeightField& f, const PassSettings& settings);
     double build_max_pyramid(const DeviceHeightField& f, const PassSettings& settings);
@@ -116,16 +116,21 @@ private:
                          const std::vector<cl::Event>& wait, std::vector<cl::Event>& deps);
 
     // The entry kernel specialised for LOD on/off and the optional outputs bound.
-    cl::Kernel& kernel(bool lod, bool depth, bool fetches, bool flags);
+    cl::Kernel& kernel(bool lod, bool depth, bool fetches, bool flags, bool images);
+    // An image1d_buffer view of the field's height pyramid (the image path), made once per field.
+    const cl::Image1DBuffer& heights_image(const DeviceHeightField& f);
 
     std::shared_ptr<Runtime> runtime_;
     const MethodInfo* method_;
     std::vector<float> params_;
     std::map<std::string, cl::Kernel> kernels_;
-    int lanes_ = 1;  // pixels per work-item: the runtime's for lane methods, else 1
+    bool lane_method_ = false;  // the method file is a lane method (om_trace_lanes)
+    int lanes_ = 1;             // pixels per work-item: the runtime's for lane methods, else 1
+    cl::Image1DBuffer heights_image_;
+    cl_mem image_of_ = nullptr;  // the height buffer heights_image_ views
     cl::Buffer aux_;
-    std::string aux_key_;  // what aux_ was built for
-    cl::Buffer footprint_;  // per-pixel mip levels when the G-buffer brings none
+    std::string aux_key_;          // what aux_ was built for
+    cl::Buffer footprint_;         // per-pixel mip levels when the G-buffer brings none
     cl::Kernel footprint_kernel_;  // created on first use, reused every frame
     size_t footprint_pixels_ = 0;
     Precomputed precomputed_;
@@ -156,7 +161,7 @@ DeviceImage upload(Runtime& runtime, const Image4& image);
 // Blinn-Phong at uv' with the field's normals; writes linear RGBA float4 per pixel (alpha 0 where
 // the pixel is empty). Knows nothing of the method that produced uv'.
 class ShadePass {
-public:
+  public:
     explicit ShadePass(std::shared_ptr<Runtime> runtime);
 
     cl::Event enqueue(const cl::Buffer& uv, const cl::Buffer& flags, const DeviceGBuffer& gbuffer,
@@ -164,7 +169,7 @@ public:
                       const PassSettings& settings, const ShadeSettings& shade,
                       const cl::Buffer& out_rgba, const std::vector<cl::Event>& wait = {});
 
-private:
+  private:
     std::shared_ptr<Runtime> runtime_;
     cl::Kernel kernel_;
 };

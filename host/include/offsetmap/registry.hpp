@@ -21,8 +21,8 @@ struct MethodInfo {
     std::string name;         // CLI and API name, e.g. "parallax-limited"
     std::string kernel_file;  // under kernels/methods/
     std::string summary;
-    std::string reference;    // the source it follows
-    std::string precomputed;  // precomputed data and its memory, or "none"
+    std::string reference;          // the source it follows
+    std::string precomputed;        // precomputed data and its memory, or "none"
     std::vector<ParamSpec> params;  // order = OmOffsetParams::p
     Precompute precompute = Precompute::None;
     // Settings the accuracy-vs-cost sweep tries, cheapest first (empty: the defaults only).

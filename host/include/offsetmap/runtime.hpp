@@ -12,7 +12,7 @@ namespace offsetmap {
 // An OpenCL context, device and queue, either chosen by offsetmap or handed in by the caller, plus
 // the programs built on them (cached per method and defines).
 class Runtime {
-public:
+  public:
     // Chooses a device: `filter` (or, when empty, $OFFSETMAP_DEVICE) is a case-insensitive
     // substring of "platform / device"; without one, the first GPU, else the first device.
     // The queue it creates has profiling on. Throws Error when nothing matches.
@@ -33,17 +33,24 @@ public:
     int lanes() const { return lanes_; }
     void set_lanes(int lanes);
 
+    // Whether lane methods read heights through an image (image1d_buffer view of the height
+    // buffer, a GPU's texture path) instead of the buffer: on by default on GPUs with image
+    // support; $OFFSETMAP_IMAGES (0 or 1) or set_images overrides. The frame is the same.
+    bool images() const { return images_; }
+    void set_images(bool images);
+
     // The program assembled from the shared header, then `files` (paths under kernels/) in order,
     // after `defines` ("-D" style lines are not used: `defines` is OpenCL C text). Built once.
     cl::Program program(const std::vector<std::string>& files, const std::string& defines = "");
 
-private:
+  private:
     cl::Context context_;
     cl::Device device_;
     cl::CommandQueue queue_;
     bool profiling_ = false;
     bool is_pocl_ = false;
     int lanes_ = 1;
+    bool images_ = false;
     std::mutex mutex_;
     std::map<std::string, cl::Program> programs_;
 };

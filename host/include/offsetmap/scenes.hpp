@@ -12,12 +12,12 @@ struct PlaneScene {
     int width = 960;
     int height = 540;
     double camera_x = 0.0, camera_y = 0.0;  // camera position over the plane (world units)
-    double camera_height = 0.4;  // world units above the plane
-    double pitch_deg = 35.0;     // look-down angle below the horizon
-    double yaw_deg = 30.0;       // heading, from +x toward +y
-    double fov_deg = 55.0;       // vertical field of view
-    double tile = 1.0;           // world units per uv unit
-    double light[3] = {0.55, 0.35, 0.76};  // directional light toward the light (world = tangent)
+    double camera_height = 0.4;             // world units above the plane
+    double pitch_deg = 35.0;                // look-down angle below the horizon
+    double yaw_deg = 30.0;                  // heading, from +x toward +y
+    double fov_deg = 55.0;                  // vertical field of view
+    double tile = 1.0;                      // world units per uv unit
+    double light[3] = {0.55, 0.35, 0.76};   // directional light toward the light (world = tangent)
     bool with_light = true;
 };
 

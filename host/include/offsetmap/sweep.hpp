@@ -16,13 +16,13 @@ struct SweepRecord {
     std::string setting;  // describe_setting() of the overrides
     std::string map;
     std::string views;
-    ErrorStats uv;               // uv error in texels against exact
-    double depth_error = 0;      // mean |t - t_exact| in texels of the map, along the ray
-    double psnr_db = 0;          // shaded image against the one shaded at exact uv' (sRGB)
+    ErrorStats uv;           // uv error in texels against exact
+    double depth_error = 0;  // mean |t - t_exact| in texels of the map, along the ray
+    double psnr_db = 0;      // shaded image against the one shaded at exact uv' (sRGB)
     double fetches_mean = 0;
     double fetches_max = 0;
-    double ns_per_pixel = 0;     // median kernel time over traced and untraced pixels
-    double kernel_ms = 0;        // median kernel time
+    double ns_per_pixel = 0;  // median kernel time over traced and untraced pixels
+    double kernel_ms = 0;     // median kernel time
     size_t precomputed_bytes = 0;
     double precompute_ms = 0;
 };
@@ -47,8 +47,10 @@ struct SweepOptions {
 
 // Runs every method over its sweep grid (registry) on every map and view set; `exact` is the
 // reference (its own record has zero error and its real cost).
-std::vector<SweepRecord> run_sweep(std::shared_ptr<Runtime> runtime, const std::vector<NamedMap>& maps,
-                                   const std::vector<NamedViews>& views, const SweepOptions& options);
+std::vector<SweepRecord> run_sweep(std::shared_ptr<Runtime> runtime,
+                                   const std::vector<NamedMap>& maps,
+                                   const std::vector<NamedViews>& views,
+                                   const SweepOptions& options);
 
 void write_sweep_csv(const std::string& path, const std::vector<SweepRecord>& records);
 void write_sweep_json(const std::string& path, const std::vector<SweepRecord>& records,

@@ -15,17 +15,17 @@ namespace offsetmap {
 // large share of pixels over one texel.
 struct TemporalRecord {
     std::string method;
-    int frame = 0;           // the pair (frame, frame + 1)
-    double mean = 0;         // texels
+    int frame = 0;    // the pair (frame, frame + 1)
+    double mean = 0;  // texels
     double p95 = 0;
-    double pop_share = 0;    // share of pixels whose change is off by more than one texel
+    double pop_share = 0;  // share of pixels whose change is off by more than one texel
 };
 
 struct TemporalOptions {
-    PlaneScene start;            // frame 0
+    PlaneScene start;  // frame 0
     int frames = 24;
-    double step = 0.001;         // camera travel per frame along its heading (world units)
-    double yaw_step_deg = 0.1;   // heading change per frame
+    double step = 0.001;        // camera travel per frame along its heading (world units)
+    double yaw_step_deg = 0.1;  // heading change per frame
     PassSettings settings;
     std::vector<std::string> methods;  // empty: every method
     std::function<void(const std::string&)> progress;
