@@ -94,10 +94,10 @@ inline OmLaneHit om_lane_linear_search(const OmLaneRay* r, const OmLaneField* f,
     hit.index = n;
     hit.h_prev = 1.0f;
     hit.h_cur = 0.0f;
-    OmF h_prev = 1.0f, fn = OM_TO_FLOAT(n);
+    OmF h_prev = 1.0f, inv_n = 1.0f / OM_TO_FLOAT(n);
     OmI searching = active;
     for (int i = 0; OM_ANY(searching); ++i) {
-        OmF lambda = OM_TO_FLOAT((OmI)i) / fn;  // as the methods compute it: the same samples
+        OmF lambda = OM_TO_FLOAT((OmI)i) * inv_n;
         OmF t = om_lane_ray_t(r, lambda);
         OmF h =
             om_lane_height(f, r->u - t * r->vx, r->v - t * r->vy, searching, fetches OM_IMG_ARG);
