@@ -142,6 +142,7 @@ __kernel void om_offset(const OmOffsetParams P, __global const float2* gb_uv2,
     }
 #endif
     OmLaneField f = om_lane_field(heights, &P, level);
+    f.aux = aux;
     OmI rejected = (flags & (int)(OM_FLAG_EMPTY | OM_FLAG_INVALID | OM_FLAG_BACKFACING)) != 0;
     OmI traced = !rejected && blend > 0.0f;
     OmF t = 0.0f, hu = ray.u, hv = ray.v;

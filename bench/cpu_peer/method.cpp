@@ -16,6 +16,7 @@ using namespace ::clc;
 #include "common/lanes.h"
 #include "common/lane_sampling.cl"
 #include "common/lane_ray.cl"
+#include "common/lane_patch.cl"
 #include OM_METHOD_FILE
 #include "offset.cl"
 #include "offset_lanes.cl"

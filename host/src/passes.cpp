@@ -19,10 +19,15 @@ cl::NDRange padded(size_t n) { return cl::NDRange((n + kLocalSize - 1) / kLocalS
 
 // Every offset program: the sampling layer, the ray, the shared searches, one method, the entry.
 std::vector<std::string> offset_program_files(const MethodInfo& m) {
-    return {"common/sampling.cl",       "common/ray.cl",
-            "common/patch.cl",          "common/lanes.h",
-            "common/lane_sampling.cl",  "common/lane_ray.cl",
-            "methods/" + m.kernel_file, "offset.cl",
+    return {"common/sampling.cl",
+            "common/ray.cl",
+            "common/patch.cl",
+            "common/lanes.h",
+            "common/lane_sampling.cl",
+            "common/lane_ray.cl",
+            "common/lane_patch.cl",
+            "methods/" + m.kernel_file,
+            "offset.cl",
             "offset_lanes.cl"};
 }
 

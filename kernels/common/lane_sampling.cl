@@ -10,6 +10,7 @@ typedef struct {
     OmF fw, fh;
     int wrap;
     int pot;  // level 0 is a power of two both ways, so every level is: wrap by mask
+    __global const float* aux;  // the method's precomputed data (cone map), or NULL
 } OmLaneField;
 
 // The field at each lane's mip level (clamped to the levels present), as om_heightfield_level.
@@ -26,6 +27,7 @@ inline OmLaneField om_lane_field(__global const float* h, const OmOffsetParams* 
         w = OM_SEL(w, max(w / 2, 1), below);
         hgt = OM_SEL(hgt, max(hgt / 2, 1), below);
     }
+    f.aux = 0;
     f.level = level;
     f.offset = offset;
     f.w = w;
@@ -40,15 +42,9 @@ inline OmI om_lane_wrap(OmI i, OmI n) {
     return OM_SEL(r, r + n, r < 0);
 }
 
-// The four corners of each lane's patch and its position (a, b) inside it, as om_patch.
-inline void om_lane_patch(const OmLaneField* f, OmF u, OmF v, OmF* a, OmF* b, OmF* k00, OmF* k10,
-                          OmF* k01, OmF* k11 OM_IMG_PARAM) {
-    OmF cx = clamp(u * f->fw - 0.5f, -1.0e8f, 1.0e8f);
-    OmF cy = clamp(v * f->fh - 0.5f, -1.0e8f, 1.0e8f);
-    OmF fx = OM_LFLOOR(cx), fy = OM_LFLOOR(cy);
-    *a = cx - fx;
-    *b = cy - fy;
-    OmI i = OM_TO_INT(fx), j = OM_TO_INT(fy);
+// The four corners of each lane's patch (i, j) (integer texel-centre coordinates), as om_patch.
+inline void om_lane_corners(const OmLaneField* f, OmI i, OmI j, OmF* k00, OmF* k10, OmF* k01,
+                            OmF* k11 OM_IMG_PARAM) {
     OmI i0, i1, j0, j1;
     if (f->wrap && f->pot) {
         i0 = i & (f->w - 1);
@@ -71,6 +67,17 @@ inline void om_lane_patch(const OmLaneField* f, OmF u, OmF v, OmF* a, OmF* b, Om
     *k10 = OM_HEIGHTS(f->h, r0 + i1);
     *k01 = OM_HEIGHTS(f->h, r1 + i0);
     *k11 = OM_HEIGHTS(f->h, r1 + i1);
+}
+
+// The four corners of the patch under (u, v) and the position (a, b) inside it.
+inline void om_lane_patch(const OmLaneField* f, OmF u, OmF v, OmF* a, OmF* b, OmF* k00, OmF* k10,
+                          OmF* k01, OmF* k11 OM_IMG_PARAM) {
+    OmF cx = clamp(u * f->fw - 0.5f, -1.0e8f, 1.0e8f);
+    OmF cy = clamp(v * f->fh - 0.5f, -1.0e8f, 1.0e8f);
+    OmF fx = OM_LFLOOR(cx), fy = OM_LFLOOR(cy);
+    *a = cx - fx;
+    *b = cy - fy;
+    om_lane_corners(f, OM_TO_INT(fx), OM_TO_INT(fy), k00, k10, k01, k11 OM_IMG_ARG);
 }
 
 // Bilinear height H(u, v) per lane; counts one fetch in the lanes of `active`.

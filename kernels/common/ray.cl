@@ -41,8 +41,8 @@ inline uint om_setup_ray(float2 uv, float4 v4, const OmOffsetParams* P, OmRay* r
     // Scale by the largest component first so |V| neither overflows nor underflows.
     float m = fmax(fabs(v.x), fmax(fabs(v.y), fabs(v.z)));
     if (!(m > 0.0f)) return OM_FLAG_INVALID;
-    v /= m;                 // not * (1 / m): the reciprocal of a denormal overflows
-    float len = length(v);  // in [1, sqrt 3], so its reciprocal is safe
+    v /= m;  // not * (1 / m): the reciprocal of a denormal overflows
+    float len = sqrt(v.x * v.x + v.y * v.y + v.z * v.z);  // in [1, sqrt 3]; as lane_ray.cl
     uint flags = 0u;
     if (fabs(len * m - 1.0f) > 1.0e-3f) flags |= OM_FLAG_RENORMALIZED;
     v *= 1.0f / len;
@@ -53,7 +53,7 @@ inline uint om_setup_ray(float2 uv, float4 v4, const OmOffsetParams* P, OmRay* r
         // |V.xy| / V.z, so no offset exceeds the depth it crosses; biased at every angle but 90.
         v = OM_F3(v.x, v.y, 1.0f) * rsqrt(v.x * v.x + v.y * v.y + 1.0f);
     } else if (v.z < P->min_vz) {
-        float lxy = length(v.xy);
+        float lxy = sqrt(v.x * v.x + v.y * v.y);
         float k = sqrt(1.0f - P->min_vz * P->min_vz) / lxy;
         v = OM_F3(v.x * k, v.y * k, P->min_vz);
     }

@@ -16,69 +16,86 @@
 // unit t: it stays in the cone while |d| dt < c (Hr - V.z/s dt - Hc), i.e. dt = c (Hr - Hc) / (|d|
 // + c V.z/s). Clamp addressing: cells off the map have no cone (c = 0: walked cell by cell). Cost:
 // one cone fetch per step plus one patch per cell the ray dips below its cell maximum.
-inline float2 om_cone_cell(OmHeightField* f, const OmOffsetParams* P, int i, int j) {
-    f->fetches += 1u;
+#define OM_LANE_METHOD
+
+// Each lane's cell maximum and cone ratio (clamp: cells off the map have no cone, their maximum
+// from the patch itself).
+inline void om_lane_cone_cell(const OmLaneField* f, const OmOffsetParams* P, OmI i, OmI j, OmF* hc,
+                              OmF* c OM_IMG_PARAM) {
+    OmI idx, outside = 0;
     if (P->address_mode == OM_ADDRESS_WRAP) {
-        if (f->pot) {
-            i &= f->w - 1;
-            j &= f->hgt - 1;
-        } else {
-            i = om_wrap_index(i, f->w);
-            j = om_wrap_index(j, f->hgt);
-        }
-    } else if (i < 0 || j < 0 || i >= f->w || j >= f->hgt) {
-        float4 k = om_patch(f, i, j);
-        return OM_F2(fmax(fmax(k.x, k.y), fmax(k.z, k.w)), 0.0f);
+        idx = f->pot ? (j & (f->hgt - 1)) * f->w + (i & (f->w - 1))
+                     : om_lane_wrap(j, f->hgt) * f->w + om_lane_wrap(i, f->w);
+    } else {
+        outside = i < 0 || j < 0 || i >= f->w || j >= f->hgt;
+        idx = clamp(j, 0, f->hgt - 1) * f->w + clamp(i, 0, f->w - 1);
     }
-    __global const float* c = f->aux + 2 * (j * f->w + i);
-    return OM_F2(c[0], c[1]);
+    *hc = OM_GATHER(f->aux, 2 * idx);
+    *c = OM_SEL(OM_GATHER(f->aux, 2 * idx + 1), 0.0f, outside);
+    if (OM_ANY(outside)) {
+        OmF k00, k10, k01, k11;
+        om_lane_corners(f, i, j, &k00, &k10, &k01, &k11 OM_IMG_ARG);
+        *hc = OM_SEL(*hc, fmax(fmax(k00, k10), fmax(k01, k11)), outside);
+    }
 }
 
-float2 om_trace(const OmRay* r, OmHeightField* f, const OmOffsetParams* P, float* t_hit,
-                uint* flags) {
-    float2 c0 = om_cell_coord(f, r->uv);
-    float2 d = OM_F2(r->v.x * f->fw, r->v.y * f->fh);
-    float across = length(d), down = r->v.z / r->scale;  // texels and H per unit t
-    float t = r->t_enter;
-    int i = (int)om_floor(c0.x - t * d.x), j = (int)om_floor(c0.y - t * d.y);
-    int si = d.x > 0.0f ? -1 : 1, sj = d.y > 0.0f ? -1 : 1;
+void om_trace_lanes(const OmLaneRay* r, const OmLaneField* f, const OmOffsetParams* P, OmI active,
+                    OmF* t_hit, OmF* u_hit, OmF* v_hit, OmI* fetches, OmI* flags OM_IMG_PARAM) {
+    OmF cx = clamp(r->u * f->fw - 0.5f, -1.0e8f, 1.0e8f);
+    OmF cy = clamp(r->v * f->fh - 0.5f, -1.0e8f, 1.0e8f);
+    OmF dx = r->vx * f->fw, dy = r->vy * f->fh;
+    OmF across = sqrt(dx * dx + dy * dy), down = r->vz / r->scale;  // texels and H per unit t
+    OmF t = r->t_enter;
+    OmI i = OM_TO_INT(OM_LFLOOR(cx - t * dx)), j = OM_TO_INT(OM_LFLOOR(cy - t * dy));
+    OmI si = OM_SEL((OmI)1, (OmI)-1, dx > 0.0f), sj = OM_SEL((OmI)1, (OmI)-1, dy > 0.0f);
     // The cone map is built from level 0: under LOD (a coarser level) walk cells like `exact`.
-    bool cones = f->level == 0;
-    int n = 0;
-    for (; n < P->max_cells; ++n) {
-        int bi = si < 0 ? i : i + 1, bj = sj < 0 ? j : j + 1;
-        float tx = d.x != 0.0f ? (c0.x - (float)bi) / d.x : INFINITY;
-        float ty = d.y != 0.0f ? (c0.y - (float)bj) / d.y : INFINITY;
-        float t_out = fmin(fmin(tx, ty), r->t_exit);
-        float2 cell = cones ? om_cone_cell(f, P, i, j) : OM_F2(1.0f, 0.0f);
-        if (r->ref - t_out * down < cell.x) {
-            float hit;
-            if (om_patch_hit(r, f, i, j, c0, d, t, t_out, &hit)) {
-                *t_hit = hit;
-                return om_ray_uv(r, hit);
-            }
-        } else if (cell.y > 0.0f) {
-            float t_cone = t + cell.y * (r->ref - t * down - cell.x) / (across + cell.y * down);
-            if (t_cone > t_out) {
-                if (t_cone >= r->t_exit) break;
-                int ni = (int)om_floor(c0.x - t_cone * d.x),
-                    nj = (int)om_floor(c0.y - t_cone * d.y);
-                if (ni != i || nj != j) {  // rounding can leave it in this cell: step normally
-                    t = t_cone;
-                    i = ni;
-                    j = nj;
-                    continue;
-                }
-            }
+    OmI cones = f->level == 0;
+    OmF hit_t = r->t_exit;
+    OmI done = !active;
+    for (int n = 0; n < P->max_cells && OM_ANY(!done); ++n) {
+        OmI live = !done;
+        OmI bi = OM_SEL(i + 1, i, si < 0), bj = OM_SEL(j + 1, j, sj < 0);
+        OmF tx = OM_SEL((OmF)INFINITY, (cx - OM_TO_FLOAT(bi)) / dx, dx != 0.0f);
+        OmF ty = OM_SEL((OmF)INFINITY, (cy - OM_TO_FLOAT(bj)) / dy, dy != 0.0f);
+        OmF t_out = fmin(fmin(tx, ty), r->t_exit);
+        OmF hc, c;
+        om_lane_cone_cell(f, P, i, j, &hc, &c OM_IMG_ARG);
+        *fetches += OM_ONE(live & cones);
+        hc = OM_SEL((OmF)1.0f, hc, cones);
+        c = OM_SEL((OmF)0.0f, c, cones);
+        OmI below = live & (r->ref - t_out * down < hc);
+        if (OM_ANY(below)) {
+            OmF th;
+            OmI hit = om_lane_patch_hit(r, f, i, j, cx, cy, dx, dy, t, t_out, below, fetches,
+                                        &th OM_IMG_ARG);
+            hit_t = OM_SEL(hit_t, th, hit);
+            done |= hit;
+            live &= !hit;
         }
-        if (t_out >= r->t_exit) break;
-        t = t_out;
-        if (tx <= ty)
-            i += si;
-        else
-            j += sj;
+        // Above the cell's maximum through the cell: the larger of the cone step and the exit.
+        OmF t_cone = t + c * (r->ref - t * down - hc) / (across + c * down);
+        OmI jump = live & !below & (c > 0.0f) & (t_cone > t_out);
+        OmI past = jump & (t_cone >= r->t_exit);  // leaves the slab above the relief: no hit
+        done |= past;
+        jump &= !past;
+        OmI ni = OM_TO_INT(OM_LFLOOR(cx - t_cone * dx)),
+            nj = OM_TO_INT(OM_LFLOOR(cy - t_cone * dy));
+        jump &= ni != i || nj != j;  // rounding can leave it in this cell: step normally
+        t = OM_SEL(t, t_cone, jump);
+        i = OM_SEL(i, ni, jump);
+        j = OM_SEL(j, nj, jump);
+        // Otherwise on to the next cell through the exit face.
+        OmI step = live & !past & !jump;
+        OmI end = step & (t_out >= r->t_exit);
+        done |= end;
+        step &= !end;
+        t = OM_SEL(t, t_out, step);
+        i = OM_SEL(i, i + si, step & (tx <= ty));
+        j = OM_SEL(j, j + sj, step & !(tx <= ty));
     }
-    if (n == P->max_cells) *flags |= OM_FLAG_CAPPED;
-    *t_hit = r->t_exit;
-    return om_ray_uv(r, r->t_exit);
+    // Lanes still walking ran out of cells.
+    *flags |= OM_SEL((OmI)0, (OmI)OM_FLAG_CAPPED, !done);
+    *t_hit = hit_t;
+    *u_hit = r->u - hit_t * r->vx;
+    *v_hit = r->v - hit_t * r->vy;
 }

@@ -2,42 +2,40 @@
 // truth. A DDA walks the bilinear patches (cells between texel centres) the ray's footprint
 // crosses from the top plane to the bottom plane, solving each (om_patch_hit, common/patch.cl).
 // Cost: one patch (4 texels, counted as one fetch) per cell crossed, at most ~ (s / V.z)(W + H).
-float2 om_trace(const OmRay* r, OmHeightField* f, const OmOffsetParams* P, float* t_hit,
-                uint* flags) {
+// A lane method: each lane walks its own cells; the loop ends when every lane has its answer.
+#define OM_LANE_METHOD
+void om_trace_lanes(const OmLaneRay* r, const OmLaneField* f, const OmOffsetParams* P, OmI active,
+                    OmF* t_hit, OmF* u_hit, OmF* v_hit, OmI* fetches, OmI* flags OM_IMG_PARAM) {
     // Ray in cell coordinates: c(t) = c0 - t * d, where integer c is a texel centre.
-    float2 c0 = om_cell_coord(f, r->uv);
-    float2 d = OM_F2(r->v.x * f->fw, r->v.y * f->fh);
-    float t = r->t_enter;
-    float2 c = c0 - t * d;
-    int i = (int)om_floor(c.x), j = (int)om_floor(c.y);
-    int si = d.x > 0.0f ? -1 : 1, sj = d.y > 0.0f ? -1 : 1;
-    // Next cell boundary along each axis and the ray parameter at which it is crossed.
-    int bi = si < 0 ? i : i + 1, bj = sj < 0 ? j : j + 1;
-    float tx = d.x != 0.0f ? (c0.x - (float)bi) / d.x : INFINITY;
-    float ty = d.y != 0.0f ? (c0.y - (float)bj) / d.y : INFINITY;
-    int n = 0;
-    for (; n < P->max_cells; ++n) {
-        float t_out = fmin(fmin(tx, ty), r->t_exit);
-        float hit;
-        if (om_patch_hit(r, f, i, j, c0, d, t, t_out, &hit)) {
-            *t_hit = hit;
-            return om_ray_uv(r, hit);
-        }
-        if (t_out >= r->t_exit) break;
-        t = t_out;
-        if (tx <= ty) {
-            i += si;
-            bi += si;
-            tx = (c0.x - (float)bi) / d.x;
-        } else {
-            j += sj;
-            bj += sj;
-            ty = (c0.y - (float)bj) / d.y;
-        }
+    OmF cx = clamp(r->u * f->fw - 0.5f, -1.0e8f, 1.0e8f);
+    OmF cy = clamp(r->v * f->fh - 0.5f, -1.0e8f, 1.0e8f);
+    OmF dx = r->vx * f->fw, dy = r->vy * f->fh;
+    OmF t = r->t_enter;
+    OmI i = OM_TO_INT(OM_LFLOOR(cx - t * dx)), j = OM_TO_INT(OM_LFLOOR(cy - t * dy));
+    OmI si = OM_SEL((OmI)1, (OmI)-1, dx > 0.0f), sj = OM_SEL((OmI)1, (OmI)-1, dy > 0.0f);
+    OmF hit_t = r->t_exit;
+    OmI done = !active;
+    for (int n = 0; n < P->max_cells && OM_ANY(!done); ++n) {
+        OmI live = !done;
+        OmI bi = OM_SEL(i + 1, i, si < 0), bj = OM_SEL(j + 1, j, sj < 0);
+        OmF tx = OM_SEL((OmF)INFINITY, (cx - OM_TO_FLOAT(bi)) / dx, dx != 0.0f);
+        OmF ty = OM_SEL((OmF)INFINITY, (cy - OM_TO_FLOAT(bj)) / dy, dy != 0.0f);
+        OmF t_out = fmin(fmin(tx, ty), r->t_exit);
+        OmF th;
+        OmI hit =
+            om_lane_patch_hit(r, f, i, j, cx, cy, dx, dy, t, t_out, live, fetches, &th OM_IMG_ARG);
+        hit_t = OM_SEL(hit_t, th, hit);
+        // No hit at the bottom plane: reached through rounding, where the gap is exactly 0 when
+        // H = 0 (the root at the segment's end can round away); the answer is then t_exit.
+        OmI end = live & !hit & (t_out >= r->t_exit);
+        done |= hit | end;
+        OmI step = live & !hit & !end;
+        t = OM_SEL(t, t_out, step);
+        i = OM_SEL(i, i + si, step & (tx <= ty));
+        j = OM_SEL(j, j + sj, step & !(tx <= ty));
     }
-    // Reached through rounding at the bottom plane, where the gap is exactly 0 when H = 0 (the
-    // root at the segment's end can round away), or through the cap.
-    if (n == P->max_cells) *flags |= OM_FLAG_CAPPED;
-    *t_hit = r->t_exit;
-    return om_ray_uv(r, r->t_exit);
+    *flags |= OM_SEL((OmI)0, (OmI)OM_FLAG_CAPPED, !done);  // ran out of cells
+    *t_hit = hit_t;
+    *u_hit = r->u - hit_t * r->vx;
+    *v_hit = r->v - hit_t * r->vy;
 }
