@@ -10,33 +10,39 @@
 // shrinking as res and layers grow; or when the steps run out (sphere tracing converges slowly at
 // grazing views, where each step shrinks the gap by a factor of about 1 - V.z).
 // Cost: one distance fetch per step, counted as one fetch.
-inline float om_sphere_distance(const OmHeightField* f, const OmOffsetParams* P, int res,
-                                int layers, float2 uv, float w) {
-    float x = clamp(uv.x * res, -1.0e7f, 1.0e7f), y = clamp(uv.y * res, -1.0e7f, 1.0e7f);
-    int i = (int)om_floor(x), j = (int)om_floor(y);
-    int k = clamp((int)(w / P->scale * layers), 0, layers - 1);
+// A lane method: lanes that stop early wait for the others (fixed step budget).
+#define OM_LANE_METHOD
+inline OmF om_lane_sphere_distance(const OmLaneField* f, const OmOffsetParams* P, int res,
+                                   int layers, OmF u, OmF v, OmF w) {
+    OmF x = clamp(u * (float)res, -1.0e7f, 1.0e7f), y = clamp(v * (float)res, -1.0e7f, 1.0e7f);
+    OmI i = OM_TO_INT(OM_LFLOOR(x)), j = OM_TO_INT(OM_LFLOOR(y));
+    OmI k = clamp(OM_TO_INT(w / P->scale * (float)layers), 0, layers - 1);
     if (P->address_mode == OM_ADDRESS_WRAP) {
-        i = om_wrap_index(i, res);
-        j = om_wrap_index(j, res);
+        i = om_lane_wrap(i, (OmI)res);
+        j = om_lane_wrap(j, (OmI)res);
     } else {
         i = clamp(i, 0, res - 1);
         j = clamp(j, 0, res - 1);
     }
-    return f->aux[(k * res + j) * res + i];
+    return OM_GATHER(f->aux, (k * res + j) * res + i);
 }
 
-float2 om_trace(const OmRay* r, OmHeightField* f, const OmOffsetParams* P, float* t_hit,
-                uint* flags) {
-    int res = (int)P->p[0], layers = (int)P->p[1], steps = om_lod_count(r, P->p[2]);
-    float span = r->t_exit - r->t_enter;
-    float t = r->t_enter;
-    for (int n = 0; n < steps; ++n) {
-        float w = r->scale * (1.0f - (t - r->t_enter) / span);
-        float d = om_sphere_distance(f, P, res, layers, om_ray_uv(r, t), w);
-        f->fetches += 1u;
-        if (d <= 0.0f) break;
-        t = fmin(t + d, r->t_exit);
+void om_trace_lanes(const OmLaneRay* r, const OmLaneField* f, const OmOffsetParams* P, OmI active,
+                    OmF* t_hit, OmF* u_hit, OmF* v_hit, OmI* fetches, OmI* flags OM_IMG_PARAM) {
+    int res = (int)P->p[0], layers = (int)P->p[1];
+    OmI steps = om_lane_count(r, (OmF)P->p[2]);
+    OmF span = r->t_exit - r->t_enter;
+    OmF t = r->t_enter;
+    OmI marching = active;
+    for (int n = 0; OM_ANY(marching); ++n) {
+        marching &= (OmI)n < steps;
+        OmF w = r->scale * (1.0f - (t - r->t_enter) / span);
+        OmF d = om_lane_sphere_distance(f, P, res, layers, r->u - t * r->vx, r->v - t * r->vy, w);
+        *fetches += OM_ONE(marching);
+        marching &= d > 0.0f;
+        t = OM_SEL(t, fmin(t + d, r->t_exit), marching);
     }
     *t_hit = t;
-    return om_ray_uv(r, t);
+    *u_hit = r->u - t * r->vx;
+    *v_hit = r->v - t * r->vy;
 }
