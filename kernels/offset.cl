@@ -1,8 +1,8 @@
-// The offset kernel entry for one-pixel methods (lane methods: offset_lanes.cl): G-buffer load,
-// validation, LOD, one method's om_trace, store. Compiled once per method; the method file defining
-// om_trace is pasted in before this file. aux is the method's precomputed data (NULL for most); lod
-// is the per-pixel mip level (NULL unless the LOD system is on). Optional outputs (depth, fetches,
-// flags) may be NULL buffers.
+// The one offset kernel entry: G-buffer load, validation, LOD, one method's om_trace_lanes, store,
+// for OM_LANES consecutive pixels per work-item (lanes.h); the host launches ceil(pixels /
+// OM_LANES) work-items. Compiled once per method; the method file is pasted in before this file.
+// aux is the method's precomputed data (NULL for most); lod is the per-pixel mip level (NULL unless
+// the LOD system is on). Optional outputs (depth, fetches, flags) may be NULL buffers.
 //
 // LOD (Tatarchuk 2006): at mip level m the heights are read from level floor(m) of the pyramid,
 // step counts are scaled by mix(1, min_detail, m / threshold) (more samples near the viewer), and
@@ -12,63 +12,191 @@
 // crosses, plus one, and fades by that count over [fade_lo, fade_hi] texels: a ray that crosses
 // less than a texel at the pixel's level cannot show parallax.
 //
-// Specialised at build time (the host sets these from the pass, one program each): OM_LOD when the
-// LOD system is on, OM_OUT_DEPTH / OM_OUT_FETCHES / OM_OUT_FLAGS for the optional outputs bound.
-// (Measured on PoCL: no faster than runtime checks, as uniform branches cost little on a CPU; it
-// saves the GPU the checks and keeps unused outputs out of the kernel.)
-#ifndef OM_LANE_METHOD  // lane methods use offset_lanes.cl
-__kernel void om_offset(const OmOffsetParams P, __global const float2* gb_uv,
-                        __global const float4* gb_view, __global const float* heights,
+// Specialised at build time (the host sets these from the pass, one program each): OM_LANES,
+// OM_IMAGES, OM_LOD when the LOD system is on, OM_OUT_DEPTH / OM_OUT_FETCHES / OM_OUT_FLAGS for the
+// optional outputs bound.
+
+// Pixel ids base .. base + OM_LANES - 1; the last work-item may hold fewer than OM_LANES pixels:
+// its loads repeat the last pixel and its stores stop at pixel_count.
+#if OM_LANES == 1
+#define OM_LOAD_F(dst, p, base, n) dst = (p)[base]
+#define OM_STORE_F(src, p, base, n) (p)[base] = (src)
+#define OM_STORE_I(src, p, base, n) (p)[base] = (uint)(src)
+#else
+#define OM_LOAD_F(dst, p, base, n)                                                     \
+    do {                                                                               \
+        float tmp_[OM_LANES];                                                          \
+        for (int k_ = 0; k_ < OM_LANES; ++k_) tmp_[k_] = (p)[min((base) + k_, (n)-1)]; \
+        dst = OM_VLOAD(tmp_);                                                          \
+    } while (0)
+#define OM_STORE_F(src, p, base, n)                                                             \
+    do {                                                                                        \
+        if ((base) + OM_LANES <= (n)) {                                                         \
+            OM_VSTORE(src, (p) + (base));                                                       \
+            break;                                                                              \
+        }                                                                                       \
+        float tmp_[OM_LANES];                                                                   \
+        OM_VSTORE(src, tmp_);                                                                   \
+        for (int k_ = 0; k_ < OM_LANES && (base) + k_ < (n); ++k_) (p)[(base) + k_] = tmp_[k_]; \
+    } while (0)
+#define OM_STORE_I(src, p, base, n)                                \
+    do {                                                           \
+        if ((base) + OM_LANES <= (n)) {                            \
+            OM_VSTORE_I(src, (__global int*)(p) + (base));         \
+            break;                                                 \
+        }                                                          \
+        int tmp_[OM_LANES];                                        \
+        OM_VSTORE_I(src, tmp_);                                    \
+        for (int k_ = 0; k_ < OM_LANES && (base) + k_ < (n); ++k_) \
+            (p)[(base) + k_] = (uint)tmp_[k_];                     \
+    } while (0)
+#if OM_LANES == 8
+#define OM_VLOAD(p) vload8(0, p)
+#define OM_VSTORE(v, p) vstore8(v, 0, p)
+#define OM_VSTORE_I(v, p) vstore8(v, 0, p)
+#else
+#define OM_VLOAD(p) vload16(0, p)
+#define OM_VSTORE(v, p) vstore16(v, 0, p)
+#define OM_VSTORE_I(v, p) vstore16(v, 0, p)
+#endif
+
+// A full work-item's G-buffer (interleaved uv and view) split into planes with vector loads and
+// shuffles, and its uv' interleaved back. Works on global or private memory (generic macros).
+#if OM_LANES == 8
+#define om_lane_load_full(pu, pv, u, v, vx, vy, vz)       \
+    do {                                                  \
+        float16 a_ = vload16(0, pu);                      \
+        float16 b_ = vload16(0, pv), c_ = vload16(1, pv); \
+        *(u) = a_.even;                                   \
+        *(v) = a_.odd;                                    \
+        *(vx) = (float8)(b_.s048c, c_.s048c);             \
+        *(vy) = (float8)(b_.s159d, c_.s159d);             \
+        *(vz) = (float8)(b_.s26ae, c_.s26ae);             \
+    } while (0)
+#define om_lane_store_uv(ou, ov, p)                                                                \
+    vstore16(shuffle2((ou), (ov), (uint16)(0, 8, 1, 9, 2, 10, 3, 11, 4, 12, 5, 13, 6, 14, 7, 15)), \
+             0, p)
+#elif OM_LANES == 16
+#define om_lane_load_full(pu, pv, u, v, vx, vy, vz)                            \
+    do {                                                                       \
+        float16 a_ = vload16(0, pu), b_ = vload16(1, pu);                      \
+        float16 c_ = vload16(0, pv), d_ = vload16(1, pv), e_ = vload16(2, pv), \
+                f_ = vload16(3, pv);                                           \
+        *(u) = (float16)(a_.even, b_.even);                                    \
+        *(v) = (float16)(a_.odd, b_.odd);                                      \
+        *(vx) = (float16)(c_.s048c, d_.s048c, e_.s048c, f_.s048c);             \
+        *(vy) = (float16)(c_.s159d, d_.s159d, e_.s159d, f_.s159d);             \
+        *(vz) = (float16)(c_.s26ae, d_.s26ae, e_.s26ae, f_.s26ae);             \
+    } while (0)
+#define om_lane_store_uv(ou, ov, p)                                                                \
+    do {                                                                                           \
+        vstore16(shuffle2((ou), (ov),                                                              \
+                          (uint16)(0, 16, 1, 17, 2, 18, 3, 19, 4, 20, 5, 21, 6, 22, 7, 23)),       \
+                 0, p);                                                                            \
+        vstore16(shuffle2((ou), (ov),                                                              \
+                          (uint16)(8, 24, 9, 25, 10, 26, 11, 27, 12, 28, 13, 29, 14, 30, 15, 31)), \
+                 1, p);                                                                            \
+    } while (0)
+#endif
+#endif
+
+__kernel void om_offset(const OmOffsetParams P, __global const float2* gb_uv2,
+                        __global const float4* gb_view4, __global const float* heights,
                         __global const float* aux, __global const float* lod,
-                        __global float2* out_uv, __global float* out_depth,
-                        __global uint* out_fetches, __global uint* out_flags) {
-    int id = get_global_id(0);
-    if (id >= P.pixel_count) return;
-    float2 uv = gb_uv[id];
-    OmRay ray;
-    float2 base;
-    uint flags = om_setup_ray(uv, gb_view[id], &P, &ray, &base);
-    float blend = 1.0f;
-    int level = 0;
+                        __global float2* out_uv2, __global float* out_depth,
+                        __global uint* out_fetches, __global uint* out_flags OM_IMG_PARAM) {
+    // The G-buffer is interleaved (uv: 2 floats, view: 4 per pixel): read as floats, split into
+    // planes.
+    __global const float* gb_uv = (__global const float*)gb_uv2;
+    __global const float* gb_view = (__global const float*)gb_view4;
+    __global float* out_uv = (__global float*)out_uv2;
+    const int n = P.pixel_count;
+    const int base = (int)get_global_id(0) * OM_LANES;
+    if (base >= n) return;
+    OmF u, v, vx, vy, vz;
+#if OM_LANES == 1
+    u = gb_uv[2 * base];
+    v = gb_uv[2 * base + 1];
+    vx = gb_view[4 * base];
+    vy = gb_view[4 * base + 1];
+    vz = gb_view[4 * base + 2];
+#else
+    if (base + OM_LANES <= n) {
+        om_lane_load_full(gb_uv + 2 * base, gb_view + 4 * base, &u, &v, &vx, &vy, &vz);
+    } else {
+        float tu[2 * OM_LANES], tv[4 * OM_LANES];
+        for (int k = 0; k < OM_LANES; ++k) {
+            int id = min(base + k, n - 1);
+            tu[2 * k] = gb_uv[2 * id];
+            tu[2 * k + 1] = gb_uv[2 * id + 1];
+            for (int c = 0; c < 4; ++c) tv[4 * k + c] = gb_view[4 * id + c];
+        }
+        om_lane_load_full(tu, tv, &u, &v, &vx, &vy, &vz);
+    }
+#endif
+    OmLaneRay ray;
+    OmF base_u, base_v;
+    OmI flags = om_lane_setup(u, v, vx, vy, vz, &P, &ray, &base_u, &base_v);
+    OmF blend = 1.0f;
+    OmI level = 0;
 #ifdef OM_LOD
-    float m = lod[id];
-    m = isfinite(m) ? m : 0.0f;
-    level = (int)clamp(m, 0.0f, 16.0f);  // truncation is floor for m >= 0
+    OmF m;
+    OM_LOAD_F(m, lod, base, n);
+    m = OM_SEL(m, 0.0f, !isfinite(m));
+    level = OM_TO_INT(clamp(m, 0.0f, 16.0f));  // truncation is floor for m >= 0
     if (P.lod_footprint) {
-        // Texels of this pixel's level the ray's footprint crosses through the whole slab.
-        float texels = (ray.t_exit - ray.t_enter) * length(ray.v.xy) *
-                       fmax((float)P.hf_width, (float)P.hf_height) / (float)(1 << level);
-        ray.step_cap = (int)ceil(texels) + 1;
+        OmF texels = (ray.t_exit - ray.t_enter) * sqrt(ray.vx * ray.vx + ray.vy * ray.vy) *
+                     fmax((float)P.hf_width, (float)P.hf_height) / OM_TO_FLOAT((OmI)1 << level);
+        ray.step_cap = OM_TO_INT(ceil(texels)) + 1;
         blend = clamp((texels - P.lod_fade_lo) / (P.lod_fade_hi - P.lod_fade_lo), 0.0f, 1.0f);
     } else {
         blend = clamp((P.lod_threshold - m) / P.lod_fade, 0.0f, 1.0f);
-        ray.detail = mix(1.0f, P.lod_min_detail, clamp(m / P.lod_threshold, 0.0f, 1.0f));
+        ray.detail = mix((OmF)1.0f, (OmF)P.lod_min_detail, clamp(m / P.lod_threshold, 0.0f, 1.0f));
     }
 #endif
-    OmHeightField f = om_heightfield_level(heights, &P, level);
+    OmLaneField f = om_lane_field(heights, &P, level);
     f.aux = aux;
-    bool rejected = (flags & (OM_FLAG_EMPTY | OM_FLAG_INVALID | OM_FLAG_BACKFACING)) != 0u;
-    bool traced = !rejected && blend > 0.0f;
-    float t = 0.0f;
-    float2 hit = ray.uv;
-    uint trace_flags = 0u;
-    if (traced) hit = om_trace(&ray, &f, &P, &t, &trace_flags);
+    OmI rejected = (flags & (int)(OM_FLAG_EMPTY | OM_FLAG_INVALID | OM_FLAG_BACKFACING)) != 0;
+    OmI traced = !rejected && blend > 0.0f;
+    OmF t = 0.0f, hu = ray.u, hv = ray.v;
+    OmI fetches = 0, trace_flags = 0;
+    if (OM_ANY(traced))
+        om_trace_lanes(&ray, &f, &P, traced, &t, &hu, &hv, &fetches, &trace_flags OM_IMG_ARG);
     // LOD fade toward normal mapping (blend = 1 without LOD).
-    hit = ray.uv + blend * (hit - ray.uv);
-    float2 out = hit + base;
+    hu = ray.u + blend * (hu - ray.u);
+    hv = ray.v + blend * (hv - ray.v);
+    OmF ou = hu + base_u, ov = hv + base_v;
     // On a non-tiling surface a ray that leaves the tile sees past the polygon's edge.
-    bool outside = P.tile_mask && (out.x < 0.0f || out.x > 1.0f || out.y < 0.0f || out.y > 1.0f);
-    flags |= traced ? trace_flags | (outside ? OM_FLAG_OUT_OF_TILE : 0u)
-                    : (rejected ? 0u : OM_FLAG_LOD_FADED);
-    out_uv[id] = traced ? out : uv;
+    OmI outside = P.tile_mask ? (OmI)(ou < 0.0f || ou > 1.0f || ov < 0.0f || ov > 1.0f) : (OmI)0;
+    flags |= OM_SEL(OM_SEL((OmI)OM_FLAG_LOD_FADED, (OmI)0, rejected),
+                    trace_flags | OM_SEL((OmI)0, (OmI)OM_FLAG_OUT_OF_TILE, outside), traced);
+    ou = OM_SEL(u, ou, traced);  // rejected lanes pass their G-buffer uv through (NaN included)
+    ov = OM_SEL(v, ov, traced);
+    t = OM_SEL((OmF)0.0f, t * blend, traced);
+    fetches = OM_SEL((OmI)0, fetches, traced);
+#if OM_LANES == 1
+    out_uv[2 * base] = ou;
+    out_uv[2 * base + 1] = ov;
+#else
+    if (base + OM_LANES <= n) {
+        om_lane_store_uv(ou, ov, out_uv + 2 * base);
+    } else {
+        float pu[OM_LANES], pv[OM_LANES];
+        OM_VSTORE(ou, pu);
+        OM_VSTORE(ov, pv);
+        for (int k = 0; k < OM_LANES && base + k < n; ++k) {
+            out_uv[2 * (base + k)] = pu[k];
+            out_uv[2 * (base + k) + 1] = pv[k];
+        }
+    }
+#endif
 #ifdef OM_OUT_DEPTH
-    out_depth[id] = traced ? t * blend : 0.0f;
+    OM_STORE_F(t, out_depth, base, n);
 #endif
 #ifdef OM_OUT_FETCHES
-    out_fetches[id] = traced ? f.fetches : 0u;
+    OM_STORE_I(fetches, out_fetches, base, n);
 #endif
 #ifdef OM_OUT_FLAGS
-    out_flags[id] = flags;
+    OM_STORE_I(flags, out_flags, base, n);
 #endif
 }
-#endif

@@ -58,10 +58,7 @@ TEST(Lanes, EveryLaneCountAndTheImagePathGiveTheSameFrame) {
     other.lod.enabled = other.lod.footprint = true;
     other.grazing = GrazingPolicy::Limit;
     other.address = AddressMode::Clamp;
-    int lane_methods = 0;
     for (const auto& name : method_names()) {
-        if (OffsetPass(runtime_with_lanes(16), name).lanes() == 1) continue;  // a one-pixel method
-        ++lane_methods;
         for (const PassSettings* s : {&plain, &other}) {
             OffsetResult ref = run_with_lanes(1, name, map, gb, *s);
             // Lanes 8 and 16 from the buffer; lanes 1 and 16 through the image path.
@@ -81,7 +78,6 @@ TEST(Lanes, EveryLaneCountAndTheImagePathGiveTheSameFrame) {
             }
         }
     }
-    EXPECT_GE(lane_methods, 9);  // none, the parallax family, steep, relief, pom, secant
 }
 
 }  // namespace

@@ -11,15 +11,12 @@
 namespace OM_NS {
 using namespace ::clc;
 #include "common/sampling.cl"
-#include "common/ray.cl"
-#include "common/patch.cl"
 #include "common/lanes.h"
 #include "common/lane_sampling.cl"
 #include "common/lane_ray.cl"
 #include "common/lane_patch.cl"
 #include OM_METHOD_FILE
 #include "offset.cl"
-#include "offset_lanes.cl"
 }  // namespace OM_NS
 
 namespace offsetmap::cpu_peer {

@@ -19,16 +19,9 @@ cl::NDRange padded(size_t n) { return cl::NDRange((n + kLocalSize - 1) / kLocalS
 
 // Every offset program: the sampling layer, the ray, the shared searches, one method, the entry.
 std::vector<std::string> offset_program_files(const MethodInfo& m) {
-    return {"common/sampling.cl",
-            "common/ray.cl",
-            "common/patch.cl",
-            "common/lanes.h",
-            "common/lane_sampling.cl",
-            "common/lane_ray.cl",
-            "common/lane_patch.cl",
-            "methods/" + m.kernel_file,
-            "offset.cl",
-            "offset_lanes.cl"};
+    return {"common/sampling.cl", "common/lanes.h",       "common/lane_sampling.cl",
+            "common/lane_ray.cl", "common/lane_patch.cl", "methods/" + m.kernel_file,
+            "offset.cl"};
 }
 
 void set_optional(cl::Kernel& k, cl_uint index, const cl::Buffer& b) {
@@ -187,13 +180,9 @@ OffsetPass::OffsetPass(std::shared_ptr<Runtime> runtime, const std::string& meth
                        const std::map<std::string, std::string>& params)
     : runtime_(std::move(runtime)), method_(&find_method(method)) {
     params_ = resolve_params(*method_, params);
-    // Lane methods (kernels/common/lanes.h) take the runtime's pixels per work-item.
-    if (kernel_source("methods/" + method_->kernel_file).find("#define OM_LANE_METHOD") !=
-        std::string::npos)
-        lane_method_ = true;
-    if (lane_method_) lanes_ = runtime_->lanes();
+    lanes_ = runtime_->lanes();
     // Compile now (the tools' usual outputs), so a method's build errors surface here.
-    kernel(false, true, true, true, lane_method_ && runtime_->images());
+    kernel(false, true, true, true, runtime_->images());
 }
 
 cl::Kernel& OffsetPass::kernel(bool lod, bool depth, bool fetches, bool flags, bool images) {
@@ -416,7 +405,7 @@ cl::Event OffsetPass::enqueue(const DeviceGBuffer& g, const DeviceHeightField& f
     std::copy(params_.begin(), params_.end(), p.p);
     // The image path where the runtime wants it and the pyramid fits an image1d_buffer.
     const size_t floats = f.heights.getInfo<CL_MEM_SIZE>() / sizeof(float);
-    const bool images = lane_method_ && runtime_->images() &&
+    const bool images = runtime_->images() &&
                         floats <= runtime_->device().getInfo<CL_DEVICE_IMAGE_MAX_BUFFER_SIZE>();
     cl::Kernel& k = kernel(settings.lod.enabled, t.depth() != nullptr, t.fetches() != nullptr,
                            t.flags() != nullptr, images);

@@ -1,5 +1,6 @@
-// patch.cl's exact ray / bilinear-patch intersection for lane methods: the same closed-form
-// quadratic, with selects for its branches (the rare bisection runs only when a lane needs it).
+// The exact ray / bilinear-patch intersection shared by `exact`, `maxmip` and `cone`: within one
+// cell the ray height minus the patch height is a quadratic in the ray parameter, solved in closed
+// form with selects for its branches (the rare bisection runs only when a lane needs it).
 
 // First tau in [0, tmax] with c0 + c1 tau + c2 tau^2 <= 0, given c0 > 0; -1 when there is none.
 inline OmF om_lane_first_root(OmF c0, OmF c1, OmF c2, OmF tmax, OmI active) {
@@ -26,8 +27,9 @@ inline OmF om_lane_first_root(OmF c0, OmF c1, OmF c2, OmF tmax, OmI active) {
 }
 
 // Whether each lane's ray is on or below bilinear patch (i, j) somewhere in [t, t_out], and the
-// first such t, as om_patch_hit. c(t) = (cx, cy) - t (dx, dy) in cell coordinates. Counts one
-// fetch in the lanes of `active`; other lanes return false.
+// first such t (t itself may be negative: the ray starts above the polygon when r < 1). c(t) = (cx,
+// cy) - t (dx, dy) in cell coordinates. Counts one fetch in the lanes of `active`; other lanes
+// return false.
 inline OmI om_lane_patch_hit(const OmLaneRay* r, const OmLaneField* f, OmI i, OmI j, OmF cx, OmF cy,
                              OmF dx, OmF dy, OmF t, OmF t_out, OmI active, OmI* fetches,
                              OmF* t_hit OM_IMG_PARAM) {

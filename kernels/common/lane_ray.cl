@@ -1,5 +1,6 @@
-// The eye ray for lane methods: ray.cl's OmRay, validation and grazing rule, per lane, without
-// branches (a rejected lane gets a harmless ray: uv 0, V = +z, and its result is dropped).
+// The eye ray, per lane: p(t) = (u, v, 0) - t V enters the relief at the top plane z = s (1 - r)
+// and leaves it at the bottom z = -s r (DESIGN.md, "The ray"). Validation and the grazing rule,
+// without branches (a rejected lane gets a harmless ray: uv 0, V = +z, and its result is dropped).
 // Also the searches the marching methods share: the linear search and the slope step.
 
 typedef struct {
@@ -20,13 +21,19 @@ inline OmF om_lane_ray_t(const OmLaneRay* r, OmF lambda) {
     return r->t_enter + lambda * (r->t_exit - r->t_enter);
 }
 
-// Validation and ray set-up of om_setup_ray (ray.cl), same flags, same arithmetic.
+// Validates each lane's G-buffer pixel and builds its ray. Returns flags; a pixel with EMPTY,
+// INVALID or BACKFACING set is passed through unchanged by the entry.
+// Grazing rule (clamp and cap policies): V.z is raised to min_vz and V.xy rescaled to keep |V| = 1
+// and the azimuth, so every march spans at most s / min_vz in uv and every loop count is bounded;
+// the cap policy only raises min_vz (host side). The limit policy replaces V by normalize(V.xy, 1).
+// Views below min_vz are flagged GRAZING under every policy. Tracing in a local frame (the
+// fractional part of uv under wrap) keeps float precision for any tile index.
 inline OmI om_lane_setup(OmF u, OmF v, OmF vx, OmF vy, OmF vz, const OmOffsetParams* P,
                          OmLaneRay* r, OmF* base_u, OmF* base_v) {
     OmI empty = isnan(u) || isnan(v);
     OmI finite = isfinite(u) && isfinite(v) && isfinite(vx) && isfinite(vy) && isfinite(vz);
     // Scale by the largest component first so |V| neither overflows nor underflows. Three
-    // divisions, as ray.cl: a reciprocal and three multiplies measured no faster.
+    // divisions: a reciprocal and three multiplies measured no faster.
     OmF m = fmax(fabs(vx), fmax(fabs(vy), fabs(vz)));
     OmI invalid = !finite || !(m > 0.0f);
     m = OM_SEL(m, 1.0f, invalid);
@@ -48,7 +55,8 @@ inline OmI om_lane_setup(OmF u, OmF v, OmF vx, OmF vy, OmF vz, const OmOffsetPar
     OmI grazing = vz < P->min_vz;
     flags |= OM_SEL((OmI)0, (OmI)OM_FLAG_GRAZING, grazing);
     if (P->grazing_limit) {
-        // Welsh's offset limiting as a ray (see om_setup_ray).
+        // Welsh's offset limiting as a ray: horizontal travel per unit of depth is |V.xy|, not
+        // |V.xy| / V.z, so no offset exceeds the depth it crosses; biased at every angle but 90.
         OmF k = rsqrt(vx * vx + vy * vy + 1.0f);
         vx *= k;
         vy *= k;

@@ -9,14 +9,14 @@
 //    cones from crawling near the surface (Bán et al.'s minimum step size; Policarpo's relaxed
 //    cones get their speed by allowing an overshoot, which then needs a binary search and can cross
 //    thin features twice).
-//  - otherwise solve the cell exactly (om_patch_hit, shared with `exact`): the first root is the
+//  - otherwise solve the cell exactly (om_lane_patch_hit, shared with `exact`): the first root is
+//  the
 //    answer, else go on from the cell exit.
 // So the result is `exact`'s, to float precision, and each step leaves at least one cell.
 // Cone step from height Hr (H units) with the ray moving |d| texels across and V.z / s in H per
 // unit t: it stays in the cone while |d| dt < c (Hr - V.z/s dt - Hc), i.e. dt = c (Hr - Hc) / (|d|
 // + c V.z/s). Clamp addressing: cells off the map have no cone (c = 0: walked cell by cell). Cost:
 // one cone fetch per step plus one patch per cell the ray dips below its cell maximum.
-#define OM_LANE_METHOD
 
 // Each lane's cell maximum and cone ratio (clamp: cells off the map have no cone, their maximum
 // from the patch itself).

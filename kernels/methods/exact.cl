@@ -1,9 +1,9 @@
 // exact: the first hit of the eye ray with the bilinearly interpolated height field, the ground
 // truth. A DDA walks the bilinear patches (cells between texel centres) the ray's footprint
-// crosses from the top plane to the bottom plane, solving each (om_patch_hit, common/patch.cl).
-// Cost: one patch (4 texels, counted as one fetch) per cell crossed, at most ~ (s / V.z)(W + H).
-// A lane method: each lane walks its own cells; the loop ends when every lane has its answer.
-#define OM_LANE_METHOD
+// crosses from the top plane to the bottom plane, solving each (om_lane_patch_hit,
+// common/lane_patch.cl). Cost: one patch (4 texels, counted as one fetch) per cell crossed, at most
+// ~ (s / V.z)(W + H). A lane method: each lane walks its own cells; the loop ends when every lane
+// has its answer.
 void om_trace_lanes(const OmLaneRay* r, const OmLaneField* f, const OmOffsetParams* P, OmI active,
                     OmF* t_hit, OmF* u_hit, OmF* v_hit, OmI* fetches, OmI* flags OM_IMG_PARAM) {
     // Ray in cell coordinates: c(t) = c0 - t * d, where integer c is a texel centre.

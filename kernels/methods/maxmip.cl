@@ -2,11 +2,14 @@
 // field rendering", I3D 2008): the exact first hit, like `exact`, found by a hierarchical walk of
 // a maximum-height pyramid (kernels/prep/maxmip.cl) instead of every cell: where the ray stays
 // above a block's maximum the whole block is skipped; where it dips below, the walk descends, down
-// to single cells solved exactly (om_patch_hit, shared with `exact`). Inside a block the ray first
-// jumps to where it reaches the block's maximum height. p[0] = the highest level used (0: plain
-// DDA, identical to `exact`). Cost: O(log n) block tests plus the cells near the hit. The hierarchy
-// needs wrap addressing and level 0 of the height pyramid (no LOD level); otherwise the walk stays
-// at level 0 and is `exact`.
+// to single cells solved exactly (om_lane_patch_hit, shared with `exact`). Inside a block the ray
+// first jumps to where it reaches the block's maximum height. p[0] = the highest level used (0:
+// plain DDA, identical to `exact`). Cost: O(log n) block tests plus the cells near the hit. The
+// hierarchy needs wrap addressing and level 0 of the height pyramid (no LOD level); otherwise the
+// walk stays at level 0 and is `exact`.
+
+// A lane method: each lane walks its own levels and blocks; the loop ends when every lane has its
+// answer.
 
 // Levels of the max pyramid for this map: while both sizes stay even (blocks tile the map).
 inline int om_maxmip_levels(const OmOffsetParams* P) {
@@ -21,81 +24,92 @@ inline int om_maxmip_levels(const OmOffsetParams* P) {
 }
 
 // floor(i / 2^k) for any sign (a right shift of a negative int is implementation-defined in C99).
-inline int om_block_index(int i, int k) { return i >= 0 ? i >> k : -((-i - 1) >> k) - 1; }
+inline OmI om_lane_block(OmI i, OmI k) { return OM_SEL(-((-i - 1) >> k) - 1, i >> k, i >= 0); }
 
-// The cell index along one axis at ray parameter t, kept inside [lo, hi] (rounding at block faces).
-inline int om_cell_at(float c0, float d, float t, int lo, int hi) {
-    return clamp((int)om_floor(c0 - t * d), lo, hi);
+// The cell index along one axis at ray parameter t, kept inside [lo, hi] (rounding at faces).
+inline OmI om_lane_cell_at(OmF c0, OmF d, OmF t, OmI lo, OmI hi) {
+    return clamp(OM_TO_INT(OM_LFLOOR(c0 - t * d)), lo, hi);
 }
 
-float2 om_trace(const OmRay* r, OmHeightField* f, const OmOffsetParams* P, float* t_hit,
-                uint* flags) {
-    int top = f->level == 0 ? min(om_maxmip_levels(P), (int)P->p[0]) : 0;
-    int offset[16];  // start of level k in the aux buffer (level 1 at 0)
-    offset[1] = 0;
-    for (int k = 1; k < top; ++k)
-        offset[k + 1] = offset[k] + (P->hf_width >> k) * (P->hf_height >> k);
-
-    float2 c0 = om_cell_coord(f, r->uv);
-    float2 d = OM_F2(r->v.x * f->fw, r->v.y * f->fh);
+void om_trace_lanes(const OmLaneRay* r, const OmLaneField* f, const OmOffsetParams* P, OmI active,
+                    OmF* t_hit, OmF* u_hit, OmF* v_hit, OmI* fetches, OmI* flags OM_IMG_PARAM) {
+    const int W = P->hf_width, H = P->hf_height;
+    OmI top = OM_SEL((OmI)0, (OmI)min(om_maxmip_levels(P), (int)P->p[0]), f->level == 0);
+    OmF cx = clamp(r->u * f->fw - 0.5f, -1.0e8f, 1.0e8f);
+    OmF cy = clamp(r->v * f->fh - 0.5f, -1.0e8f, 1.0e8f);
+    OmF dx = r->vx * f->fw, dy = r->vy * f->fh;
     // Blocks wider than the ray's whole footprint cannot be skipped more cheaply than walked: the
     // walk starts at, and never climbs past, the level of the footprint's length in cells.
-    float span = (r->t_exit - r->t_enter) * fmax(fabs(d.x), fabs(d.y));
-    top = min(top, span > 1.0f ? (int)ceil(log2(span)) : 0);
-    int si = d.x > 0.0f ? -1 : 1, sj = d.y > 0.0f ? -1 : 1;
-    float t = r->t_enter;
-    int i = (int)om_floor(c0.x - t * d.x), j = (int)om_floor(c0.y - t * d.y);
-    int k = top;
+    OmF span = (r->t_exit - r->t_enter) * fmax(fabs(dx), fabs(dy));
+    top = min(top, OM_SEL((OmI)0, OM_TO_INT(ceil(log2(span))), span > 1.0f));
+    OmI si = OM_SEL((OmI)1, (OmI)-1, dx > 0.0f), sj = OM_SEL((OmI)1, (OmI)-1, dy > 0.0f);
+    OmF t = r->t_enter;
+    OmI i = OM_TO_INT(OM_LFLOOR(cx - t * dx)), j = OM_TO_INT(OM_LFLOOR(cy - t * dy));
+    OmI k = top;
     // Each step descends a level or leaves a block: bounded by the cells crossed times the levels.
-    int cap = min(P->max_cells, 0x3fffffff / (2 * top + 2)) * (2 * top + 2);
-    int n = 0;
-    for (; n < cap; ++n) {
-        int size = 1 << k;
-        int I = om_block_index(i, k), J = om_block_index(j, k);
-        int x_lo = I * size, y_lo = J * size;
-        int bx = si < 0 ? x_lo : x_lo + size, by = sj < 0 ? y_lo : y_lo + size;
-        float tx = d.x != 0.0f ? (c0.x - (float)bx) / d.x : INFINITY;
-        float ty = d.y != 0.0f ? (c0.y - (float)by) / d.y : INFINITY;
-        float t_out = fmin(fmin(tx, ty), r->t_exit);
-        if (k == 0) {
-            float hit;
-            if (om_patch_hit(r, f, i, j, c0, d, t, t_out, &hit)) {
-                *t_hit = hit;
-                return om_ray_uv(r, hit);
-            }
-        } else {
-            int wk = P->hf_width >> k, hk = P->hf_height >> k;
-            float block_max = f->aux[offset[k] + om_wrap_index(J, hk) * wk + om_wrap_index(I, wk)];
-            f->fetches += 1u;
+    OmI cap = min((OmI)P->max_cells, 0x3fffffff / (2 * top + 2)) * (2 * top + 2);
+    OmF hit_t = r->t_exit;
+    OmI live = active, capped = 0;
+    for (int n = 0; OM_ANY(live); ++n) {
+        capped |= live & ((OmI)n >= cap);
+        live &= (OmI)n < cap;
+        OmI size = (OmI)1 << k;
+        OmI I = om_lane_block(i, k), J = om_lane_block(j, k);
+        OmI x_lo = I * size, y_lo = J * size;
+        OmI bx = OM_SEL(x_lo + size, x_lo, si < 0), by = OM_SEL(y_lo + size, y_lo, sj < 0);
+        OmF tx = OM_SEL((OmF)INFINITY, (cx - OM_TO_FLOAT(bx)) / dx, dx != 0.0f);
+        OmF ty = OM_SEL((OmF)INFINITY, (cy - OM_TO_FLOAT(by)) / dy, dy != 0.0f);
+        OmF t_out = fmin(fmin(tx, ty), r->t_exit);
+        // Level 0: solve the cell.
+        OmI cell = live & (k == 0);
+        if (OM_ANY(cell)) {
+            OmF th;
+            OmI hit = om_lane_patch_hit(r, f, i, j, cx, cy, dx, dy, t, t_out, cell, fetches,
+                                        &th OM_IMG_ARG);
+            hit_t = OM_SEL(hit_t, th, hit);
+            live &= !hit;
+        }
+        // Above level 0: the block's ceiling. Level k starts at sum over m < k of (W H / 4^m)
+        // floats from level 1 (sizes are divisible by 2^k at every level that exists).
+        OmI block = live & (k > 0);
+        OmI descend = 0;
+        if (OM_ANY(block)) {
+            OmI km = max(k - 1, 0), wk = (OmI)W >> k, hk = (OmI)H >> k;
+            OmI offset = ((OmI)W >> km) * ((OmI)H >> km) * (((OmI)1 << (2 * km)) - 1) / 3;
+            OmI idx = offset + om_lane_wrap(J, max(hk, 1)) * wk + om_lane_wrap(I, max(wk, 1));
+            OmF block_max = OM_GATHER(f->aux, OM_SEL((OmI)0, idx, block));
+            *fetches += OM_ONE(block);
             // The ray (z = -t V.z) is above the block's ceiling until t_ceiling.
-            float t_ceiling = -r->scale * (block_max - r->ref) / r->v.z;
-            if (t_ceiling < t_out) {
-                if (t_ceiling > t) {
-                    t = t_ceiling;
-                    i = om_cell_at(c0.x, d.x, t, x_lo, x_lo + size - 1);
-                    j = om_cell_at(c0.y, d.y, t, y_lo, y_lo + size - 1);
-                }
-                --k;  // the ray dips below the ceiling in this block: look closer
-                continue;
-            }
+            OmF t_ceiling = -r->scale * (block_max - r->ref) / r->vz;
+            descend = block & (t_ceiling < t_out);
+            OmI jump = descend & (t_ceiling > t);
+            t = OM_SEL(t, t_ceiling, jump);
+            i = OM_SEL(i, om_lane_cell_at(cx, dx, t, x_lo, x_lo + size - 1), jump);
+            j = OM_SEL(j, om_lane_cell_at(cy, dy, t, y_lo, y_lo + size - 1), jump);
+            k = OM_SEL(k, k - 1, descend);  // the ray dips below the ceiling: look closer
         }
         // Nothing here: leave the block through its exit face and look wider again.
-        if (t_out >= r->t_exit) break;
-        t = t_out;
-        if (tx <= ty) {
-            i = si < 0 ? x_lo - 1 : x_lo + size;
-            j = om_cell_at(c0.y, d.y, t, y_lo, y_lo + size - 1);
-        } else {
-            j = sj < 0 ? y_lo - 1 : y_lo + size;
-            i = om_cell_at(c0.x, d.x, t, x_lo, x_lo + size - 1);
-        }
+        OmI leave = live & !descend;
+        OmI end = leave & (t_out >= r->t_exit);
+        live &= !end;
+        leave &= !end;
+        t = OM_SEL(t, t_out, leave);
+        OmI along_x = tx <= ty;
+        OmI ni = OM_SEL(om_lane_cell_at(cx, dx, t, x_lo, x_lo + size - 1),
+                        OM_SEL(x_lo + size, x_lo - 1, si < 0), along_x);
+        OmI nj = OM_SEL(OM_SEL(y_lo + size, y_lo - 1, sj < 0),
+                        om_lane_cell_at(cy, dy, t, y_lo, y_lo + size - 1), along_x);
+        i = OM_SEL(i, ni, leave);
+        j = OM_SEL(j, nj, leave);
         // Climb only when the new cell lies in another parent block: the old parent's ceiling
         // was already found above the ray, so testing it again would only cost a fetch.
-        if (k < top && (om_block_index(i, k + 1) != om_block_index(I, 1) ||
-                        om_block_index(j, k + 1) != om_block_index(J, 1)))
-            ++k;
+        OmI climb = leave & (k < top) &
+                    (om_lane_block(i, k + 1) != om_lane_block(I, (OmI)1) ||
+                     om_lane_block(j, k + 1) != om_lane_block(J, (OmI)1));
+        k = OM_SEL(k, k + 1, climb);
     }
-    if (n == cap) *flags |= OM_FLAG_CAPPED;
-    *t_hit = r->t_exit;
-    return om_ray_uv(r, r->t_exit);
+    *flags |= OM_SEL((OmI)0, (OmI)OM_FLAG_CAPPED, capped);
+    *t_hit = hit_t;
+    *u_hit = r->u - hit_t * r->vx;
+    *v_hit = r->v - hit_t * r->vy;
 }

@@ -2,7 +2,6 @@
 // at grazing views: Tatarchuk's dynamic sampling rate; p[0] = n_min, p[1] = n_max), then the ray
 // intersected with the straight segment joining the last two height samples. Tatarchuk's V.N is
 // V.z here. Cost: at most n_max + 1 fetches.
-#define OM_LANE_METHOD
 void om_trace_lanes(const OmLaneRay* r, const OmLaneField* f, const OmOffsetParams* P, OmI active,
                     OmF* t_hit, OmF* u_hit, OmF* v_hit, OmI* fetches, OmI* flags OM_IMG_PARAM) {
     OmI n = om_lane_count(r, mix((OmF)P->p[1], (OmF)P->p[0], r->vz));

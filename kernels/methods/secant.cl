@@ -9,7 +9,6 @@
 // superlinearly. With m = 0 this is exactly pom.
 // The answer is the first evaluated point within tol of the relief, else the secant point of the
 // final bracket (free: no fetch). Cost: at most n + 1 + m fetches.
-#define OM_LANE_METHOD
 void om_trace_lanes(const OmLaneRay* r, const OmLaneField* f, const OmOffsetParams* P, OmI active,
                     OmF* t_hit, OmF* u_hit, OmF* v_hit, OmI* fetches, OmI* flags OM_IMG_PARAM) {
     OmI n = om_lane_count(r, mix((OmF)P->p[1], (OmF)P->p[0], r->vz));

@@ -124,8 +124,7 @@ class OffsetPass {
     const MethodInfo* method_;
     std::vector<float> params_;
     std::map<std::string, cl::Kernel> kernels_;
-    bool lane_method_ = false;  // the method file is a lane method (om_trace_lanes)
-    int lanes_ = 1;             // pixels per work-item: the runtime's for lane methods, else 1
+    int lanes_ = 1;  // pixels per work-item (the runtime's)
     cl::Image1DBuffer heights_image_;
     cl_mem image_of_ = nullptr;  // the height buffer heights_image_ views
     cl::Buffer aux_;
