@@ -145,43 +145,46 @@ struct Bench {
             passthrough_ns, kernel_gbps, memcpy_gbps, 100.0 * kernel_gbps / memcpy_gbps);
         json chain_rows = json::array();
         fetch_ns = 1e30;
-        // One pixel per work-item, then the runtime's lanes (the lane methods' form).
-        const int lanes = rt->lanes();
-        const std::string lane_defines = "#define OM_LANES " + std::to_string(lanes) + "\n";
-        cl::Program lane_prog = rt->program(roof_files, lane_defines);
-        const cl::NDRange lane_global((g.pixels() + lanes * 64 - 1) / (lanes * 64) * 64);
-        for (std::string kind : {"om_bench_fetch_chain", "om_bench_fetch_line",
-                                 "om_bench_fetch_chain_lanes", "om_bench_fetch_line_lanes"}) {
-            const bool in_lanes = kind.find("_lanes") != std::string::npos;
-            cl::Kernel k(in_lanes ? lane_prog : prog, kind.c_str());
-            k.setArg(0, params_for(field, n));
-            k.setArg(1, field.heights);
-            k.setArg(2, g.uv);
-            k.setArg(3, out);
-            k.setArg(4, n);
-            const bool dependent = kind.find("chain") != std::string::npos;
-            for (int len : {1, 8, 32, 128}) {
-                k.setArg(5, len);
-                Timing t = time_launches(
-                    [&] {
-                        if (!in_lanes) return run(k);
-                        cl::Event e;
-                        rt->queue().enqueueNDRangeKernel(k, cl::NullRange, lane_global, local,
-                                                         nullptr, &e);
-                        return e;
-                    },
-                    target_ms);
-                double per_fetch = (t.median_ms * 1e6 / n - passthrough_ns) / len;
-                if (len == 32) fetch_ns = std::min(fetch_ns, per_fetch);
-                std::printf("  %3d %-11s %-9s %8.3f ns/pixel  -> %6.3f ns per bilinear fetch\n",
-                            len, dependent ? "dependent" : "independent",
-                            in_lanes ? ("x" + std::to_string(lanes) + " lanes").c_str() : "1 pixel",
-                            t.median_ms * 1e6 / n, per_fetch);
-                chain_rows.push_back({{"fetches", len},
-                                      {"dependent", dependent},
-                                      {"lanes", in_lanes ? lanes : 1},
-                                      {"ns_per_pixel", t.median_ms * 1e6 / n},
-                                      {"ns_per_fetch", per_fetch}});
+        // One pixel per work-item, then the runtime's lanes (the methods' form), when it has more.
+        std::vector<int> lane_counts = {1};
+        if (rt->lanes() > 1) lane_counts.push_back(rt->lanes());
+        for (int lanes : lane_counts) {
+            cl::Program lane_prog =
+                lanes == 1
+                    ? prog
+                    : rt->program(roof_files, "#define OM_LANES " + std::to_string(lanes) + "\n");
+            const cl::NDRange lane_global((g.pixels() + lanes * 64 - 1) / (lanes * 64) * 64);
+            for (const char* kind : {"om_bench_fetch_chain", "om_bench_fetch_line"}) {
+                cl::Kernel k(lane_prog, kind);
+                k.setArg(0, params_for(field, n));
+                k.setArg(1, field.heights);
+                k.setArg(2, g.uv);
+                k.setArg(3, out);
+                k.setArg(4, n);
+                const bool dependent = std::string(kind) == "om_bench_fetch_chain";
+                for (int len : {1, 8, 32, 128}) {
+                    k.setArg(5, len);
+                    Timing t = time_launches(
+                        [&] {
+                            cl::Event e;
+                            rt->queue().enqueueNDRangeKernel(k, cl::NullRange, lane_global, local,
+                                                             nullptr, &e);
+                            return e;
+                        },
+                        target_ms);
+                    double per_fetch = (t.median_ms * 1e6 / n - passthrough_ns) / len;
+                    if (len == 32) fetch_ns = std::min(fetch_ns, per_fetch);
+                    std::printf(
+                        "  %3d %-11s %-9s %8.3f ns/pixel  -> %6.3f ns per bilinear fetch\n", len,
+                        dependent ? "dependent" : "independent",
+                        lanes > 1 ? ("x" + std::to_string(lanes) + " lanes").c_str() : "1 pixel",
+                        t.median_ms * 1e6 / n, per_fetch);
+                    chain_rows.push_back({{"fetches", len},
+                                          {"dependent", dependent},
+                                          {"lanes", lanes},
+                                          {"ns_per_pixel", t.median_ms * 1e6 / n},
+                                          {"ns_per_fetch", per_fetch}});
+                }
             }
         }
         out_json_roofline(res, n, kernel_gbps, memcpy_gbps, chain_rows);

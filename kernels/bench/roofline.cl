@@ -9,43 +9,13 @@ __kernel void om_bench_passthrough(__global const float2* uv, __global const flo
     out[i] = uv[i] + view[i].xy * 0.0f;
 }
 
-// `chain` dependent bilinear height fetches per pixel through the project's sampling layer: each
-// fetch's position depends on the previous height, as in a march, so none can be skipped or
-// hoisted. Time per fetch = (this - pass-through) / chain.
+// `chain` dependent bilinear height fetches per pixel through the methods' sampling layer, OM_LANES
+// pixels per work-item (lanes.h; 1 unless defined): each fetch's position depends on the previous
+// height, as in a march, so none can be skipped or hoisted. Time per fetch = (this - pass-through)
+// / chain.
 __kernel void om_bench_fetch_chain(const OmOffsetParams P, __global const float* heights,
-                                   __global const float2* uv, __global float2* out, int n,
+                                   __global const float* uv, __global float* out, int n,
                                    int chain) {
-    int i = get_global_id(0);
-    if (i >= n) return;
-    OmHeightField f = om_heightfield(heights, &P);
-    float2 p = uv[i];
-    for (int k = 0; k < chain; ++k) {
-        float h = om_height(&f, p);
-        p += (float2)(0.37f * h, 0.11f * h) / f.fw;
-    }
-    out[i] = p;
-}
-
-// `count` independent bilinear fetches per pixel along a line, as a linear search makes them: the
-// positions do not depend on earlier heights, so fetches can overlap. The faster of the two fetch
-// rates is the roof methods are measured against.
-__kernel void om_bench_fetch_line(const OmOffsetParams P, __global const float* heights,
-                                  __global const float2* uv, __global float2* out, int n,
-                                  int count) {
-    int i = get_global_id(0);
-    if (i >= n) return;
-    OmHeightField f = om_heightfield(heights, &P);
-    float2 p = uv[i], d = (float2)(0.61f, 0.29f) / f.fw;
-    float sum = 0.0f;
-    for (int k = 0; k < count; ++k) sum += om_height(&f, p + (float)k * d);
-    out[i] = p + sum * 0.0f;
-}
-
-// The same two microkernels with OM_LANES pixels per work-item through the lane sampling layer
-// (lanes.h), as the lane methods run; the roof is the faster of the two forms.
-__kernel void om_bench_fetch_chain_lanes(const OmOffsetParams P, __global const float* heights,
-                                         __global const float* uv, __global float* out, int n,
-                                         int chain) {
     OmI id = min((int)get_global_id(0) * OM_LANES + OM_LANE_IDS, n - 1);
     OmLaneField f = om_lane_field(heights, &P, (OmI)0);
     OmF u = OM_GATHER(uv, 2 * id), v = OM_GATHER(uv, 2 * id + 1);
@@ -62,9 +32,11 @@ __kernel void om_bench_fetch_chain_lanes(const OmOffsetParams P, __global const 
     }
 }
 
-__kernel void om_bench_fetch_line_lanes(const OmOffsetParams P, __global const float* heights,
-                                        __global const float* uv, __global float* out, int n,
-                                        int count) {
+// `count` independent bilinear fetches per pixel along a line, as a linear search makes them: the
+// positions do not depend on earlier heights, so fetches can overlap. The fastest fetch rate
+// measured is the roof methods are measured against.
+__kernel void om_bench_fetch_line(const OmOffsetParams P, __global const float* heights,
+                                  __global const float* uv, __global float* out, int n, int count) {
     OmI id = min((int)get_global_id(0) * OM_LANES + OM_LANE_IDS, n - 1);
     OmLaneField f = om_lane_field(heights, &P, (OmI)0);
     OmF u = OM_GATHER(uv, 2 * id), v = OM_GATHER(uv, 2 * id + 1);

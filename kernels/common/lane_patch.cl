@@ -26,19 +26,61 @@ inline OmF om_lane_first_root(OmF c0, OmF c1, OmF c2, OmF tmax, OmI active) {
     return root;
 }
 
+// A ray's walk over cells (the bilinear patches between texel centres), shared by `exact`, `cone`
+// and `maxmip`: c(t) = (cx, cy) - t (dx, dy) in cell coordinates (integer c is a texel centre);
+// si, sj the directions cell indices step in.
+typedef struct {
+    OmF cx, cy, dx, dy;
+    OmI si, sj;
+} OmLaneWalk;
+
+inline OmLaneWalk om_lane_walk(const OmLaneRay* r, const OmLaneField* f) {
+    OmLaneWalk w;
+    w.cx = clamp(r->u * f->fw - 0.5f, -1.0e8f, 1.0e8f);
+    w.cy = clamp(r->v * f->fh - 0.5f, -1.0e8f, 1.0e8f);
+    w.dx = r->vx * f->fw;
+    w.dy = r->vy * f->fh;
+    w.si = OM_SEL((OmI)1, (OmI)-1, w.dx > 0.0f);
+    w.sj = OM_SEL((OmI)1, (OmI)-1, w.dy > 0.0f);
+    return w;
+}
+
+// The cell holding the ray at t.
+inline void om_lane_walk_cell(const OmLaneWalk* w, OmF t, OmI* i, OmI* j) {
+    *i = OM_TO_INT(OM_LFLOOR(w->cx - t * w->dx));
+    *j = OM_TO_INT(OM_LFLOOR(w->cy - t * w->dy));
+}
+
+// Where the ray leaves the square of cells [x_lo, x_lo + size) x [y_lo, y_lo + size): through an
+// x face at tx, a y face at ty; returns the first of those and t_exit.
+inline OmF om_lane_walk_exit(const OmLaneWalk* w, OmI x_lo, OmI y_lo, OmI size, OmF t_exit, OmF* tx,
+                             OmF* ty) {
+    OmI bx = OM_SEL(x_lo + size, x_lo, w->si < 0), by = OM_SEL(y_lo + size, y_lo, w->sj < 0);
+    *tx = OM_SEL((OmF)INFINITY, (w->cx - OM_TO_FLOAT(bx)) / w->dx, w->dx != 0.0f);
+    *ty = OM_SEL((OmF)INFINITY, (w->cy - OM_TO_FLOAT(by)) / w->dy, w->dy != 0.0f);
+    return fmin(fmin(*tx, *ty), t_exit);
+}
+
+// Lanes in `step` move on to the neighbouring cell through the exit face found above.
+inline void om_lane_walk_step(const OmLaneWalk* w, OmI step, OmF tx, OmF ty, OmF t_out, OmF* t,
+                              OmI* i, OmI* j) {
+    *t = OM_SEL(*t, t_out, step);
+    *i = OM_SEL(*i, *i + w->si, step & (tx <= ty));
+    *j = OM_SEL(*j, *j + w->sj, step & !(tx <= ty));
+}
+
 // Whether each lane's ray is on or below bilinear patch (i, j) somewhere in [t, t_out], and the
-// first such t (t itself may be negative: the ray starts above the polygon when r < 1). c(t) = (cx,
-// cy) - t (dx, dy) in cell coordinates. Counts one fetch in the lanes of `active`; other lanes
-// return false.
-inline OmI om_lane_patch_hit(const OmLaneRay* r, const OmLaneField* f, OmI i, OmI j, OmF cx, OmF cy,
-                             OmF dx, OmF dy, OmF t, OmF t_out, OmI active, OmI* fetches,
+// first such t (t itself may be negative: the ray starts above the polygon when r < 1). Counts one
+// fetch in the lanes of `active`; other lanes return false.
+inline OmI om_lane_patch_hit(const OmLaneRay* r, const OmLaneField* f, const OmLaneWalk* w, OmI i,
+                             OmI j, OmF t, OmF t_out, OmI active, OmI* fetches,
                              OmF* t_hit OM_IMG_PARAM) {
     OmF k00, k10, k01, k11;
     om_lane_corners(f, i, j, &k00, &k10, &k01, &k11 OM_IMG_ARG);
     *fetches += OM_ONE(active);
     OmF e1 = k10 - k00, e2 = k01 - k00, e3 = k00 - k10 - k01 + k11;
-    OmF a = cx - t * dx - OM_TO_FLOAT(i), b = cy - t * dy - OM_TO_FLOAT(j);
-    OmF da = -dx, db = -dy, s = r->scale;
+    OmF a = w->cx - t * w->dx - OM_TO_FLOAT(i), b = w->cy - t * w->dy - OM_TO_FLOAT(j);
+    OmF da = -w->dx, db = -w->dy, s = r->scale;
     OmF h0 = k00 + e1 * a + e2 * b + e3 * a * b;
     // f(tau) = z(t + tau) - s (H(tau) - r), with z(t) = -t V.z.
     OmF q0 = -t * r->vz - s * (h0 - r->ref);

@@ -13,7 +13,9 @@ typedef struct {
     __global const float* aux;  // the method's precomputed data (cone map), or NULL
 } OmLaneField;
 
-// The field at each lane's mip level (clamped to the levels present), as om_heightfield_level.
+// The field at each lane's mip level, clamped to the levels present. Level k is max(1, W >> k) x
+// max(1, H >> k) texels stored after level k - 1; texel centres follow the same convention at every
+// level, so a level samples the same uv as level 0.
 inline OmLaneField om_lane_field(__global const float* h, const OmOffsetParams* P, OmI level) {
     OmLaneField f;
     f.h = h;
@@ -89,7 +91,8 @@ inline OmF om_lane_height(const OmLaneField* f, OmF u, OmF v, OmI active,
     return mix(mix(k00, k10, a), mix(k01, k11, a), b);
 }
 
-// Bilinear height and the patch's exact gradient (dH/du, dH/dv), as om_height_grad.
+// Bilinear height and its exact gradient (dH/du, dH/dv) on the patch: the gradient of the bilinear
+// surface itself, so slope methods follow the same relief that `exact` intersects.
 inline OmF om_lane_height_grad(const OmLaneField* f, OmF u, OmF v, OmI active, OmI* fetches,
                                OmF* gu, OmF* gv OM_IMG_PARAM) {
     OmF a, b, k00, k10, k01, k11;

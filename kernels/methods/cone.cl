@@ -41,23 +41,19 @@ inline void om_lane_cone_cell(const OmLaneField* f, const OmOffsetParams* P, OmI
 
 void om_trace_lanes(const OmLaneRay* r, const OmLaneField* f, const OmOffsetParams* P, OmI active,
                     OmF* t_hit, OmF* u_hit, OmF* v_hit, OmI* fetches, OmI* flags OM_IMG_PARAM) {
-    OmF cx = clamp(r->u * f->fw - 0.5f, -1.0e8f, 1.0e8f);
-    OmF cy = clamp(r->v * f->fh - 0.5f, -1.0e8f, 1.0e8f);
-    OmF dx = r->vx * f->fw, dy = r->vy * f->fh;
-    OmF across = sqrt(dx * dx + dy * dy), down = r->vz / r->scale;  // texels and H per unit t
+    OmLaneWalk w = om_lane_walk(r, f);
+    OmF across = sqrt(w.dx * w.dx + w.dy * w.dy), down = r->vz / r->scale;  // per unit t: texels, H
     OmF t = r->t_enter;
-    OmI i = OM_TO_INT(OM_LFLOOR(cx - t * dx)), j = OM_TO_INT(OM_LFLOOR(cy - t * dy));
-    OmI si = OM_SEL((OmI)1, (OmI)-1, dx > 0.0f), sj = OM_SEL((OmI)1, (OmI)-1, dy > 0.0f);
+    OmI i, j;
+    om_lane_walk_cell(&w, t, &i, &j);
     // The cone map is built from level 0: under LOD (a coarser level) walk cells like `exact`.
     OmI cones = f->level == 0;
     OmF hit_t = r->t_exit;
     OmI done = !active;
     for (int n = 0; n < P->max_cells && OM_ANY(!done); ++n) {
         OmI live = !done;
-        OmI bi = OM_SEL(i + 1, i, si < 0), bj = OM_SEL(j + 1, j, sj < 0);
-        OmF tx = OM_SEL((OmF)INFINITY, (cx - OM_TO_FLOAT(bi)) / dx, dx != 0.0f);
-        OmF ty = OM_SEL((OmF)INFINITY, (cy - OM_TO_FLOAT(bj)) / dy, dy != 0.0f);
-        OmF t_out = fmin(fmin(tx, ty), r->t_exit);
+        OmF tx, ty;
+        OmF t_out = om_lane_walk_exit(&w, i, j, (OmI)1, r->t_exit, &tx, &ty);
         OmF hc, c;
         om_lane_cone_cell(f, P, i, j, &hc, &c OM_IMG_ARG);
         *fetches += OM_ONE(live & cones);
@@ -66,8 +62,7 @@ void om_trace_lanes(const OmLaneRay* r, const OmLaneField* f, const OmOffsetPara
         OmI below = live & (r->ref - t_out * down < hc);
         if (OM_ANY(below)) {
             OmF th;
-            OmI hit = om_lane_patch_hit(r, f, i, j, cx, cy, dx, dy, t, t_out, below, fetches,
-                                        &th OM_IMG_ARG);
+            OmI hit = om_lane_patch_hit(r, f, &w, i, j, t, t_out, below, fetches, &th OM_IMG_ARG);
             hit_t = OM_SEL(hit_t, th, hit);
             done |= hit;
             live &= !hit;
@@ -78,8 +73,8 @@ void om_trace_lanes(const OmLaneRay* r, const OmLaneField* f, const OmOffsetPara
         OmI past = jump & (t_cone >= r->t_exit);  // leaves the slab above the relief: no hit
         done |= past;
         jump &= !past;
-        OmI ni = OM_TO_INT(OM_LFLOOR(cx - t_cone * dx)),
-            nj = OM_TO_INT(OM_LFLOOR(cy - t_cone * dy));
+        OmI ni, nj;
+        om_lane_walk_cell(&w, t_cone, &ni, &nj);
         jump &= ni != i || nj != j;  // rounding can leave it in this cell: step normally
         t = OM_SEL(t, t_cone, jump);
         i = OM_SEL(i, ni, jump);
@@ -88,10 +83,7 @@ void om_trace_lanes(const OmLaneRay* r, const OmLaneField* f, const OmOffsetPara
         OmI step = live & !past & !jump;
         OmI end = step & (t_out >= r->t_exit);
         done |= end;
-        step &= !end;
-        t = OM_SEL(t, t_out, step);
-        i = OM_SEL(i, i + si, step & (tx <= ty));
-        j = OM_SEL(j, j + sj, step & !(tx <= ty));
+        om_lane_walk_step(&w, step & !end, tx, ty, t_out, &t, &i, &j);
     }
     // Lanes still walking ran out of cells.
     *flags |= OM_SEL((OmI)0, (OmI)OM_FLAG_CAPPED, !done);

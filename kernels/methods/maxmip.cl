@@ -35,16 +35,14 @@ void om_trace_lanes(const OmLaneRay* r, const OmLaneField* f, const OmOffsetPara
                     OmF* t_hit, OmF* u_hit, OmF* v_hit, OmI* fetches, OmI* flags OM_IMG_PARAM) {
     const int W = P->hf_width, H = P->hf_height;
     OmI top = OM_SEL((OmI)0, (OmI)min(om_maxmip_levels(P), (int)P->p[0]), f->level == 0);
-    OmF cx = clamp(r->u * f->fw - 0.5f, -1.0e8f, 1.0e8f);
-    OmF cy = clamp(r->v * f->fh - 0.5f, -1.0e8f, 1.0e8f);
-    OmF dx = r->vx * f->fw, dy = r->vy * f->fh;
+    OmLaneWalk w = om_lane_walk(r, f);
     // Blocks wider than the ray's whole footprint cannot be skipped more cheaply than walked: the
     // walk starts at, and never climbs past, the level of the footprint's length in cells.
-    OmF span = (r->t_exit - r->t_enter) * fmax(fabs(dx), fabs(dy));
+    OmF span = (r->t_exit - r->t_enter) * fmax(fabs(w.dx), fabs(w.dy));
     top = min(top, OM_SEL((OmI)0, OM_TO_INT(ceil(log2(span))), span > 1.0f));
-    OmI si = OM_SEL((OmI)1, (OmI)-1, dx > 0.0f), sj = OM_SEL((OmI)1, (OmI)-1, dy > 0.0f);
     OmF t = r->t_enter;
-    OmI i = OM_TO_INT(OM_LFLOOR(cx - t * dx)), j = OM_TO_INT(OM_LFLOOR(cy - t * dy));
+    OmI i, j;
+    om_lane_walk_cell(&w, t, &i, &j);
     OmI k = top;
     // Each step descends a level or leaves a block: bounded by the cells crossed times the levels.
     OmI cap = min((OmI)P->max_cells, 0x3fffffff / (2 * top + 2)) * (2 * top + 2);
@@ -56,16 +54,13 @@ void om_trace_lanes(const OmLaneRay* r, const OmLaneField* f, const OmOffsetPara
         OmI size = (OmI)1 << k;
         OmI I = om_lane_block(i, k), J = om_lane_block(j, k);
         OmI x_lo = I * size, y_lo = J * size;
-        OmI bx = OM_SEL(x_lo + size, x_lo, si < 0), by = OM_SEL(y_lo + size, y_lo, sj < 0);
-        OmF tx = OM_SEL((OmF)INFINITY, (cx - OM_TO_FLOAT(bx)) / dx, dx != 0.0f);
-        OmF ty = OM_SEL((OmF)INFINITY, (cy - OM_TO_FLOAT(by)) / dy, dy != 0.0f);
-        OmF t_out = fmin(fmin(tx, ty), r->t_exit);
+        OmF tx, ty;
+        OmF t_out = om_lane_walk_exit(&w, x_lo, y_lo, size, r->t_exit, &tx, &ty);
         // Level 0: solve the cell.
         OmI cell = live & (k == 0);
         if (OM_ANY(cell)) {
             OmF th;
-            OmI hit = om_lane_patch_hit(r, f, i, j, cx, cy, dx, dy, t, t_out, cell, fetches,
-                                        &th OM_IMG_ARG);
+            OmI hit = om_lane_patch_hit(r, f, &w, i, j, t, t_out, cell, fetches, &th OM_IMG_ARG);
             hit_t = OM_SEL(hit_t, th, hit);
             live &= !hit;
         }
@@ -84,8 +79,8 @@ void om_trace_lanes(const OmLaneRay* r, const OmLaneField* f, const OmOffsetPara
             descend = block & (t_ceiling < t_out);
             OmI jump = descend & (t_ceiling > t);
             t = OM_SEL(t, t_ceiling, jump);
-            i = OM_SEL(i, om_lane_cell_at(cx, dx, t, x_lo, x_lo + size - 1), jump);
-            j = OM_SEL(j, om_lane_cell_at(cy, dy, t, y_lo, y_lo + size - 1), jump);
+            i = OM_SEL(i, om_lane_cell_at(w.cx, w.dx, t, x_lo, x_lo + size - 1), jump);
+            j = OM_SEL(j, om_lane_cell_at(w.cy, w.dy, t, y_lo, y_lo + size - 1), jump);
             k = OM_SEL(k, k - 1, descend);  // the ray dips below the ceiling: look closer
         }
         // Nothing here: leave the block through its exit face and look wider again.
@@ -95,10 +90,10 @@ void om_trace_lanes(const OmLaneRay* r, const OmLaneField* f, const OmOffsetPara
         leave &= !end;
         t = OM_SEL(t, t_out, leave);
         OmI along_x = tx <= ty;
-        OmI ni = OM_SEL(om_lane_cell_at(cx, dx, t, x_lo, x_lo + size - 1),
-                        OM_SEL(x_lo + size, x_lo - 1, si < 0), along_x);
-        OmI nj = OM_SEL(OM_SEL(y_lo + size, y_lo - 1, sj < 0),
-                        om_lane_cell_at(cy, dy, t, y_lo, y_lo + size - 1), along_x);
+        OmI ni = OM_SEL(om_lane_cell_at(w.cx, w.dx, t, x_lo, x_lo + size - 1),
+                        OM_SEL(x_lo + size, x_lo - 1, w.si < 0), along_x);
+        OmI nj = OM_SEL(OM_SEL(y_lo + size, y_lo - 1, w.sj < 0),
+                        om_lane_cell_at(w.cy, w.dy, t, y_lo, y_lo + size - 1), along_x);
         i = OM_SEL(i, ni, leave);
         j = OM_SEL(j, nj, leave);
         // Climb only when the new cell lies in another parent block: the old parent's ceiling
