@@ -16,7 +16,8 @@ struct Case {
 };
 
 void compare_with_oracle(const HeightMap& map, const char* name, float scale, float ref,
-                         double min_elev, AddressMode address, const std::string& method = "exact") {
+                         double min_elev, AddressMode address,
+                         const std::string& method = "exact") {
     PassSettings s;
     s.scale = scale;
     s.reference_plane = ref;
@@ -30,7 +31,8 @@ void compare_with_oracle(const HeightMap& map, const char* name, float scale, fl
         double V[3] = {gb.view[k].s[0], gb.view[k].s[1], gb.view[k].s[2]};
         PreparedRay pr = prepare_ray(gb.uv[k].s[0], gb.uv[k].s[1], V, s);
         ExactHit o = exact_hit(map, pr.u, pr.v, pr.V, s);
-        double e = std::hypot((res.uv[k].s[0] - o.u) * map.width, (res.uv[k].s[1] - o.v) * map.height);
+        double e =
+            std::hypot((res.uv[k].s[0] - o.u) * map.width, (res.uv[k].s[1] - o.v) * map.height);
         if (e > worst) worst = e, worst_k = k;
         ASSERT_NEAR(res.depth[k], o.t, 1e-4 * std::max(1.0, std::fabs(o.t))) << name << " " << k;
     }
@@ -39,42 +41,57 @@ void compare_with_oracle(const HeightMap& map, const char* name, float scale, fl
     EXPECT_LE(worst, 1e-3) << name << " s=" << scale << " r=" << ref << " worst pixel " << worst_k;
 }
 
-TEST(ExactOracle, AgreesOnRandomRaysDownTo5Degrees) {
-    std::vector<Case> cases = {{"smooth", smooth_map(64)}, {"noisy", noisy_map(64)},
-                               {"cliffs", cliff_map(64)}};
+// 48 x 20: non-square, not a power of two, 20 not a multiple of 8.
+HeightMap nonsquare_map() {
+    return make_map(48, 20, [](int i, int j) {
+        return static_cast<float>(0.5 + 0.45 * std::sin(0.7 * i) * std::cos(0.9 * j));
+    });
+}
+
+// A method that ends in exact's patch solve (maxmip, cone), held to exact's bound: smooth, noisy
+// and cliff maps at both scales and reference planes, plus `extra` maps, wrapped; the non-square
+// map wrapped and clamped.
+void agrees_like_exact(const std::string& method, std::vector<Case> extra = {}) {
+    std::vector<Case> cases = {{"smooth", smooth_map(64)},
+                               {"noisy", noisy_map(64)},
+                               {"cliffs", cliff_map(64)},
+                               {"noisy-256", noisy_map(256, 9)}};
+    for (auto& c : extra) cases.push_back(std::move(c));
     for (const auto& c : cases)
         for (float scale : {0.05f, 0.2f})
-            for (float ref : {1.0f, 0.6f}) compare_with_oracle(c.map, c.name, scale, ref, 5.0, AddressMode::Wrap);
+            for (float ref : {1.0f, 0.6f})
+                compare_with_oracle(c.map, c.name, scale, ref, 5.0, AddressMode::Wrap, method);
+    HeightMap m = nonsquare_map();
+    compare_with_oracle(m, "nonsquare-wrap", 0.1f, 0.8f, 5.0, AddressMode::Wrap, method);
+    compare_with_oracle(m, "nonsquare-clamp", 0.1f, 1.0f, 5.0, AddressMode::Clamp, method);
+}
+
+TEST(ExactOracle, AgreesOnRandomRaysDownTo5Degrees) {
+    std::vector<Case> cases = {
+        {"smooth", smooth_map(64)}, {"noisy", noisy_map(64)}, {"cliffs", cliff_map(64)}};
+    for (const auto& c : cases)
+        for (float scale : {0.05f, 0.2f})
+            for (float ref : {1.0f, 0.6f})
+                compare_with_oracle(c.map, c.name, scale, ref, 5.0, AddressMode::Wrap);
 }
 
 TEST(ExactOracle, AgreesWithClampAddressingAndNonSquareMaps) {
-    HeightMap m = make_map(48, 20, [](int i, int j) {
-        return static_cast<float>(0.5 + 0.45 * std::sin(0.7 * i) * std::cos(0.9 * j));
-    });
+    HeightMap m = nonsquare_map();
     compare_with_oracle(m, "nonsquare-clamp", 0.1f, 1.0f, 5.0, AddressMode::Clamp);
     compare_with_oracle(m, "nonsquare-wrap", 0.1f, 0.8f, 5.0, AddressMode::Wrap);
 }
 
 TEST(MaxMip, AgreesWithTheOracleLikeExact) {
     // The same bound as exact: maxmip ends in the same patch solve; its skips are exact decisions.
-    std::vector<Case> cases = {{"smooth", smooth_map(64)}, {"noisy", noisy_map(64)},
-                               {"cliffs", cliff_map(64)}, {"noisy-256", noisy_map(256, 9)}};
-    for (const auto& c : cases)
-        for (float scale : {0.05f, 0.2f})
-            for (float ref : {1.0f, 0.6f})
-                compare_with_oracle(c.map, c.name, scale, ref, 5.0, AddressMode::Wrap, "maxmip");
-    // Non-power-of-two (48 x 20: two levels) and clamp addressing (no hierarchy).
-    HeightMap m = make_map(48, 20, [](int i, int j) {
-        return static_cast<float>(0.5 + 0.45 * std::sin(0.7 * i) * std::cos(0.9 * j));
-    });
-    compare_with_oracle(m, "nonsquare-wrap", 0.1f, 0.8f, 5.0, AddressMode::Wrap, "maxmip");
-    compare_with_oracle(m, "nonsquare-clamp", 0.1f, 1.0f, 5.0, AddressMode::Clamp, "maxmip");
+    // 48 x 20 has two levels; clamp addressing has no hierarchy.
+    agrees_like_exact("maxmip");
 }
 
 TEST(MaxMip, LevelZeroIsExactAndTheHierarchySavesFetchesOnLongRays) {
     // Long traversals (smooth relief, grazing views, large s) are where a max pyramid pays: blocks
     // above the ray are skipped whole. On noise every block's maximum is near 1 and rays hit
-    // within a few cells, so the walk costs a little more than exact's DDA (reported, not asserted).
+    // within a few cells, so the walk costs a little more than exact's DDA (reported, not
+    // asserted).
     PassSettings s;
     s.scale = 0.1f;
     GBuffer grazing = make_scene(RandomScene{64, 64, 31, 5.0, 30.0});
@@ -90,9 +107,11 @@ TEST(MaxMip, LevelZeroIsExactAndTheHierarchySavesFetchesOnLongRays) {
     auto [flat, ff] = fetches(smooth, "maxmip", {{"max_level", "0"}});
     auto [mm, fm] = fetches(smooth, "maxmip");
     for (size_t k = 0; k < grazing.pixels(); ++k)
-        ASSERT_EQ(std::memcmp(&flat.uv[k], &ex.uv[k], sizeof(cl_float2)), 0) << "level 0 is exact, pixel " << k;
+        ASSERT_EQ(std::memcmp(&flat.uv[k], &ex.uv[k], sizeof(cl_float2)), 0)
+            << "level 0 is exact, pixel " << k;
     EXPECT_EQ(ff, fe);
-    std::printf("fetches per pixel, 256^2 smooth map, 5-30 deg, s = 0.1: exact %.1f, maxmip %.1f\n", fe, fm);
+    std::printf("fetches per pixel, 256^2 smooth map, 5-30 deg, s = 0.1: exact %.1f, maxmip %.1f\n",
+                fe, fm);
     EXPECT_LT(fm, 0.5 * fe);
     auto [nex, nfe] = fetches(noise, "exact");
     auto [nmm, nfm] = fetches(noise, "maxmip");
@@ -101,22 +120,11 @@ TEST(MaxMip, LevelZeroIsExactAndTheHierarchySavesFetchesOnLongRays) {
 
 TEST(Cone, AgreesWithTheOracleLikeExact) {
     // The same bound as exact: cone ends in the same patch solve, and its cone steps never cross
-    // relief, so a skipped thin feature would show up here as a wrong hit.
-    std::vector<Case> cases = {{"smooth", smooth_map(64)}, {"noisy", noisy_map(64)},
-                               {"cliffs", cliff_map(64)}, {"noisy-256", noisy_map(256, 9)},
-                               {"spikes", make_map(64, 64, [](int i, int j) {
+    // relief, so a skipped thin feature would show up here as a wrong hit. On 48 x 20 (wrap) block
+    // maxima do not tile (20 % 8), so the build visits every cell in reach.
+    agrees_like_exact("cone", {{"spikes", make_map(64, 64, [](int i, int j) {
                                     return (i % 7 == 3 && j % 5 == 1) ? 1.0f : 0.05f;
-                                })}};
-    for (const auto& c : cases)
-        for (float scale : {0.05f, 0.2f})
-            for (float ref : {1.0f, 0.6f})
-                compare_with_oracle(c.map, c.name, scale, ref, 5.0, AddressMode::Wrap, "cone");
-    // 48 x 20 wrap: block maxima do not tile (20 % 8), so the build visits every cell in reach.
-    HeightMap m = make_map(48, 20, [](int i, int j) {
-        return static_cast<float>(0.5 + 0.45 * std::sin(0.7 * i) * std::cos(0.9 * j));
-    });
-    compare_with_oracle(m, "nonsquare-wrap", 0.1f, 0.8f, 5.0, AddressMode::Wrap, "cone");
-    compare_with_oracle(m, "nonsquare-clamp", 0.1f, 1.0f, 5.0, AddressMode::Clamp, "cone");
+                                })}});
 }
 
 // The bilinear relief of `map` at texel-space point (x, y) (integer = texel centre), wrapped.
@@ -128,7 +136,8 @@ double bilinear_wrap(const HeightMap& map, double x, double y) {
         return static_cast<double>(map.h[j * map.width + i]);
     };
     long i = static_cast<long>(fx), j = static_cast<long>(fy);
-    return (1 - b) * ((1 - a) * at(i, j) + a * at(i + 1, j)) + b * ((1 - a) * at(i, j + 1) + a * at(i + 1, j + 1));
+    return (1 - b) * ((1 - a) * at(i, j) + a * at(i + 1, j)) +
+           b * ((1 - a) * at(i, j + 1) + a * at(i + 1, j + 1));
 }
 
 TEST(Cone, MapHoldsNoReliefInsideAnyCellConeAndIsNotLooser) {
@@ -147,7 +156,8 @@ TEST(Cone, MapHoldsNoReliefInsideAnyCellConeAndIsNotLooser) {
     pass.prepare(f, s);
     EXPECT_EQ(pass.precomputed().bytes, 2u * n * n * sizeof(float));
     std::vector<float> cone(2 * n * n);
-    rt->queue().enqueueReadBuffer(pass.precomputed_buffer(), CL_TRUE, 0, cone.size() * sizeof(float), cone.data());
+    rt->queue().enqueueReadBuffer(pass.precomputed_buffer(), CL_TRUE, 0,
+                                  cone.size() * sizeof(float), cone.data());
     double loosest = 0.0;
     for (int j = 0; j < n; ++j) {
         for (int i = 0; i < n; ++i) {
@@ -158,7 +168,8 @@ TEST(Cone, MapHoldsNoReliefInsideAnyCellConeAndIsNotLooser) {
             for (int sy = 4 * (j - reach); sy <= 4 * (j + reach + 1); ++sy) {
                 for (int sx = 4 * (i - reach); sx <= 4 * (i + reach + 1); ++sx) {
                     const double x = sx / 4.0, y = sy / 4.0, h = bilinear_wrap(map, x, y);
-                    const double gx = std::max({i - x, x - (i + 1), 0.0}), gy = std::max({j - y, y - (j + 1), 0.0});
+                    const double gx = std::max({i - x, x - (i + 1), 0.0}),
+                                 gy = std::max({j - y, y - (j + 1), 0.0});
                     if (gx == 0.0 && gy == 0.0) {
                         ASSERT_LE(h, hc + 1e-6) << "cell " << i << "," << j;
                         continue;
@@ -187,12 +198,15 @@ TEST(Cone, SavesFetchesOverExactOnLongRays) {
         return sum / grazing.pixels();
     };
     HeightMap smooth = smooth_map(256), noise = noisy_map(256, 4);
-    const double fe = fetches(smooth, "exact"), fm = fetches(smooth, "maxmip"), fc = fetches(smooth, "cone");
-    std::printf("fetches per pixel, 256^2 smooth map, 5-30 deg, s = 0.1: exact %.1f, maxmip %.1f, cone %.1f\n",
-                fe, fm, fc);
+    const double fe = fetches(smooth, "exact"), fm = fetches(smooth, "maxmip"),
+                 fc = fetches(smooth, "cone");
+    std::printf(
+        "fetches per pixel, 256^2 smooth map, 5-30 deg, s = 0.1: exact %.1f, maxmip %.1f, cone "
+        "%.1f\n",
+        fe, fm, fc);
     EXPECT_LT(fc, 0.5 * fe);
-    std::printf("fetches per pixel, 256^2 noise: exact %.1f, maxmip %.1f, cone %.1f\n", fetches(noise, "exact"),
-                fetches(noise, "maxmip"), fetches(noise, "cone"));
+    std::printf("fetches per pixel, 256^2 noise: exact %.1f, maxmip %.1f, cone %.1f\n",
+                fetches(noise, "exact"), fetches(noise, "maxmip"), fetches(noise, "cone"));
 }
 
 TEST(ExactOracle, OracleMatchesBruteForceMarch) {
@@ -206,7 +220,9 @@ TEST(ExactOracle, OracleMatchesBruteForceMarch) {
         PreparedRay pr = prepare_ray(gb.uv[k].s[0], gb.uv[k].s[1], V, s);
         ExactHit o = exact_hit(m, pr.u, pr.v, pr.V, s);
         auto gap = [&](double t) {
-            return -t * pr.V[2] - s.scale * (bilinear_height(m, pr.u - t * pr.V[0], pr.v - t * pr.V[1], s.address) - 1.0);
+            return -t * pr.V[2] - s.scale * (bilinear_height(m, pr.u - t * pr.V[0],
+                                                             pr.v - t * pr.V[1], s.address) -
+                                             1.0);
         };
         double t1 = s.scale / pr.V[2], dt = t1 / 20000, t = 0;
         while (t < t1 && gap(t + dt) > 0) t += dt;
