@@ -18,47 +18,35 @@
 
 // Pixel ids base .. base + OM_LANES - 1; the last work-item may hold fewer than OM_LANES pixels:
 // its loads repeat the last pixel and its stores stop at pixel_count.
+// OM_STORE writes lanes of element type T (float, or int for the uint outputs: same bits).
 #if OM_LANES == 1
 #define OM_LOAD_F(dst, p, base, n) dst = (p)[base]
-#define OM_STORE_F(src, p, base, n) (p)[base] = (src)
-#define OM_STORE_I(src, p, base, n) (p)[base] = (uint)(src)
+#define OM_STORE(src, T, p, base, n) ((__global T*)(p))[base] = (src)
 #else
+#if OM_LANES == 8
+#define OM_VLOAD(p) vload8(0, p)
+#define OM_VSTORE(v, p) vstore8(v, 0, p)
+#else
+#define OM_VLOAD(p) vload16(0, p)
+#define OM_VSTORE(v, p) vstore16(v, 0, p)
+#endif
 #define OM_LOAD_F(dst, p, base, n)                                                     \
     do {                                                                               \
         float tmp_[OM_LANES];                                                          \
         for (int k_ = 0; k_ < OM_LANES; ++k_) tmp_[k_] = (p)[min((base) + k_, (n)-1)]; \
         dst = OM_VLOAD(tmp_);                                                          \
     } while (0)
-#define OM_STORE_F(src, p, base, n)                                                             \
-    do {                                                                                        \
-        if ((base) + OM_LANES <= (n)) {                                                         \
-            OM_VSTORE(src, (p) + (base));                                                       \
-            break;                                                                              \
-        }                                                                                       \
-        float tmp_[OM_LANES];                                                                   \
-        OM_VSTORE(src, tmp_);                                                                   \
-        for (int k_ = 0; k_ < OM_LANES && (base) + k_ < (n); ++k_) (p)[(base) + k_] = tmp_[k_]; \
+#define OM_STORE(src, T, p, base, n)                                                  \
+    do {                                                                              \
+        __global T* d_ = (__global T*)(p) + (base);                                   \
+        if ((base) + OM_LANES <= (n)) {                                               \
+            OM_VSTORE(src, d_);                                                       \
+            break;                                                                    \
+        }                                                                             \
+        T tmp_[OM_LANES];                                                             \
+        OM_VSTORE(src, tmp_);                                                         \
+        for (int k_ = 0; k_ < OM_LANES && (base) + k_ < (n); ++k_) d_[k_] = tmp_[k_]; \
     } while (0)
-#define OM_STORE_I(src, p, base, n)                                \
-    do {                                                           \
-        if ((base) + OM_LANES <= (n)) {                            \
-            OM_VSTORE_I(src, (__global int*)(p) + (base));         \
-            break;                                                 \
-        }                                                          \
-        int tmp_[OM_LANES];                                        \
-        OM_VSTORE_I(src, tmp_);                                    \
-        for (int k_ = 0; k_ < OM_LANES && (base) + k_ < (n); ++k_) \
-            (p)[(base) + k_] = (uint)tmp_[k_];                     \
-    } while (0)
-#if OM_LANES == 8
-#define OM_VLOAD(p) vload8(0, p)
-#define OM_VSTORE(v, p) vstore8(v, 0, p)
-#define OM_VSTORE_I(v, p) vstore8(v, 0, p)
-#else
-#define OM_VLOAD(p) vload16(0, p)
-#define OM_VSTORE(v, p) vstore16(v, 0, p)
-#define OM_VSTORE_I(v, p) vstore16(v, 0, p)
-#endif
 
 // A full work-item's G-buffer (interleaved uv and view) split into planes with vector loads and
 // shuffles, and its uv' interleaved back. Works on global or private memory (generic macros).
@@ -191,12 +179,12 @@ __kernel void om_offset(const OmOffsetParams P, __global const float2* gb_uv2,
     }
 #endif
 #ifdef OM_OUT_DEPTH
-    OM_STORE_F(t, out_depth, base, n);
+    OM_STORE(t, float, out_depth, base, n);
 #endif
 #ifdef OM_OUT_FETCHES
-    OM_STORE_I(fetches, out_fetches, base, n);
+    OM_STORE(fetches, int, out_fetches, base, n);
 #endif
 #ifdef OM_OUT_FLAGS
-    OM_STORE_I(flags, out_flags, base, n);
+    OM_STORE(flags, int, out_flags, base, n);
 #endif
 }

@@ -18,7 +18,6 @@ typedef int OmI;
 #define OM_TO_FLOAT(x) ((float)(x))
 #define OM_LFLOOR(x) om_floor(x)
 #define OM_GATHER(p, i) ((p)[i])
-#define OM_HMAX(x) (x)
 #define OM_LANE_IDS 0
 #elif OM_LANES == 8
 typedef float8 OmF;
@@ -31,9 +30,6 @@ typedef int8 OmI;
 #define OM_GATHER(p, i)                                                                     \
     ((float8)((p)[(i).s0], (p)[(i).s1], (p)[(i).s2], (p)[(i).s3], (p)[(i).s4], (p)[(i).s5], \
               (p)[(i).s6], (p)[(i).s7]))
-#define OM_HMAX(x)                                     \
-    max(max(max((x).s0, (x).s1), max((x).s2, (x).s3)), \
-        max(max((x).s4, (x).s5), max((x).s6, (x).s7)))
 #define OM_LANE_IDS ((int8)(0, 1, 2, 3, 4, 5, 6, 7))
 #elif OM_LANES == 16
 typedef float16 OmF;
@@ -47,10 +43,6 @@ typedef int16 OmI;
     ((float16)((p)[(i).s0], (p)[(i).s1], (p)[(i).s2], (p)[(i).s3], (p)[(i).s4], (p)[(i).s5], \
                (p)[(i).s6], (p)[(i).s7], (p)[(i).s8], (p)[(i).s9], (p)[(i).sa], (p)[(i).sb], \
                (p)[(i).sc], (p)[(i).sd], (p)[(i).se], (p)[(i).sf]))
-#define OM_HMAX(x) max(OM_HMAX8((x).lo), OM_HMAX8((x).hi))
-#define OM_HMAX8(x)                                    \
-    max(max(max((x).s0, (x).s1), max((x).s2, (x).s3)), \
-        max(max((x).s4, (x).s5), max((x).s6, (x).s7)))
 #define OM_LANE_IDS ((int16)(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15))
 #else
 #error "OM_LANES must be 1, 8 or 16"
