@@ -362,8 +362,10 @@ double OffsetPass::build_cone_map(const DeviceHeightField& f, const PassSettings
 const cl::Image1DBuffer& OffsetPass::heights_image(const DeviceHeightField& f) {
     if (image_of_ != f.heights()) {
         const size_t floats = f.heights.getInfo<CL_MEM_SIZE>() / sizeof(float);
-        heights_image_ = cl::Image1DBuffer(runtime_->context(), CL_MEM_READ_ONLY,
-                                           cl::ImageFormat(CL_R, CL_FLOAT), floats, f.heights);
+        heights_image_ = floats <= runtime_->device().getInfo<CL_DEVICE_IMAGE_MAX_BUFFER_SIZE>()
+                             ? cl::Image1DBuffer(runtime_->context(), CL_MEM_READ_ONLY,
+                                                 cl::ImageFormat(CL_R, CL_FLOAT), floats, f.heights)
+                             : cl::Image1DBuffer();
         image_of_ = f.heights();
     }
     return heights_image_;
@@ -404,9 +406,7 @@ cl::Event OffsetPass::enqueue(const DeviceGBuffer& g, const DeviceHeightField& f
     p.mip_levels = f.mip_levels;
     std::copy(params_.begin(), params_.end(), p.p);
     // The image path where the runtime wants it and the pyramid fits an image1d_buffer.
-    const size_t floats = f.heights.getInfo<CL_MEM_SIZE>() / sizeof(float);
-    const bool images = runtime_->images() &&
-                        floats <= runtime_->device().getInfo<CL_DEVICE_IMAGE_MAX_BUFFER_SIZE>();
+    const bool images = runtime_->images() && heights_image(f)() != nullptr;
     cl::Kernel& k = kernel(settings.lod.enabled, t.depth() != nullptr, t.fetches() != nullptr,
                            t.flags() != nullptr, images);
     k.setArg(0, p);

@@ -117,7 +117,8 @@ class OffsetPass {
 
     // The entry kernel specialised for LOD on/off and the optional outputs bound.
     cl::Kernel& kernel(bool lod, bool depth, bool fetches, bool flags, bool images);
-    // An image1d_buffer view of the field's height pyramid (the image path), made once per field.
+    // An image1d_buffer view of the field's height pyramid (the image path), made once per field;
+    // a null image when the pyramid is larger than the device's image buffers allow.
     const cl::Image1DBuffer& heights_image(const DeviceHeightField& f);
 
     std::shared_ptr<Runtime> runtime_;
