@@ -119,8 +119,8 @@ struct Bench {
         DeviceGBuffer g = upload(*rt, gb);
         const int n = static_cast<int>(g.pixels());
         cl::Buffer out(rt->context(), CL_MEM_WRITE_ONLY, g.pixels() * sizeof(cl_float2));
-        const std::vector<std::string> roof_files = {
-            "common/sampling.cl", "common/lanes.h", "common/lane_sampling.cl", "bench/roofline.cl"};
+        const std::vector<std::string> roof_files = {"common/lanes.h", "common/lane_sampling.cl",
+                                                     "bench/roofline.cl"};
         cl::Program prog = rt->program(roof_files);
         cl::Kernel pass(prog, "om_bench_passthrough");
         pass.setArg(0, g.uv);

@@ -3,8 +3,8 @@
 
 inline float4 om_fetch4(__global const float4* img, int w, int h, int wrap, int i, int j) {
     if (wrap) {
-        i = om_wrap_index(i, w);
-        j = om_wrap_index(j, h);
+        i = om_lane_wrap(i, w);
+        j = om_lane_wrap(j, h);
     } else {
         i = clamp(i, 0, w - 1);
         j = clamp(j, 0, h - 1);
@@ -15,12 +15,14 @@ inline float4 om_fetch4(__global const float4* img, int w, int h, int wrap, int 
 // Bilinear, texel centres at (i + 0.5) / W as for heights.
 inline float4 om_sample4(__global const float4* img, int w, int h, int wrap, float2 uv) {
     if (wrap) uv -= floor(uv);
-    float2 c = clamp((float2)(uv.x * w - 0.5f, uv.y * h - 0.5f), (float2)(-1.0e8f), (float2)(1.0e8f));
+    float2 c =
+        clamp((float2)(uv.x * w - 0.5f, uv.y * h - 0.5f), (float2)(-1.0e8f), (float2)(1.0e8f));
     float fx = om_floor(c.x), fy = om_floor(c.y);
     int i = (int)fx, j = (int)fy;
     float a = c.x - fx, b = c.y - fy;
     float4 k00 = om_fetch4(img, w, h, wrap, i, j), k10 = om_fetch4(img, w, h, wrap, i + 1, j);
-    float4 k01 = om_fetch4(img, w, h, wrap, i, j + 1), k11 = om_fetch4(img, w, h, wrap, i + 1, j + 1);
+    float4 k01 = om_fetch4(img, w, h, wrap, i, j + 1),
+           k11 = om_fetch4(img, w, h, wrap, i + 1, j + 1);
     return mix(mix(k00, k10, a), mix(k01, k11, a), b);
 }
 
@@ -46,8 +48,9 @@ inline float3 om_unit_or(float3 v, float3 fallback) {
 // blocker angle equals alpha, so visibility = clamp(1/2 - (worst - alpha) / light_size, 0, 1):
 // near blockers subtend large angles (sharp penumbra), far ones small. The light obeys the same
 // grazing rule as the view (elevation raised to the minimum), so the march is bounded.
-inline float om_light_visibility(OmHeightField* f, float2 uv, float3 l, const OmShadeParams* P) {
-    float h0 = om_height(f, uv);
+inline float om_light_visibility(const OmLaneField* f, float2 uv, float3 l,
+                                 const OmShadeParams* P) {
+    float h0 = om_lane_height_at(f, uv.x, uv.y);
     if (h0 >= 1.0f || P->scale <= 0.0f) return 1.0f;
     float lxy = length(l.xy);
     float lz = l.z;
@@ -63,7 +66,8 @@ inline float om_light_visibility(OmHeightField* f, float2 uv, float3 l, const Om
     int n = max(P->shadow_steps, 1);
     for (int i = 1; i <= n; ++i) {
         float frac = (float)i / (float)n;
-        float h = om_height(f, uv + frac * run * dir);
+        float2 p = uv + frac * run * dir;
+        float h = om_lane_height_at(f, p.x, p.y);
         worst = fmax(worst, atan2(P->scale * (h - h0), frac * run));
         if (P->shadow_mode == OM_SHADOW_HARD && worst > alpha) return 0.0f;
     }
@@ -74,8 +78,8 @@ inline float om_light_visibility(OmHeightField* f, float2 uv, float3 l, const Om
 __kernel void om_shade(const OmShadeParams P, __global const float2* uv_in,
                        __global const uint* flags_in, __global const float4* gb_view,
                        __global const float4* gb_light, __global const float4* normals,
-                       __global const float* heights,
-                       __global const float4* albedo, __global float4* out_rgba) {
+                       __global const float* heights, __global const float4* albedo,
+                       __global float4* out_rgba) {
     int id = get_global_id(0);
     if (id >= P.pixel_count) return;
     float2 uv = uv_in[id];
@@ -87,9 +91,8 @@ __kernel void om_shade(const OmShadeParams P, __global const float2* uv_in,
     int wrap = P.address_mode == OM_ADDRESS_WRAP;
     float3 n = om_unit_or(om_sample4(normals, P.hf_width, P.hf_height, wrap, uv).xyz,
                           (float3)(0.0f, 0.0f, 1.0f));
-    float3 base = P.has_albedo
-                      ? om_sample4(albedo, P.albedo_width, P.albedo_height, wrap, uv).xyz
-                      : om_checker(uv);
+    float3 base = P.has_albedo ? om_sample4(albedo, P.albedo_width, P.albedo_height, wrap, uv).xyz
+                               : om_checker(uv);
     float3 l = P.has_light ? gb_light[id].xyz : (float3)(P.light_x, P.light_y, P.light_z);
     l = om_unit_or(l, (float3)(0.0f, 0.0f, 1.0f));
     float3 v = om_unit_or(gb_view[id].xyz, (float3)(0.0f, 0.0f, 1.0f));
@@ -97,7 +100,7 @@ __kernel void om_shade(const OmShadeParams P, __global const float2* uv_in,
     float lit = l.z > 0.0f ? 1.0f : 0.0f;
     float ndl = fmax(dot(n, l), 0.0f) * lit;
     if (ndl > 0.0f && P.shadow_mode != OM_SHADOW_NONE) {
-        OmHeightField f = om_heightfield_of(heights, P.hf_width, P.hf_height, wrap);
+        OmLaneField f = om_lane_field_of(heights, P.hf_width, P.hf_height, wrap);
         ndl *= om_light_visibility(&f, uv, l, &P);
     }
     float3 hv = om_unit_or(l + v, n);

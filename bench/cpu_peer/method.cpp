@@ -10,7 +10,6 @@
 #define OM_OUT_FLAGS
 namespace OM_NS {
 using namespace ::clc;
-#include "common/sampling.cl"
 #include "common/lanes.h"
 #include "common/lane_sampling.cl"
 #include "common/lane_ray.cl"

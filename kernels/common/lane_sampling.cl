@@ -1,6 +1,7 @@
-// Height sampling for lane methods (lanes.h): the bilinear fetch of sampling.cl (same texel-centre
-// convention, same wrap / clamp addressing, same arithmetic) for OM_LANES pixels at once. Each
-// lane may read its own mip level (LOD), so the level's offset and size are per lane.
+// Height sampling, for OM_LANES pixels at once (lanes.h; the prep kernels and the shade pass use it
+// with one). Conventions (DESIGN.md): texel (i, j) has its centre at uv = ((i + 0.5) / W,
+// (j + 0.5) / H); bilinear between texel centres; wrap (tiling) or clamp. Each lane may read its
+// own mip level (LOD), so the level's offset and size are per lane.
 
 typedef struct {
     __global const float* h;  // level 0 (the pyramid's start)
@@ -39,31 +40,57 @@ inline OmLaneField om_lane_field(__global const float* h, const OmOffsetParams* 
     return f;
 }
 
+// Level 0 of a w x hgt map (the prep kernels and the shade pass).
+inline OmLaneField om_lane_field_of(__global const float* h, int w, int hgt, int wrap) {
+    OmOffsetParams P;
+    P.hf_width = w;
+    P.hf_height = hgt;
+    P.address_mode = wrap ? OM_ADDRESS_WRAP : OM_ADDRESS_CLAMP;
+    P.mip_levels = 1;
+    return om_lane_field(h, &P, (OmI)0);
+}
+
 inline OmI om_lane_wrap(OmI i, OmI n) {
     OmI r = i % n;
     return OM_SEL(r, r + n, r < 0);
 }
 
-// The four corners of each lane's patch (i, j) (integer texel-centre coordinates), as om_patch.
+// The texel columns i0, i1 = i + 1 and rows j0, j1 = j + 1 of each lane's patch (i, j) after the
+// field's address mode. Resolved once per patch, not per texel: integer % costs tens of cycles on a
+// CPU, and power-of-two maps need none (a mask also wraps negative indices).
+inline void om_lane_address(const OmLaneField* f, OmI i, OmI j, OmI* i0, OmI* i1, OmI* j0,
+                            OmI* j1) {
+    if (f->wrap && f->pot) {
+        *i0 = i & (f->w - 1);
+        *i1 = (i + 1) & (f->w - 1);
+        *j0 = j & (f->hgt - 1);
+        *j1 = (j + 1) & (f->hgt - 1);
+    } else if (f->wrap) {
+        *i0 = om_lane_wrap(i, f->w);
+        *i1 = OM_SEL(*i0 + 1, 0, *i0 + 1 == f->w);
+        *j0 = om_lane_wrap(j, f->hgt);
+        *j1 = OM_SEL(*j0 + 1, 0, *j0 + 1 == f->hgt);
+    } else {
+        *i0 = clamp(i, 0, f->w - 1);
+        *i1 = clamp(i + 1, 0, f->w - 1);
+        *j0 = clamp(j, 0, f->hgt - 1);
+        *j1 = clamp(j + 1, 0, f->hgt - 1);
+    }
+}
+
+// One stored texel (i, j) per lane, after the address mode.
+inline OmF om_lane_texel(const OmLaneField* f, OmI i, OmI j OM_IMG_PARAM) {
+    OmI i0, i1, j0, j1;
+    om_lane_address(f, i, j, &i0, &i1, &j0, &j1);
+    return OM_HEIGHTS(f->h, f->offset + j0 * f->w + i0);
+}
+
+// The four corners of each lane's patch (i, j) (integer texel-centre coordinates): k00 at (i, j),
+// k10 at (i + 1, j), k01, k11.
 inline void om_lane_corners(const OmLaneField* f, OmI i, OmI j, OmF* k00, OmF* k10, OmF* k01,
                             OmF* k11 OM_IMG_PARAM) {
     OmI i0, i1, j0, j1;
-    if (f->wrap && f->pot) {
-        i0 = i & (f->w - 1);
-        i1 = (i + 1) & (f->w - 1);
-        j0 = j & (f->hgt - 1);
-        j1 = (j + 1) & (f->hgt - 1);
-    } else if (f->wrap) {
-        i0 = om_lane_wrap(i, f->w);
-        i1 = OM_SEL(i0 + 1, 0, i0 + 1 == f->w);
-        j0 = om_lane_wrap(j, f->hgt);
-        j1 = OM_SEL(j0 + 1, 0, j0 + 1 == f->hgt);
-    } else {
-        i0 = clamp(i, 0, f->w - 1);
-        i1 = clamp(i + 1, 0, f->w - 1);
-        j0 = clamp(j, 0, f->hgt - 1);
-        j1 = clamp(j + 1, 0, f->hgt - 1);
-    }
+    om_lane_address(f, i, j, &i0, &i1, &j0, &j1);
     OmI r0 = f->offset + j0 * f->w, r1 = f->offset + j1 * f->w;
     *k00 = OM_HEIGHTS(f->h, r0 + i0);
     *k10 = OM_HEIGHTS(f->h, r0 + i1);
@@ -82,13 +109,18 @@ inline void om_lane_patch(const OmLaneField* f, OmF u, OmF v, OmF* a, OmF* b, Om
     om_lane_corners(f, OM_TO_INT(fx), OM_TO_INT(fy), k00, k10, k01, k11 OM_IMG_ARG);
 }
 
-// Bilinear height H(u, v) per lane; counts one fetch in the lanes of `active`.
-inline OmF om_lane_height(const OmLaneField* f, OmF u, OmF v, OmI active,
-                          OmI* fetches OM_IMG_PARAM) {
+// Bilinear height H(u, v) in [0, 1] per lane.
+inline OmF om_lane_height_at(const OmLaneField* f, OmF u, OmF v OM_IMG_PARAM) {
     OmF a, b, k00, k10, k01, k11;
     om_lane_patch(f, u, v, &a, &b, &k00, &k10, &k01, &k11 OM_IMG_ARG);
-    *fetches += OM_ONE(active);
     return mix(mix(k00, k10, a), mix(k01, k11, a), b);
+}
+
+// The same, counting one fetch in the lanes of `active` (the methods' cost measure).
+inline OmF om_lane_height(const OmLaneField* f, OmF u, OmF v, OmI active,
+                          OmI* fetches OM_IMG_PARAM) {
+    *fetches += OM_ONE(active);
+    return om_lane_height_at(f, u, v OM_IMG_ARG);
 }
 
 // Bilinear height and its exact gradient (dH/du, dH/dv) on the patch: the gradient of the bilinear

@@ -9,6 +9,13 @@
 #define OM_LANES 1
 #endif
 
+// PoCL's scalar floor() is a slow branchy routine; its builtin is a single instruction.
+#ifdef OM_POCL
+#define om_floor(x) __builtin_floorf(x)
+#else
+#define om_floor(x) floor(x)
+#endif
+
 #if OM_LANES == 1
 typedef float OmF;
 typedef int OmI;

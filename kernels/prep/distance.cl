@@ -4,7 +4,8 @@
 // the relief: column (i, j) is the box over the same uv square from w = 0 up to s times the
 // largest height of the bilinear relief over that square. The proxy contains the relief, so no
 // point of the voxel is closer to the relief than the stored value (conservative by construction).
-// Wrap: columns tile. Clamp: columns beyond the edges repeat the edge columns (the extruded relief).
+// Wrap: columns tile. Clamp: columns beyond the edges repeat the edge columns (the extruded
+// relief).
 
 // The largest height of the bilinear relief over column (i, j)'s uv square. A bilinear patch
 // restricted to a rectangle peaks at one of its corners, so the maximum over the square is reached
@@ -14,7 +15,7 @@ __kernel void om_column_max(const OmOffsetParams P, __global const float* height
                             __global float* colmax) {
     int i = get_global_id(0), j = get_global_id(1);
     if (i >= res || j >= res) return;
-    OmHeightField f = om_heightfield(heights, &P);
+    OmLaneField f = om_lane_field(heights, &P, 0);
     float x0 = (float)i / res, x1 = (float)(i + 1) / res;
     float y0 = (float)j / res, y1 = (float)(j + 1) / res;
     // Patch lines in uv: u = (n + 0.5) / W.
@@ -25,7 +26,7 @@ __kernel void om_column_max(const OmOffsetParams P, __global const float* height
         float v = gy < ny0 ? y0 : (gy > ny1 ? y1 : ((float)gy + 0.5f) / f.fh);
         for (int gx = nx0 - 1; gx <= nx1 + 1; ++gx) {
             float u = gx < nx0 ? x0 : (gx > nx1 ? x1 : ((float)gx + 0.5f) / f.fw);
-            m = fmax(m, om_height(&f, (float2)(u, v)));
+            m = fmax(m, om_lane_height_at(&f, u, v));
         }
     }
     colmax[j * res + i] = m;
@@ -47,8 +48,8 @@ __kernel void om_distance_map(const OmOffsetParams P, __global const float* colm
             if (ex >= d) continue;
             int ci = i + di, cj = j + dj;
             if (P.address_mode == OM_ADDRESS_WRAP) {
-                ci = om_wrap_index(ci, res);
-                cj = om_wrap_index(cj, res);
+                ci = om_lane_wrap(ci, res);
+                cj = om_lane_wrap(cj, res);
             } else {
                 ci = clamp(ci, 0, res - 1);
                 cj = clamp(cj, 0, res - 1);

@@ -1,6 +1,6 @@
 // Maximum-height pyramid for `maxmip` (Tevs, Ihrke & Seidel 2008), stored from level 1: block
-// (I, J) of level k covers the cells [I 2^k, (I+1) 2^k) x [J 2^k, (J+1) 2^k), a cell (i, j) being the
-// bilinear patch between texel centres i..i+1, j..j+1, and holds the largest texel of those
+// (I, J) of level k covers the cells [I 2^k, (I+1) 2^k) x [J 2^k, (J+1) 2^k), a cell (i, j) being
+// the bilinear patch between texel centres i..i+1, j..j+1, and holds the largest texel of those
 // patches, which bounds the bilinear surface over the block. Wrap addressing; levels exist while
 // both sizes stay even, so blocks tile the map.
 
@@ -8,10 +8,10 @@ __kernel void om_maxmip_first(const OmOffsetParams P, __global const float* heig
                               __global float* level1, int w1, int h1) {
     int I = get_global_id(0), J = get_global_id(1);
     if (I >= w1 || J >= h1) return;
-    OmHeightField f = om_heightfield(heights, &P);
+    OmLaneField f = om_lane_field(heights, &P, 0);
     float m = 0.0f;
     for (int y = 2 * J; y <= 2 * J + 2; ++y)
-        for (int x = 2 * I; x <= 2 * I + 2; ++x) m = fmax(m, om_texel(&f, x, y));
+        for (int x = 2 * I; x <= 2 * I + 2; ++x) m = fmax(m, om_lane_texel(&f, x, y));
     level1[J * w1 + I] = m;
 }
 

@@ -4,9 +4,9 @@ __kernel void om_normals(const OmOffsetParams P, __global const float* heights,
                          __global float4* normals) {
     int i = get_global_id(0), j = get_global_id(1);
     if (i >= P.hf_width || j >= P.hf_height) return;
-    OmHeightField f = om_heightfield(heights, &P);
-    float dhdu = 0.5f * (om_texel(&f, i + 1, j) - om_texel(&f, i - 1, j)) * f.fw;
-    float dhdv = 0.5f * (om_texel(&f, i, j + 1) - om_texel(&f, i, j - 1)) * f.fh;
+    OmLaneField f = om_lane_field(heights, &P, 0);
+    float dhdu = 0.5f * (om_lane_texel(&f, i + 1, j) - om_lane_texel(&f, i - 1, j)) * f.fw;
+    float dhdv = 0.5f * (om_lane_texel(&f, i, j + 1) - om_lane_texel(&f, i, j - 1)) * f.fh;
     if (!f.wrap) {
         // One-sided at clamped borders: the clamped neighbour repeats the edge texel.
         if (i == 0 || i == f.w - 1) dhdu *= f.w > 1 ? 2.0f : 0.0f;
