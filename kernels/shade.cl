@@ -1,7 +1,7 @@
 // Shading pass: Blinn-Phong at the displaced uv' with the relief normal map and an albedo map (or a
 // neutral procedural checker). It does not know which method produced uv'.
 
-inline float4 om_fetch4(__global const float4* img, int w, int h, int wrap, int i, int j) {
+OM_INLINE float4 om_fetch4(__global const float4* img, int w, int h, int wrap, int i, int j) {
     if (wrap) {
         i = om_lane_wrap(i, w);
         j = om_lane_wrap(j, h);
@@ -13,7 +13,7 @@ inline float4 om_fetch4(__global const float4* img, int w, int h, int wrap, int 
 }
 
 // Bilinear, texel centres at (i + 0.5) / W as for heights.
-inline float4 om_sample4(__global const float4* img, int w, int h, int wrap, float2 uv) {
+OM_INLINE float4 om_sample4(__global const float4* img, int w, int h, int wrap, float2 uv) {
     if (wrap) uv -= floor(uv);
     float2 c =
         clamp((float2)(uv.x * w - 0.5f, uv.y * h - 0.5f), (float2)(-1.0e8f), (float2)(1.0e8f));
@@ -27,13 +27,13 @@ inline float4 om_sample4(__global const float4* img, int w, int h, int wrap, flo
 }
 
 // Two greys, 8 x 8 squares per tile: shows the texture shift without suggesting any relief.
-inline float3 om_checker(float2 uv) {
+OM_INLINE float3 om_checker(float2 uv) {
     float2 cell = floor(uv * 8.0f);
     float odd = fmod(fabs(cell.x + cell.y), 2.0f);
     return odd > 0.5f ? (float3)(0.80f, 0.78f, 0.74f) : (float3)(0.52f, 0.54f, 0.58f);
 }
 
-inline float3 om_unit_or(float3 v, float3 fallback) {
+OM_INLINE float3 om_unit_or(float3 v, float3 fallback) {
     float l = length(v);
     return (isfinite(l) && l > 0.0f) ? v / l : fallback;
 }
@@ -48,7 +48,7 @@ inline float3 om_unit_or(float3 v, float3 fallback) {
 // blocker angle equals alpha, so visibility = clamp(1/2 - (worst - alpha) / light_size, 0, 1):
 // near blockers subtend large angles (sharp penumbra), far ones small. The light obeys the same
 // grazing rule as the view (elevation raised to the minimum), so the march is bounded.
-inline float om_light_visibility(const OmLaneField* f, float2 uv, float3 l,
+OM_INLINE float om_light_visibility(const OmLaneField* f, float2 uv, float3 l,
                                  const OmShadeParams* P) {
     float h0 = om_lane_height_at(f, uv.x, uv.y);
     if (h0 >= 1.0f || P->scale <= 0.0f) return 1.0f;

@@ -17,7 +17,7 @@ typedef struct {
 // The field at each lane's mip level, clamped to the levels present. Level k is max(1, W >> k) x
 // max(1, H >> k) texels stored after level k - 1; texel centres follow the same convention at every
 // level, so a level samples the same uv as level 0.
-inline OmLaneField om_lane_field(__global const float* h, const OmOffsetParams* P, OmI level) {
+OM_INLINE OmLaneField om_lane_field(__global const float* h, const OmOffsetParams* P, OmI level) {
     OmLaneField f;
     f.h = h;
     f.wrap = P->address_mode == OM_ADDRESS_WRAP;
@@ -41,7 +41,7 @@ inline OmLaneField om_lane_field(__global const float* h, const OmOffsetParams* 
 }
 
 // Level 0 of a w x hgt map (the prep kernels and the shade pass).
-inline OmLaneField om_lane_field_of(__global const float* h, int w, int hgt, int wrap) {
+OM_INLINE OmLaneField om_lane_field_of(__global const float* h, int w, int hgt, int wrap) {
     OmOffsetParams P;
     P.hf_width = w;
     P.hf_height = hgt;
@@ -50,7 +50,7 @@ inline OmLaneField om_lane_field_of(__global const float* h, int w, int hgt, int
     return om_lane_field(h, &P, (OmI)0);
 }
 
-inline OmI om_lane_wrap(OmI i, OmI n) {
+OM_INLINE OmI om_lane_wrap(OmI i, OmI n) {
     OmI r = i % n;
     return OM_SEL(r, r + n, r < 0);
 }
@@ -58,7 +58,7 @@ inline OmI om_lane_wrap(OmI i, OmI n) {
 // The texel columns i0, i1 = i + 1 and rows j0, j1 = j + 1 of each lane's patch (i, j) after the
 // field's address mode. Resolved once per patch, not per texel: integer % costs tens of cycles on a
 // CPU, and power-of-two maps need none (a mask also wraps negative indices).
-inline void om_lane_address(const OmLaneField* f, OmI i, OmI j, OmI* i0, OmI* i1, OmI* j0,
+OM_INLINE void om_lane_address(const OmLaneField* f, OmI i, OmI j, OmI* i0, OmI* i1, OmI* j0,
                             OmI* j1) {
     if (f->wrap && f->pot) {
         *i0 = i & (f->w - 1);
@@ -79,7 +79,7 @@ inline void om_lane_address(const OmLaneField* f, OmI i, OmI j, OmI* i0, OmI* i1
 }
 
 // One stored texel (i, j) per lane, after the address mode.
-inline OmF om_lane_texel(const OmLaneField* f, OmI i, OmI j OM_IMG_PARAM) {
+OM_INLINE OmF om_lane_texel(const OmLaneField* f, OmI i, OmI j OM_IMG_PARAM) {
     OmI i0, i1, j0, j1;
     om_lane_address(f, i, j, &i0, &i1, &j0, &j1);
     return OM_HEIGHTS(f->h, f->offset + j0 * f->w + i0);
@@ -87,7 +87,7 @@ inline OmF om_lane_texel(const OmLaneField* f, OmI i, OmI j OM_IMG_PARAM) {
 
 // The four corners of each lane's patch (i, j) (integer texel-centre coordinates): k00 at (i, j),
 // k10 at (i + 1, j), k01, k11.
-inline void om_lane_corners(const OmLaneField* f, OmI i, OmI j, OmF* k00, OmF* k10, OmF* k01,
+OM_INLINE void om_lane_corners(const OmLaneField* f, OmI i, OmI j, OmF* k00, OmF* k10, OmF* k01,
                             OmF* k11 OM_IMG_PARAM) {
     OmI i0, i1, j0, j1;
     om_lane_address(f, i, j, &i0, &i1, &j0, &j1);
@@ -99,7 +99,7 @@ inline void om_lane_corners(const OmLaneField* f, OmI i, OmI j, OmF* k00, OmF* k
 }
 
 // The four corners of the patch under (u, v) and the position (a, b) inside it.
-inline void om_lane_patch(const OmLaneField* f, OmF u, OmF v, OmF* a, OmF* b, OmF* k00, OmF* k10,
+OM_INLINE void om_lane_patch(const OmLaneField* f, OmF u, OmF v, OmF* a, OmF* b, OmF* k00, OmF* k10,
                           OmF* k01, OmF* k11 OM_IMG_PARAM) {
     OmF cx = clamp(u * f->fw - 0.5f, -1.0e8f, 1.0e8f);
     OmF cy = clamp(v * f->fh - 0.5f, -1.0e8f, 1.0e8f);
@@ -110,14 +110,14 @@ inline void om_lane_patch(const OmLaneField* f, OmF u, OmF v, OmF* a, OmF* b, Om
 }
 
 // Bilinear height H(u, v) in [0, 1] per lane.
-inline OmF om_lane_height_at(const OmLaneField* f, OmF u, OmF v OM_IMG_PARAM) {
+OM_INLINE OmF om_lane_height_at(const OmLaneField* f, OmF u, OmF v OM_IMG_PARAM) {
     OmF a, b, k00, k10, k01, k11;
     om_lane_patch(f, u, v, &a, &b, &k00, &k10, &k01, &k11 OM_IMG_ARG);
     return mix(mix(k00, k10, a), mix(k01, k11, a), b);
 }
 
 // The same, counting one fetch in the lanes of `active` (the methods' cost measure).
-inline OmF om_lane_height(const OmLaneField* f, OmF u, OmF v, OmI active,
+OM_INLINE OmF om_lane_height(const OmLaneField* f, OmF u, OmF v, OmI active,
                           OmI* fetches OM_IMG_PARAM) {
     *fetches += OM_ONE(active);
     return om_lane_height_at(f, u, v OM_IMG_ARG);
@@ -125,7 +125,7 @@ inline OmF om_lane_height(const OmLaneField* f, OmF u, OmF v, OmI active,
 
 // Bilinear height and its exact gradient (dH/du, dH/dv) on the patch: the gradient of the bilinear
 // surface itself, so slope methods follow the same relief that `exact` intersects.
-inline OmF om_lane_height_grad(const OmLaneField* f, OmF u, OmF v, OmI active, OmI* fetches,
+OM_INLINE OmF om_lane_height_grad(const OmLaneField* f, OmF u, OmF v, OmI active, OmI* fetches,
                                OmF* gu, OmF* gv OM_IMG_PARAM) {
     OmF a, b, k00, k10, k01, k11;
     om_lane_patch(f, u, v, &a, &b, &k00, &k10, &k01, &k11 OM_IMG_ARG);

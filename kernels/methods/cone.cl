@@ -20,7 +20,7 @@
 
 // Each lane's cell maximum and cone ratio (clamp: cells off the map have no cone, their maximum
 // from the patch itself).
-inline void om_lane_cone_cell(const OmLaneField* f, const OmOffsetParams* P, OmI i, OmI j, OmF* hc,
+OM_INLINE void om_lane_cone_cell(const OmLaneField* f, const OmOffsetParams* P, OmI i, OmI j, OmF* hc,
                               OmF* c OM_IMG_PARAM) {
     OmI idx, outside = 0;
     if (P->address_mode == OM_ADDRESS_WRAP) {

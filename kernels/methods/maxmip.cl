@@ -12,7 +12,7 @@
 // answer.
 
 // Levels of the max pyramid for this map: while both sizes stay even (blocks tile the map).
-inline int om_maxmip_levels(const OmOffsetParams* P) {
+OM_INLINE int om_maxmip_levels(const OmOffsetParams* P) {
     if (P->address_mode != OM_ADDRESS_WRAP) return 0;
     int levels = 0, w = P->hf_width, h = P->hf_height;
     while (levels < 15 && (w & 1) == 0 && (h & 1) == 0) {
@@ -24,10 +24,10 @@ inline int om_maxmip_levels(const OmOffsetParams* P) {
 }
 
 // floor(i / 2^k) for any sign (a right shift of a negative int is implementation-defined in C99).
-inline OmI om_lane_block(OmI i, OmI k) { return OM_SEL(-((-i - 1) >> k) - 1, i >> k, i >= 0); }
+OM_INLINE OmI om_lane_block(OmI i, OmI k) { return OM_SEL(-((-i - 1) >> k) - 1, i >> k, i >= 0); }
 
 // The cell index along one axis at ray parameter t, kept inside [lo, hi] (rounding at faces).
-inline OmI om_lane_cell_at(OmF c0, OmF d, OmF t, OmI lo, OmI hi) {
+OM_INLINE OmI om_lane_cell_at(OmF c0, OmF d, OmF t, OmI lo, OmI hi) {
     return clamp(OM_TO_INT(OM_LFLOOR(c0 - t * d)), lo, hi);
 }
 

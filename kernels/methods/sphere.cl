@@ -11,7 +11,7 @@
 // grazing views, where each step shrinks the gap by a factor of about 1 - V.z).
 // Cost: one distance fetch per step, counted as one fetch.
 // A lane method: lanes that stop early wait for the others (fixed step budget).
-inline OmF om_lane_sphere_distance(const OmLaneField* f, const OmOffsetParams* P, int res,
+OM_INLINE OmF om_lane_sphere_distance(const OmLaneField* f, const OmOffsetParams* P, int res,
                                    int layers, OmF u, OmF v, OmF w) {
     OmF x = clamp(u * (float)res, -1.0e7f, 1.0e7f), y = clamp(v * (float)res, -1.0e7f, 1.0e7f);
     OmI i = OM_TO_INT(OM_LFLOOR(x)), j = OM_TO_INT(OM_LFLOOR(y));

@@ -31,14 +31,14 @@ __kernel void om_cone_blocks(const OmOffsetParams P, __global const float* heigh
     block_max[J * bw + I] = m;
 }
 
-inline float om_cell_max(const OmLaneField* f, int i, int j) {
+OM_INLINE float om_cell_max(const OmLaneField* f, int i, int j) {
     float k00, k10, k01, k11;
     om_lane_corners(f, i, j, &k00, &k10, &k01, &k11);
     return fmax(fmax(k00, k10), fmax(k01, k11));
 }
 
 // Gap between unit cells (or a cell and a block) along one axis: [a, a + na) vs [b, b + nb).
-inline int om_gap(int a, int na, int b, int nb) { return max(max(b - (a + na), a - (b + nb)), 0); }
+OM_INLINE int om_gap(int a, int na, int b, int nb) { return max(max(b - (a + na), a - (b + nb)), 0); }
 
 // blocks_valid: block maxima bound the cells at any block index (clamp, or wrap with sizes that are
 // multiples of 8); otherwise every cell in reach is visited.
