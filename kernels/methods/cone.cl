@@ -20,8 +20,8 @@
 
 // Each lane's cell maximum and cone ratio (clamp: cells off the map have no cone, their maximum
 // from the patch itself).
-OM_INLINE void om_lane_cone_cell(const OmLaneField* f, const OmOffsetParams* P, OmI i, OmI j, OmF* hc,
-                              OmF* c OM_IMG_PARAM) {
+OM_INLINE void om_lane_cone_cell(const OmLaneField* f, const OmOffsetParams* P, OmI i, OmI j,
+                                 OmF* hc, OmF* c OM_IMG_PARAM) {
     OmI idx, outside = 0;
     if (P->address_mode == OM_ADDRESS_WRAP) {
         idx = f->pot ? (j & (f->hgt - 1)) * f->w + (i & (f->w - 1))
@@ -39,8 +39,9 @@ OM_INLINE void om_lane_cone_cell(const OmLaneField* f, const OmOffsetParams* P, 
     }
 }
 
-void om_trace_lanes(const OmLaneRay* r, const OmLaneField* f, const OmOffsetParams* P, OmI active,
-                    OmF* t_hit, OmF* u_hit, OmF* v_hit, OmI* fetches, OmI* flags OM_IMG_PARAM) {
+OM_INLINE void om_trace_lanes(const OmLaneRay* r, const OmLaneField* f, const OmOffsetParams* P,
+                              OmI active, OmF* t_hit, OmF* u_hit, OmF* v_hit, OmI* fetches,
+                              OmI* flags OM_IMG_PARAM) {
     OmLaneWalk w = om_lane_walk(r, f);
     OmF across = sqrt(w.dx * w.dx + w.dy * w.dy), down = r->vz / r->scale;  // per unit t: texels, H
     OmF t = r->t_enter;

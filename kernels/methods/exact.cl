@@ -4,8 +4,9 @@
 // common/lane_patch.cl). Cost: one patch (4 texels, counted as one fetch) per cell crossed, at most
 // ~ (s / V.z)(W + H). A lane method: each lane walks its own cells; the loop ends when every lane
 // has its answer.
-void om_trace_lanes(const OmLaneRay* r, const OmLaneField* f, const OmOffsetParams* P, OmI active,
-                    OmF* t_hit, OmF* u_hit, OmF* v_hit, OmI* fetches, OmI* flags OM_IMG_PARAM) {
+OM_INLINE void om_trace_lanes(const OmLaneRay* r, const OmLaneField* f, const OmOffsetParams* P,
+                              OmI active, OmF* t_hit, OmF* u_hit, OmF* v_hit, OmI* fetches,
+                              OmI* flags OM_IMG_PARAM) {
     OmLaneWalk w = om_lane_walk(r, f);
     OmF t = r->t_enter;
     OmI i, j;

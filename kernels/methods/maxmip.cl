@@ -31,8 +31,9 @@ OM_INLINE OmI om_lane_cell_at(OmF c0, OmF d, OmF t, OmI lo, OmI hi) {
     return clamp(OM_TO_INT(OM_LFLOOR(c0 - t * d)), lo, hi);
 }
 
-void om_trace_lanes(const OmLaneRay* r, const OmLaneField* f, const OmOffsetParams* P, OmI active,
-                    OmF* t_hit, OmF* u_hit, OmF* v_hit, OmI* fetches, OmI* flags OM_IMG_PARAM) {
+OM_INLINE void om_trace_lanes(const OmLaneRay* r, const OmLaneField* f, const OmOffsetParams* P,
+                              OmI active, OmF* t_hit, OmF* u_hit, OmF* v_hit, OmI* fetches,
+                              OmI* flags OM_IMG_PARAM) {
     const int W = P->hf_width, H = P->hf_height;
     OmI top = OM_SEL((OmI)0, (OmI)min(om_maxmip_levels(P), (int)P->p[0]), f->level == 0);
     OmLaneWalk w = om_lane_walk(r, f);

@@ -2,8 +2,9 @@
 // p[0] = iterations k (one fetch each; k = 1 is parallax-slope), p[1] = safe (as parallax-slope).
 // Like any fixed-point iteration it can settle on a later intersection or oscillate between
 // surfaces (Premecz: "not even the convergence is guaranteed"); the slab clamp keeps it bounded.
-void om_trace_lanes(const OmLaneRay* r, const OmLaneField* f, const OmOffsetParams* P, OmI active,
-                    OmF* t_hit, OmF* u_hit, OmF* v_hit, OmI* fetches, OmI* flags OM_IMG_PARAM) {
+OM_INLINE void om_trace_lanes(const OmLaneRay* r, const OmLaneField* f, const OmOffsetParams* P,
+                              OmI active, OmF* t_hit, OmF* u_hit, OmF* v_hit, OmI* fetches,
+                              OmI* flags OM_IMG_PARAM) {
     int k = (int)P->p[0];
     int safe = P->p[1] != 0.0f;
     OmF t = 0.0f;

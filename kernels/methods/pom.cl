@@ -2,8 +2,9 @@
 // at grazing views: Tatarchuk's dynamic sampling rate; p[0] = n_min, p[1] = n_max), then the ray
 // intersected with the straight segment joining the last two height samples. Tatarchuk's V.N is
 // V.z here. Cost: at most n_max + 1 fetches.
-void om_trace_lanes(const OmLaneRay* r, const OmLaneField* f, const OmOffsetParams* P, OmI active,
-                    OmF* t_hit, OmF* u_hit, OmF* v_hit, OmI* fetches, OmI* flags OM_IMG_PARAM) {
+OM_INLINE void om_trace_lanes(const OmLaneRay* r, const OmLaneField* f, const OmOffsetParams* P,
+                              OmI active, OmF* t_hit, OmF* u_hit, OmF* v_hit, OmI* fetches,
+                              OmI* flags OM_IMG_PARAM) {
     OmI n = om_lane_count(r, mix((OmF)P->p[1], (OmF)P->p[0], r->vz));
     OmLaneHit hit = om_lane_linear_search(r, f, n, active, fetches OM_IMG_ARG);
     // Along the segment, height minus ray height goes from d0 < 0 (above) to d1 >= 0.

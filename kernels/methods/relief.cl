@@ -2,8 +2,9 @@
 // search of m = p[1] steps between the last sample above and the first below the relief. Returns
 // the bracket's lower end (a point at or below the surface, as Policarpo's best depth).
 // Cost: at most n + 1 + m fetches.
-void om_trace_lanes(const OmLaneRay* r, const OmLaneField* f, const OmOffsetParams* P, OmI active,
-                    OmF* t_hit, OmF* u_hit, OmF* v_hit, OmI* fetches, OmI* flags OM_IMG_PARAM) {
+OM_INLINE void om_trace_lanes(const OmLaneRay* r, const OmLaneField* f, const OmOffsetParams* P,
+                              OmI active, OmF* t_hit, OmF* u_hit, OmF* v_hit, OmI* fetches,
+                              OmI* flags OM_IMG_PARAM) {
     OmI n = om_lane_count(r, (OmF)P->p[0]);
     int m = (int)P->p[1];
     OmLaneHit hit = om_lane_linear_search(r, f, n, active, fetches OM_IMG_ARG);

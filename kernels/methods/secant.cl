@@ -9,8 +9,9 @@
 // superlinearly. With m = 0 this is exactly pom.
 // The answer is the first evaluated point within tol of the relief, else the secant point of the
 // final bracket (free: no fetch). Cost: at most n + 1 + m fetches.
-void om_trace_lanes(const OmLaneRay* r, const OmLaneField* f, const OmOffsetParams* P, OmI active,
-                    OmF* t_hit, OmF* u_hit, OmF* v_hit, OmI* fetches, OmI* flags OM_IMG_PARAM) {
+OM_INLINE void om_trace_lanes(const OmLaneRay* r, const OmLaneField* f, const OmOffsetParams* P,
+                              OmI active, OmF* t_hit, OmF* u_hit, OmF* v_hit, OmI* fetches,
+                              OmI* flags OM_IMG_PARAM) {
     OmI n = om_lane_count(r, mix((OmF)P->p[1], (OmF)P->p[0], r->vz));
     int m = (int)P->p[2];
     float tol = P->p[3];

@@ -12,7 +12,7 @@
 // Cost: one distance fetch per step, counted as one fetch.
 // A lane method: lanes that stop early wait for the others (fixed step budget).
 OM_INLINE OmF om_lane_sphere_distance(const OmLaneField* f, const OmOffsetParams* P, int res,
-                                   int layers, OmF u, OmF v, OmF w) {
+                                      int layers, OmF u, OmF v, OmF w) {
     OmF x = clamp(u * (float)res, -1.0e7f, 1.0e7f), y = clamp(v * (float)res, -1.0e7f, 1.0e7f);
     OmI i = OM_TO_INT(OM_LFLOOR(x)), j = OM_TO_INT(OM_LFLOOR(y));
     OmI k = clamp(OM_TO_INT(w / P->scale * (float)layers), 0, layers - 1);
@@ -26,8 +26,9 @@ OM_INLINE OmF om_lane_sphere_distance(const OmLaneField* f, const OmOffsetParams
     return OM_GATHER(f->aux, (k * res + j) * res + i);
 }
 
-void om_trace_lanes(const OmLaneRay* r, const OmLaneField* f, const OmOffsetParams* P, OmI active,
-                    OmF* t_hit, OmF* u_hit, OmF* v_hit, OmI* fetches, OmI* flags OM_IMG_PARAM) {
+OM_INLINE void om_trace_lanes(const OmLaneRay* r, const OmLaneField* f, const OmOffsetParams* P,
+                              OmI active, OmF* t_hit, OmF* u_hit, OmF* v_hit, OmI* fetches,
+                              OmI* flags OM_IMG_PARAM) {
     int res = (int)P->p[0], layers = (int)P->p[1];
     OmI steps = om_lane_count(r, (OmF)P->p[2]);
     OmF span = r->t_exit - r->t_enter;

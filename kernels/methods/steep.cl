@@ -4,8 +4,9 @@
 // With LOD on, the level is the coarser of p[1] and the pixel's.
 // McGuire steps t += E.xy * bumpScale / (n E.z) from the polygon at height 1: the same march with
 // the top plane at the polygon (r = 1). Cost: at most n + 1 fetches.
-void om_trace_lanes(const OmLaneRay* r, const OmLaneField* f, const OmOffsetParams* P, OmI active,
-                    OmF* t_hit, OmF* u_hit, OmF* v_hit, OmI* fetches, OmI* flags OM_IMG_PARAM) {
+OM_INLINE void om_trace_lanes(const OmLaneRay* r, const OmLaneField* f, const OmOffsetParams* P,
+                              OmI active, OmF* t_hit, OmF* u_hit, OmF* v_hit, OmI* fetches,
+                              OmI* flags OM_IMG_PARAM) {
     OmI n = om_lane_count(r, (OmF)P->p[0]);
     OmLaneField level = om_lane_field(f->h, P, max(f->level, (int)P->p[1]));
     OmLaneHit hit = om_lane_linear_search(r, &level, n, active, fetches OM_IMG_ARG);
