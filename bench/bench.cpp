@@ -51,6 +51,35 @@ Timing time_launches(const std::function<cl::Event()>& launch, double target_ms)
     return {ts[ts.size() / 2], ts.front(), static_cast<int>(ts.size())};
 }
 
+// Kernels timed in turns (a, b, c, a, b, c, ...), each after a warm-up launch, at least 5 and
+// at most 30 rounds within about `target_ms`: the machine's load changes within seconds, so
+// kernels compared as a ratio are timed in the same window (timed minutes apart, the ratio of
+// two fixed kernels moved by up to 2x on a shared machine).
+std::vector<Timing> time_interleaved(const std::vector<std::function<cl::Event()>>& launches,
+                                     double target_ms) {
+    double round = 0;
+    for (const auto& launch : launches) {
+        launch().wait();
+        cl::Event e = launch();
+        e.wait();
+        round += std::max(event_ms(e), 1e-3);
+    }
+    int runs = std::clamp(static_cast<int>(target_ms / round), target_ms > 0 ? 5 : 1, 30);
+    std::vector<std::vector<double>> ts(launches.size());
+    for (int r = 0; r < runs; ++r)
+        for (size_t k = 0; k < launches.size(); ++k) {
+            cl::Event e = launches[k]();
+            e.wait();
+            ts[k].push_back(event_ms(e));
+        }
+    std::vector<Timing> out;
+    for (auto& t : ts) {
+        std::sort(t.begin(), t.end());
+        out.push_back({t[t.size() / 2], t.front(), runs});
+    }
+    return out;
+}
+
 // Several octaves of tiling sines: smooth at large scale, detailed at texel scale, so the access
 // pattern of a march is realistic for any size.
 HeightMap bench_map(int n) {
@@ -106,6 +135,8 @@ struct Bench {
     double target_ms;
     double passthrough_ns = 0;  // per pixel
     double fetch_ns = 0;        // per bilinear fetch: the faster of chain and line at 32
+    // The roof timed beside each method: pass-through and fetches along a line in lanes.
+    cl::Kernel roof_pass, roof_line;
     json out;
 
     OmOffsetParams params_for(const DeviceHeightField& f, int pixels) {
@@ -202,22 +233,85 @@ struct Bench {
                            {"ns_per_fetch", fetch_ns}};
     }
 
-    // One method at one setting: time (uv' and depth written), fetches per pixel, roofline ratio.
+    // One method at one setting: time (uv' and depth written), fetches per pixel, and the ratio
+    // to its roof: pass-through + fetches x the lane fetch rate at that many fetches per pixel,
+    // both timed in turns with the method on the same G-buffer and map.
     json measure(const std::string& method, const std::map<std::string, std::string>& setting,
                  const DeviceGBuffer& g, const DeviceHeightField& f, const PassSettings& s) {
         OffsetPass pass(rt, method, setting);
         const size_t n = g.pixels();
+        const int lanes = rt->lanes();
         OffsetTargets t;
         t.uv = cl::Buffer(rt->context(), CL_MEM_WRITE_ONLY, n * sizeof(cl_float2));
         t.depth = cl::Buffer(rt->context(), CL_MEM_WRITE_ONLY, n * sizeof(float));
-        Timing tm = time_launches([&] { return pass.enqueue(g, f, s, t); }, target_ms);
+        if (!roof_line()) {
+            const std::vector<std::string> files = {"common/lanes.h", "common/lane_sampling.cl",
+                                                    "bench/roofline.cl"};
+            roof_pass = cl::Kernel(rt->program(files), "om_bench_passthrough");
+            roof_line =
+                cl::Kernel(rt->program(files, "#define OM_LANES " + std::to_string(lanes) + "\n"),
+                           "om_bench_fetch_line");
+        }
+        cl::Buffer sink(rt->context(), CL_MEM_WRITE_ONLY, n * sizeof(cl_float2));
+        roof_pass.setArg(0, g.uv);
+        roof_pass.setArg(1, g.view);
+        roof_pass.setArg(2, sink);
+        roof_pass.setArg(3, static_cast<int>(n));
+        roof_line.setArg(0, params_for(f, static_cast<int>(n)));
+        roof_line.setArg(1, f.heights);
+        roof_line.setArg(2, g.uv);
+        roof_line.setArg(3, sink);
+        roof_line.setArg(4, static_cast<int>(n));
+        auto launch = [&](cl::Kernel& k, size_t per_item) {
+            return [&, per_item] {
+                cl::Event e;
+                rt->queue().enqueueNDRangeKernel(
+                    k, cl::NullRange, cl::NDRange((n + per_item * 64 - 1) / (per_item * 64) * 64),
+                    cl::NDRange(64), nullptr, &e);
+                return e;
+            };
+        };
         // Fetch counts from one run with the fetch output on (not timed).
         OffsetResult counted = run_offset(*rt, pass, g, f, s, 1);
         double fetches = 0;
         for (auto c : counted.fetches) fetches += c;
         fetches /= static_cast<double>(n);
+        // Lanes busy: a work-item's steps last as long as its slowest lane's; the fraction of
+        // lane-steps that fetch for an active lane.
+        double busy_sum = 0, max_sum = 0;
+        for (size_t b = 0; b < n; b += static_cast<size_t>(lanes)) {
+            std::uint32_t most = 0;
+            for (size_t k = b; k < std::min(n, b + lanes); ++k) {
+                busy_sum += counted.fetches[k];
+                most = std::max(most, counted.fetches[k]);
+            }
+            max_sum +=
+                static_cast<double>(most) * static_cast<double>(std::min<size_t>(lanes, n - b));
+        }
+        // The roof's fetches along a line at the method's count per pixel (rounded up), less the
+        // same kernel making none (its own loads and stores): a fetch's cost depends on how many
+        // a work-item makes (one exposes its latency, a row of them overlaps), so the roof is
+        // taken at the method's count, as the issue asks.
+        const int roof_fetches = std::max(1, static_cast<int>(std::ceil(fetches - 1e-9)));
+        auto line = [&](int count) {
+            return [&, count] {
+                roof_line.setArg(5, count);
+                return launch(roof_line, lanes)();
+            };
+        };
+        std::vector<std::function<cl::Event()>> launches = {
+            [&] { return pass.enqueue(g, f, s, t); }, launch(roof_pass, 1)};
+        if (fetches > 0) {
+            launches.push_back(line(roof_fetches));
+            launches.push_back(line(0));
+        }
+        std::vector<Timing> tms = time_interleaved(launches, target_ms);
+        const Timing& tm = tms[0];
+        double pass_ns = tms[1].median_ms * 1e6 / n;
+        double fetch =
+            fetches > 0 ? (tms[2].median_ms - tms[3].median_ms) * 1e6 / n / roof_fetches : 0.0;
         double ns = tm.median_ms * 1e6 / n;
-        double roof = passthrough_ns + fetches * fetch_ns;
+        double roof = pass_ns + fetches * fetch;
         return {{"method", method},
                 {"setting", describe_setting(setting)},
                 {"ns_per_pixel", ns},
@@ -227,22 +321,26 @@ struct Bench {
                 {"fetches_per_pixel", fetches},
                 {"roofline_ns_per_pixel", roof},
                 {"roofline_ratio", roof / ns},
+                {"roof_passthrough_ns_per_pixel", pass_ns},
+                {"roof_ns_per_fetch", fetch},
+                {"lanes_busy", max_sum > 0 ? busy_sum / max_sum : 1.0},
                 {"precomputed_bytes", pass.precomputed().bytes}};
     }
 };
 
 void print_row(const json& r, const char* extra = "") {
-    std::printf("  %-18s %-34s %9.2f %9.2f %9.1f %8.2f %9.2f %7.0f%% %s\n",
+    std::printf("  %-18s %-34s %9.2f %9.2f %9.1f %8.2f %6.2f %9.2f %7.0f%% %6.0f%% %s\n",
                 r["method"].get<std::string>().c_str(), r["setting"].get<std::string>().c_str(),
                 r["ns_per_pixel"].get<double>(), r["min_ns_per_pixel"].get<double>(),
                 r["mpix_per_s"].get<double>(), r["fetches_per_pixel"].get<double>(),
-                r["roofline_ns_per_pixel"].get<double>(), 100.0 * r["roofline_ratio"].get<double>(),
+                r["roof_ns_per_fetch"].get<double>(), r["roofline_ns_per_pixel"].get<double>(),
+                100.0 * r["roofline_ratio"].get<double>(), 100.0 * r["lanes_busy"].get<double>(),
                 extra);
 }
 
 void print_header(const char* title) {
-    std::printf("\n%s\n  %-18s %-34s %9s %9s %9s %8s %9s %8s\n", title, "method", "setting",
-                "ns/pixel", "min", "Mpix/s", "fetches", "roof ns", "of roof");
+    std::printf("\n%s\n  %-18s %-34s %9s %9s %9s %8s %6s %9s %8s %7s\n", title, "method", "setting",
+                "ns/pixel", "min", "Mpix/s", "fetches", "ns/f", "roof ns", "of roof", "busy");
 }
 
 }  // namespace
