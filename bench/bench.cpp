@@ -110,12 +110,14 @@ GBuffer camera_gbuffer(const Resolution& r) {
     return make_scene(p);
 }
 
-// Host memcpy of `bytes` over all hardware threads, as GB/s of traffic (read + write).
-double host_memcpy_gbps(size_t bytes) {
+// Host memcpy of `bytes` over all hardware threads, as GB/s of traffic (read + write): the
+// median of `reps` copies, each preceded by `before` (a kernel to time in turns with it).
+double host_memcpy_gbps(size_t bytes, int reps = 7, const std::function<void()>& before = {}) {
     std::vector<char> src(bytes, 1), dst(bytes, 0);
     unsigned threads = std::max(1u, std::thread::hardware_concurrency());
     std::vector<double> ts;
-    for (int rep = 0; rep < 7; ++rep) {
+    for (int rep = 0; rep < reps; ++rep) {
+        if (before) before();
         auto t0 = std::chrono::steady_clock::now();
         std::vector<std::thread> pool;
         for (unsigned t = 0; t < threads; ++t)
@@ -219,6 +221,34 @@ struct Bench {
             }
         }
         out_json_roofline(res, n, kernel_gbps, memcpy_gbps, chain_rows);
+    }
+
+    // `none` against the host memcpy of its traffic (G-buffer 24 B in, uv' 8 B and depth 4 B
+    // out per pixel), timed in turns: the bandwidth target for the pass that only moves
+    // bytes.
+    json none_vs_memcpy(const DeviceGBuffer& g, const DeviceHeightField& f, const PassSettings& s) {
+        OffsetPass pass(rt, "none", {});
+        const size_t n = g.pixels();
+        OffsetTargets t;
+        t.uv = cl::Buffer(rt->context(), CL_MEM_WRITE_ONLY, n * sizeof(cl_float2));
+        t.depth = cl::Buffer(rt->context(), CL_MEM_WRITE_ONLY, n * sizeof(float));
+        pass.enqueue(g, f, s, t).wait();
+        std::vector<double> kernel_ms;
+        const int reps = target_ms > 0 ? 9 : 1;
+        double memcpy_gbps = host_memcpy_gbps(18 * n, reps, [&] {
+            cl::Event e = pass.enqueue(g, f, s, t);
+            e.wait();
+            kernel_ms.push_back(event_ms(e));
+        });
+        std::sort(kernel_ms.begin(), kernel_ms.end());
+        double kernel_gbps = 36.0 * n / (kernel_ms[kernel_ms.size() / 2] * 1e-3) * 1e-9;
+        std::printf(
+            "\nnone moves 36 B/pixel at %.1f GB/s: %.0f%% of the host memcpy of the same "
+            "traffic (%.1f GB/s), timed in turns\n",
+            kernel_gbps, 100.0 * kernel_gbps / memcpy_gbps, memcpy_gbps);
+        return {{"none_gbps", kernel_gbps},
+                {"host_memcpy_gbps", memcpy_gbps},
+                {"none_vs_memcpy", kernel_gbps / memcpy_gbps}};
     }
 
     void out_json_roofline(const Resolution& res, int n, double kgbps, double mgbps,
@@ -423,6 +453,7 @@ int main(int argc, char** argv) {
             rows.push_back(r);
         }
         b.out["methods"] = rows;
+        b.out["none_vs_memcpy"] = b.none_vs_memcpy(g_main, field, s);
 
         // The same kernel sources compiled as C++ (-O3 -march=native), threads over pixels.
         unsigned threads = std::max(1u, std::thread::hardware_concurrency());
