@@ -50,7 +50,11 @@ OM_INLINE OmLaneField om_lane_field_of(__global const float* h, int w, int hgt, 
     return om_lane_field(h, &P, (OmI)0);
 }
 
+// Integer % has no SIMD instruction (PoCL splits it into a division per lane): when every lane's
+// n is a power of two (the usual map, level and distance-map sizes) a mask gives the same residue,
+// negative i included.
 OM_INLINE OmI om_lane_wrap(OmI i, OmI n) {
+    if (!OM_ANY((n & (n - 1)) != 0)) return i & (n - 1);
     OmI r = i % n;
     return OM_SEL(r, r + n, r < 0);
 }
