@@ -135,11 +135,23 @@ double host_memcpy_gbps(size_t bytes, int reps = 7, const std::function<void()>&
 struct Bench {
     std::shared_ptr<Runtime> rt;
     double target_ms;
-    double passthrough_ns = 0;  // per pixel
-    double fetch_ns = 0;        // per bilinear fetch: the faster of chain and line at 32
     // The roof timed beside each method: pass-through and fetches along a line in lanes.
     cl::Kernel roof_pass, roof_line;
     json out;
+
+    // The roofline microkernels at `lanes` pixels per work-item (1: the file's default).
+    cl::Program roof_program(int lanes) {
+        const std::vector<std::string> files = {"common/lanes.h", "common/lane_sampling.cl",
+                                                "bench/roofline.cl"};
+        return lanes == 1 ? rt->program(files)
+                          : rt->program(files, "#define OM_LANES " + std::to_string(lanes) + "\n");
+    }
+
+    // Work-items for n pixels at `per_item` pixels each, in groups of 64.
+    static cl::NDRange lane_range(size_t n, int per_item) {
+        const size_t group = static_cast<size_t>(per_item) * 64;
+        return cl::NDRange((n + group - 1) / group * 64);
+    }
 
     OmOffsetParams params_for(const DeviceHeightField& f, int pixels) {
         OmOffsetParams p = offset_params(PassSettings{}, pixels, f.width, f.height);
@@ -151,23 +163,22 @@ struct Bench {
         GBuffer gb = camera_gbuffer(res);
         DeviceGBuffer g = upload(*rt, gb);
         const int n = static_cast<int>(g.pixels());
-        cl::Buffer out(rt->context(), CL_MEM_WRITE_ONLY, g.pixels() * sizeof(cl_float2));
-        const std::vector<std::string> roof_files = {"common/lanes.h", "common/lane_sampling.cl",
-                                                     "bench/roofline.cl"};
-        cl::Program prog = rt->program(roof_files);
-        cl::Kernel pass(prog, "om_bench_passthrough");
+        cl::Buffer sink(rt->context(), CL_MEM_WRITE_ONLY, g.pixels() * sizeof(cl_float2));
+        cl::Kernel pass(roof_program(1), "om_bench_passthrough");
         pass.setArg(0, g.uv);
         pass.setArg(1, g.view);
-        pass.setArg(2, out);
+        pass.setArg(2, sink);
         pass.setArg(3, n);
-        const cl::NDRange global((g.pixels() + 63) / 64 * 64), local(64);
-        auto run = [&](cl::Kernel& k) {
-            cl::Event e;
-            rt->queue().enqueueNDRangeKernel(k, cl::NullRange, global, local, nullptr, &e);
-            return e;
-        };
-        Timing tp = time_launches([&] { return run(pass); }, target_ms);
-        passthrough_ns = tp.median_ms * 1e6 / n;
+        const cl::NDRange local(64);
+        Timing tp = time_launches(
+            [&] {
+                cl::Event e;
+                rt->queue().enqueueNDRangeKernel(pass, cl::NullRange, lane_range(g.pixels(), 1),
+                                                 local, nullptr, &e);
+                return e;
+            },
+            target_ms);
+        const double passthrough_ns = tp.median_ms * 1e6 / n;
         const double bytes = 32.0 * n;  // 24 B in, 8 B out
         double kernel_gbps = bytes / (tp.median_ms * 1e-3) * 1e-9;
         double memcpy_gbps = host_memcpy_gbps(static_cast<size_t>(16.0 * n));  // same traffic
@@ -177,22 +188,19 @@ struct Bench {
             "  pass-through    %7.3f ns/pixel  %6.1f GB/s   host memcpy %6.1f GB/s  -> %5.1f%%\n",
             passthrough_ns, kernel_gbps, memcpy_gbps, 100.0 * kernel_gbps / memcpy_gbps);
         json chain_rows = json::array();
-        fetch_ns = 1e30;
+        double fetch_ns = 1e30;  // per bilinear fetch: the faster of chain and line at 32
         // One pixel per work-item, then the runtime's lanes (the methods' form), when it has more.
         std::vector<int> lane_counts = {1};
         if (rt->lanes() > 1) lane_counts.push_back(rt->lanes());
         for (int lanes : lane_counts) {
-            cl::Program lane_prog =
-                lanes == 1
-                    ? prog
-                    : rt->program(roof_files, "#define OM_LANES " + std::to_string(lanes) + "\n");
-            const cl::NDRange lane_global((g.pixels() + lanes * 64 - 1) / (lanes * 64) * 64);
+            cl::Program lane_prog = roof_program(lanes);
+            const cl::NDRange lane_global = lane_range(g.pixels(), lanes);
             for (const char* kind : {"om_bench_fetch_chain", "om_bench_fetch_line"}) {
                 cl::Kernel k(lane_prog, kind);
                 k.setArg(0, params_for(field, n));
                 k.setArg(1, field.heights);
                 k.setArg(2, g.uv);
-                k.setArg(3, out);
+                k.setArg(3, sink);
                 k.setArg(4, n);
                 const bool dependent = std::string(kind) == "om_bench_fetch_chain";
                 for (int len : {1, 8, 32, 128}) {
@@ -220,7 +228,14 @@ struct Bench {
                 }
             }
         }
-        out_json_roofline(res, n, kernel_gbps, memcpy_gbps, chain_rows);
+        out["roofline"] = {{"resolution", res.name},
+                           {"pixels", n},
+                           {"passthrough_ns_per_pixel", passthrough_ns},
+                           {"passthrough_gbps", kernel_gbps},
+                           {"host_memcpy_gbps", memcpy_gbps},
+                           {"passthrough_vs_memcpy", kernel_gbps / memcpy_gbps},
+                           {"fetch_chain", chain_rows},
+                           {"ns_per_fetch", fetch_ns}};
     }
 
     // `none` against the host memcpy of its traffic (G-buffer 24 B in, uv' 8 B and depth 4 B
@@ -251,18 +266,6 @@ struct Bench {
                 {"none_vs_memcpy", kernel_gbps / memcpy_gbps}};
     }
 
-    void out_json_roofline(const Resolution& res, int n, double kgbps, double mgbps,
-                           const json& chain) {
-        out["roofline"] = {{"resolution", res.name},
-                           {"pixels", n},
-                           {"passthrough_ns_per_pixel", passthrough_ns},
-                           {"passthrough_gbps", kgbps},
-                           {"host_memcpy_gbps", mgbps},
-                           {"passthrough_vs_memcpy", kgbps / mgbps},
-                           {"fetch_chain", chain},
-                           {"ns_per_fetch", fetch_ns}};
-    }
-
     // One method at one setting: time (uv' and depth written), fetches per pixel, and the ratio
     // to its roof: pass-through + fetches x the lane fetch rate at that many fetches per pixel,
     // both timed in turns with the method on the same G-buffer and map.
@@ -275,12 +278,8 @@ struct Bench {
         t.uv = cl::Buffer(rt->context(), CL_MEM_WRITE_ONLY, n * sizeof(cl_float2));
         t.depth = cl::Buffer(rt->context(), CL_MEM_WRITE_ONLY, n * sizeof(float));
         if (!roof_line()) {
-            const std::vector<std::string> files = {"common/lanes.h", "common/lane_sampling.cl",
-                                                    "bench/roofline.cl"};
-            roof_pass = cl::Kernel(rt->program(files), "om_bench_passthrough");
-            roof_line =
-                cl::Kernel(rt->program(files, "#define OM_LANES " + std::to_string(lanes) + "\n"),
-                           "om_bench_fetch_line");
+            roof_pass = cl::Kernel(roof_program(1), "om_bench_passthrough");
+            roof_line = cl::Kernel(roof_program(lanes), "om_bench_fetch_line");
         }
         cl::Buffer sink(rt->context(), CL_MEM_WRITE_ONLY, n * sizeof(cl_float2));
         roof_pass.setArg(0, g.uv);
@@ -292,12 +291,11 @@ struct Bench {
         roof_line.setArg(2, g.uv);
         roof_line.setArg(3, sink);
         roof_line.setArg(4, static_cast<int>(n));
-        auto launch = [&](cl::Kernel& k, size_t per_item) {
+        auto launch = [&](cl::Kernel& k, int per_item) {
             return [&, per_item] {
                 cl::Event e;
-                rt->queue().enqueueNDRangeKernel(
-                    k, cl::NullRange, cl::NDRange((n + per_item * 64 - 1) / (per_item * 64) * 64),
-                    cl::NDRange(64), nullptr, &e);
+                rt->queue().enqueueNDRangeKernel(k, cl::NullRange, lane_range(n, per_item),
+                                                 cl::NDRange(64), nullptr, &e);
                 return e;
             };
         };
@@ -453,7 +451,8 @@ int main(int argc, char** argv) {
             rows.push_back(r);
         }
         b.out["methods"] = rows;
-        b.out["none_vs_memcpy"] = b.none_vs_memcpy(g_main, field, s);
+        for (const auto& r : rows)
+            if (r["method"] == "none") b.out["none_vs_memcpy"] = b.none_vs_memcpy(g_main, field, s);
 
         // The same kernel sources compiled as C++ (-O3 -march=native), threads over pixels.
         unsigned threads = std::max(1u, std::thread::hardware_concurrency());
