@@ -49,7 +49,7 @@ OM_INLINE float3 om_unit_or(float3 v, float3 fallback) {
 // near blockers subtend large angles (sharp penumbra), far ones small. The light obeys the same
 // grazing rule as the view (elevation raised to the minimum), so the march is bounded.
 OM_INLINE float om_light_visibility(const OmLaneField* f, float2 uv, float3 l,
-                                 const OmShadeParams* P) {
+                                    const OmShadeParams* P) {
     float h0 = om_lane_height_at(f, uv.x, uv.y);
     if (h0 >= 1.0f || P->scale <= 0.0f) return 1.0f;
     float lxy = length(l.xy);

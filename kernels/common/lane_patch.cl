@@ -53,8 +53,8 @@ OM_INLINE void om_lane_walk_cell(const OmLaneWalk* w, OmF t, OmI* i, OmI* j) {
 
 // Where the ray leaves the square of cells [x_lo, x_lo + size) x [y_lo, y_lo + size): through an
 // x face at tx, a y face at ty; returns the first of those and t_exit.
-OM_INLINE OmF om_lane_walk_exit(const OmLaneWalk* w, OmI x_lo, OmI y_lo, OmI size, OmF t_exit, OmF* tx,
-                             OmF* ty) {
+OM_INLINE OmF om_lane_walk_exit(const OmLaneWalk* w, OmI x_lo, OmI y_lo, OmI size, OmF t_exit,
+                                OmF* tx, OmF* ty) {
     OmI bx = OM_SEL(x_lo + size, x_lo, w->si < 0), by = OM_SEL(y_lo + size, y_lo, w->sj < 0);
     *tx = OM_SEL((OmF)INFINITY, (w->cx - OM_TO_FLOAT(bx)) / w->dx, w->dx != 0.0f);
     *ty = OM_SEL((OmF)INFINITY, (w->cy - OM_TO_FLOAT(by)) / w->dy, w->dy != 0.0f);
@@ -63,7 +63,7 @@ OM_INLINE OmF om_lane_walk_exit(const OmLaneWalk* w, OmI x_lo, OmI y_lo, OmI siz
 
 // Lanes in `step` move on to the neighbouring cell through the exit face found above.
 OM_INLINE void om_lane_walk_step(const OmLaneWalk* w, OmI step, OmF tx, OmF ty, OmF t_out, OmF* t,
-                              OmI* i, OmI* j) {
+                                 OmI* i, OmI* j) {
     *t = OM_SEL(*t, t_out, step);
     *i = OM_SEL(*i, *i + w->si, step & (tx <= ty));
     *j = OM_SEL(*j, *j + w->sj, step & !(tx <= ty));
@@ -72,9 +72,9 @@ OM_INLINE void om_lane_walk_step(const OmLaneWalk* w, OmI step, OmF tx, OmF ty, 
 // Whether each lane's ray is on or below bilinear patch (i, j) somewhere in [t, t_out], and the
 // first such t (t itself may be negative: the ray starts above the polygon when r < 1). Counts one
 // fetch in the lanes of `active`; other lanes return false.
-OM_INLINE OmI om_lane_patch_hit(const OmLaneRay* r, const OmLaneField* f, const OmLaneWalk* w, OmI i,
-                             OmI j, OmF t, OmF t_out, OmI active, OmI* fetches,
-                             OmF* t_hit OM_IMG_PARAM) {
+OM_INLINE OmI om_lane_patch_hit(const OmLaneRay* r, const OmLaneField* f, const OmLaneWalk* w,
+                                OmI i, OmI j, OmF t, OmF t_out, OmI active, OmI* fetches,
+                                OmF* t_hit OM_IMG_PARAM) {
     OmF k00, k10, k01, k11;
     om_lane_corners(f, i, j, &k00, &k10, &k01, &k11 OM_IMG_ARG);
     *fetches += OM_ONE(active);

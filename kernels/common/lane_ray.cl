@@ -29,7 +29,7 @@ OM_INLINE OmF om_lane_ray_t(const OmLaneRay* r, OmF lambda) {
 // Views below min_vz are flagged GRAZING under every policy. Tracing in a local frame (the
 // fractional part of uv under wrap) keeps float precision for any tile index.
 OM_INLINE OmI om_lane_setup(OmF u, OmF v, OmF vx, OmF vy, OmF vz, const OmOffsetParams* P,
-                         OmLaneRay* r, OmF* base_u, OmF* base_v) {
+                            OmLaneRay* r, OmF* base_u, OmF* base_v) {
     OmI empty = isnan(u) || isnan(v);
     OmI finite = isfinite(u) && isfinite(v) && isfinite(vx) && isfinite(vy) && isfinite(vz);
     // Scale by the largest component first so |V| neither overflows nor underflows. Three
@@ -97,8 +97,8 @@ typedef struct {
 // n + 1 samples at lambda_i = i / n from the top plane down, each lane with its own n, stopping at
 // the first sample at or below the relief (lambda_n = 1 is the bottom plane where every H >= 0, so
 // each lane stops by i = n); the loop ends when every lane has.
-OM_INLINE OmLaneHit om_lane_linear_search(const OmLaneRay* r, const OmLaneField* f, OmI n, OmI active,
-                                       OmI* fetches OM_IMG_PARAM) {
+OM_INLINE OmLaneHit om_lane_linear_search(const OmLaneRay* r, const OmLaneField* f, OmI n,
+                                          OmI active, OmI* fetches OM_IMG_PARAM) {
     OmLaneHit hit;
     hit.index = n;
     hit.h_prev = 1.0f;
@@ -129,8 +129,8 @@ OM_INLINE OmLaneHit om_lane_linear_search(const OmLaneRay* r, const OmLaneField*
 //   (plane parallel to or facing away from the ray) is taken as 1e-4, so the step runs to the slab.
 // safe form (Premecz's "safer" variant): the division dropped, t' = t - gap N.z with N unit.
 // Either way t' is clamped to the slab [t_enter, t_exit].
-OM_INLINE OmF om_lane_slope_step(const OmLaneRay* r, const OmLaneField* f, OmF t, int safe, OmI active,
-                              OmI* fetches OM_IMG_PARAM) {
+OM_INLINE OmF om_lane_slope_step(const OmLaneRay* r, const OmLaneField* f, OmF t, int safe,
+                                 OmI active, OmI* fetches OM_IMG_PARAM) {
     OmF gu, gv;
     OmF h = om_lane_height_grad(f, r->u - t * r->vx, r->v - t * r->vy, active, fetches, &gu,
                                 &gv OM_IMG_ARG);

@@ -63,7 +63,7 @@ OM_INLINE OmI om_lane_wrap(OmI i, OmI n) {
 // field's address mode. Resolved once per patch, not per texel: integer % costs tens of cycles on a
 // CPU, and power-of-two maps need none (a mask also wraps negative indices).
 OM_INLINE void om_lane_address(const OmLaneField* f, OmI i, OmI j, OmI* i0, OmI* i1, OmI* j0,
-                            OmI* j1) {
+                               OmI* j1) {
     if (f->wrap && f->pot) {
         *i0 = i & (f->w - 1);
         *i1 = (i + 1) & (f->w - 1);
@@ -92,7 +92,7 @@ OM_INLINE OmF om_lane_texel(const OmLaneField* f, OmI i, OmI j OM_IMG_PARAM) {
 // The four corners of each lane's patch (i, j) (integer texel-centre coordinates): k00 at (i, j),
 // k10 at (i + 1, j), k01, k11.
 OM_INLINE void om_lane_corners(const OmLaneField* f, OmI i, OmI j, OmF* k00, OmF* k10, OmF* k01,
-                            OmF* k11 OM_IMG_PARAM) {
+                               OmF* k11 OM_IMG_PARAM) {
     OmI i0, i1, j0, j1;
     om_lane_address(f, i, j, &i0, &i1, &j0, &j1);
     OmI r0 = f->offset + j0 * f->w, r1 = f->offset + j1 * f->w;
@@ -104,7 +104,7 @@ OM_INLINE void om_lane_corners(const OmLaneField* f, OmI i, OmI j, OmF* k00, OmF
 
 // The four corners of the patch under (u, v) and the position (a, b) inside it.
 OM_INLINE void om_lane_patch(const OmLaneField* f, OmF u, OmF v, OmF* a, OmF* b, OmF* k00, OmF* k10,
-                          OmF* k01, OmF* k11 OM_IMG_PARAM) {
+                             OmF* k01, OmF* k11 OM_IMG_PARAM) {
     OmF cx = clamp(u * f->fw - 0.5f, -1.0e8f, 1.0e8f);
     OmF cy = clamp(v * f->fh - 0.5f, -1.0e8f, 1.0e8f);
     OmF fx = OM_LFLOOR(cx), fy = OM_LFLOOR(cy);
@@ -122,7 +122,7 @@ OM_INLINE OmF om_lane_height_at(const OmLaneField* f, OmF u, OmF v OM_IMG_PARAM)
 
 // The same, counting one fetch in the lanes of `active` (the methods' cost measure).
 OM_INLINE OmF om_lane_height(const OmLaneField* f, OmF u, OmF v, OmI active,
-                          OmI* fetches OM_IMG_PARAM) {
+                             OmI* fetches OM_IMG_PARAM) {
     *fetches += OM_ONE(active);
     return om_lane_height_at(f, u, v OM_IMG_ARG);
 }
@@ -130,7 +130,7 @@ OM_INLINE OmF om_lane_height(const OmLaneField* f, OmF u, OmF v, OmI active,
 // Bilinear height and its exact gradient (dH/du, dH/dv) on the patch: the gradient of the bilinear
 // surface itself, so slope methods follow the same relief that `exact` intersects.
 OM_INLINE OmF om_lane_height_grad(const OmLaneField* f, OmF u, OmF v, OmI active, OmI* fetches,
-                               OmF* gu, OmF* gv OM_IMG_PARAM) {
+                                  OmF* gu, OmF* gv OM_IMG_PARAM) {
     OmF a, b, k00, k10, k01, k11;
     om_lane_patch(f, u, v, &a, &b, &k00, &k10, &k01, &k11 OM_IMG_ARG);
     *fetches += OM_ONE(active);

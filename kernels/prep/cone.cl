@@ -38,7 +38,9 @@ OM_INLINE float om_cell_max(const OmLaneField* f, int i, int j) {
 }
 
 // Gap between unit cells (or a cell and a block) along one axis: [a, a + na) vs [b, b + nb).
-OM_INLINE int om_gap(int a, int na, int b, int nb) { return max(max(b - (a + na), a - (b + nb)), 0); }
+OM_INLINE int om_gap(int a, int na, int b, int nb) {
+    return max(max(b - (a + na), a - (b + nb)), 0);
+}
 
 // blocks_valid: block maxima bound the cells at any block index (clamp, or wrap with sizes that are
 // multiples of 8); otherwise every cell in reach is visited.
