@@ -30,8 +30,13 @@ OM_INLINE void om_lane_cone_cell(const OmLaneField* f, const OmOffsetParams* P, 
         outside = i < 0 || j < 0 || i >= f->w || j >= f->hgt;
         idx = clamp(j, 0, f->hgt - 1) * f->w + clamp(i, 0, f->w - 1);
     }
+#ifdef OM_PAIR_GATHER
+    om_gather_pairs(f->aux, 2 * idx, (1 << OM_LANES) - 1, hc, c);
+#else
     *hc = OM_GATHER(f->aux, 2 * idx);
-    *c = OM_SEL(OM_GATHER(f->aux, 2 * idx + 1), 0.0f, outside);
+    *c = OM_GATHER(f->aux, 2 * idx + 1);
+#endif
+    *c = OM_SEL(*c, 0.0f, outside);
     if (OM_ANY(outside)) {
         OmF k00, k10, k01, k11;
         om_lane_corners(f, i, j, &k00, &k10, &k01, &k11 OM_IMG_ARG);
