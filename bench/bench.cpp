@@ -9,6 +9,7 @@
 // DIR/bench.json, and charts by bench/plot_bench.py.
 #include <CLI/CLI.hpp>
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -366,6 +367,70 @@ void print_row(const json& r, const char* extra = "") {
                 extra);
 }
 
+// Two copies of the kernel sources (folders like kernels/) timed in one process: per method,
+// rounds of A, B, A on the same G-buffer and map, each round's ratio B / mean(A, A), median and
+// quartiles. Two processes run minutes apart differ by more than most kernel changes here.
+json compare_kernels(const std::array<std::string, 2>& dirs, const std::string& device,
+                     const std::vector<const MethodInfo*>& methods, const GBuffer& gbuffer,
+                     const HeightMap& map, const PassSettings& s, int rounds) {
+    struct Side {
+        std::shared_ptr<Runtime> rt;
+        DeviceGBuffer g;
+        DeviceHeightField f;
+        OffsetTargets t;
+    };
+    std::array<Side, 2> side;
+    const size_t n = gbuffer.pixels();
+    for (int k = 0; k < 2; ++k) {
+        Side& x = side[k];
+        x.rt = Runtime::create(device);
+        x.rt->set_kernel_dir(dirs[k]);
+        x.g = upload(*x.rt, gbuffer);
+        x.f = upload(*x.rt, map, s);
+        x.t.uv = cl::Buffer(x.rt->context(), CL_MEM_WRITE_ONLY, n * sizeof(cl_float2));
+        x.t.depth = cl::Buffer(x.rt->context(), CL_MEM_WRITE_ONLY, n * sizeof(float));
+    }
+    std::printf(
+        "\n%s (A) against %s (B), %zu pixels, %d rounds of A B A\n  %-18s %10s %10s %8s %15s\n",
+        dirs[0].c_str(), dirs[1].c_str(), n, rounds, "method", "A ns/px", "B ns/px", "B / A",
+        "quartiles");
+    json rows = json::array();
+    for (const MethodInfo* m : methods) {
+        OffsetPass a(side[0].rt, m->name, {}), b(side[1].rt, m->name, {});
+        auto launch = [&](OffsetPass& p, Side& x) {
+            cl::Event e = p.enqueue(x.g, x.f, s, x.t);
+            e.wait();
+            return event_ms(e);
+        };
+        for (int w = 0; w < 2; ++w) launch(a, side[0]), launch(b, side[1]);
+        std::vector<double> ta, tb, ratio;
+        for (int r = 0; r < rounds; ++r) {
+            double a1 = launch(a, side[0]), b1 = launch(b, side[1]), a2 = launch(a, side[0]);
+            ta.push_back(0.5 * (a1 + a2));
+            tb.push_back(b1);
+            ratio.push_back(b1 / ta.back());
+        }
+        auto q = [](std::vector<double> v, double at) {
+            std::sort(v.begin(), v.end());
+            return v[static_cast<size_t>(at * static_cast<double>(v.size() - 1) + 0.5)];
+        };
+        const double ns = 1e6 / static_cast<double>(n);
+        json r = {{"method", m->name},
+                  {"a_ns_per_pixel", q(ta, 0.5) * ns},
+                  {"b_ns_per_pixel", q(tb, 0.5) * ns},
+                  {"b_over_a", q(ratio, 0.5)},
+                  {"b_over_a_q1", q(ratio, 0.25)},
+                  {"b_over_a_q3", q(ratio, 0.75)}};
+        std::printf("  %-18s %10.2f %10.2f %8.3f   %.3f - %.3f\n", m->name.c_str(),
+                    r["a_ns_per_pixel"].get<double>(), r["b_ns_per_pixel"].get<double>(),
+                    r["b_over_a"].get<double>(), r["b_over_a_q1"].get<double>(),
+                    r["b_over_a_q3"].get<double>());
+        std::fflush(stdout);
+        rows.push_back(r);
+    }
+    return {{"kernel_dirs", dirs}, {"pixels", n}, {"rounds", rounds}, {"methods", rows}};
+}
+
 void print_header(const char* title) {
     std::printf("\n%s\n  %-18s %-34s %9s %9s %9s %8s %6s %9s %8s %7s\n", title, "method", "setting",
                 "ns/pixel", "min", "Mpix/s", "fetches", "ns/f", "roof ns", "of roof", "busy");
@@ -391,6 +456,11 @@ int main(int argc, char** argv) {
     app.add_option(
         "--methods", only,
         "only these methods: roofline, their defaults and the C++ loop (no growth charts)");
+    std::vector<std::string> ab;
+    app.add_option("--ab", ab,
+                   "A/B of two kernel folders (copies of kernels/): the methods (or --methods) "
+                   "timed in turns in one process at the main resolution; nothing else runs")
+        ->expected(2);
     CLI11_PARSE(app, argc, argv);
     try {
         std::filesystem::create_directories(out_dir);
@@ -429,6 +499,14 @@ int main(int argc, char** argv) {
                                                    : std::vector<int>{256, 1024, 4096};
         PassSettings s;
         s.scale = 0.05f;
+        if (!ab.empty()) {
+            const int rounds = smoke ? 1 : std::clamp(static_cast<int>(target_ms / 20), 5, 40);
+            b.out["ab"] = compare_kernels({ab[0], ab[1]}, device, select_methods(only),
+                                          camera_gbuffer(main_res), bench_map(1024), s, rounds);
+            std::ofstream(out_dir + "/bench-ab.json") << b.out.dump(2) << "\n";
+            std::printf("\nwrote %s/bench-ab.json\n", out_dir.c_str());
+            return 0;
+        }
         std::map<int, DeviceHeightField> fields;
         std::map<int, HeightMap> host_maps;
         for (int size : map_sizes) {

@@ -225,6 +225,19 @@ TEST(BadInput, KernelBuildFailureCarriesTheBuildLog) {
         EXPECT_NE(what.find("error"), std::string::npos) << what;  // the compiler's own words
     }
     unsetenv("OFFSETMAP_KERNEL_DIR");
+    // The same folder given to one runtime (offsetmap_bench --ab): its programs read it, and
+    // clearing it restores the embedded kernels.
+    auto own =
+        std::make_shared<Runtime>(runtime()->context(), runtime()->device(), runtime()->queue());
+    own->set_kernel_dir(dir.string());
+    try {
+        OffsetPass pass(own, "parallax");
+        ADD_FAILURE() << "broken kernel built from the runtime's kernel folder";
+    } catch (const Error& e) {
+        EXPECT_NE(std::string(e.what()).find("methods/parallax.cl"), std::string::npos) << e.what();
+    }
+    own->set_kernel_dir("");
+    EXPECT_NO_THROW(OffsetPass(own, "parallax"));
     fs::remove_all(dir);
 }
 

@@ -140,8 +140,9 @@ cl::Program Runtime::program(const std::vector<std::string>& files, const std::s
     if (it != programs_.end()) return it->second;
 
     std::string source = is_pocl_ ? "#define OM_POCL 1\n" : "";
-    source += defines + "\n" + kernel_source("common/om_shared.h") + "\n";
-    for (const auto& f : files) source += "#line 1 \"" + f + "\"\n" + kernel_source(f) + "\n";
+    source += defines + "\n" + kernel_source("common/om_shared.h", kernel_dir_) + "\n";
+    for (const auto& f : files)
+        source += "#line 1 \"" + f + "\"\n" + kernel_source(f, kernel_dir_) + "\n";
     cl::Program program(context_, source);
     try {
         program.build({device_}, "-cl-std=CL1.2");
@@ -158,12 +159,23 @@ cl::Program Runtime::program(const std::vector<std::string>& files, const std::s
     return program;
 }
 
-std::string kernel_source(const std::string& path) {
-    if (const char* dir = std::getenv("OFFSETMAP_KERNEL_DIR")) {
-        std::string full = std::string(dir) + "/" + path;
+void Runtime::set_kernel_dir(const std::string& dir) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    kernel_dir_ = dir;
+    programs_.clear();
+}
+
+std::string kernel_source(const std::string& path, const std::string& dir_arg) {
+    const char* env = std::getenv("OFFSETMAP_KERNEL_DIR");
+    if (!dir_arg.empty() || env) {
+        std::string dir = dir_arg.empty() ? std::string(env) : dir_arg;
+        std::string full = dir + "/" + path;
         std::ifstream in(full, std::ios::binary);
         if (!in)
-            throw Error("cannot read kernel file '" + full + "' (OFFSETMAP_KERNEL_DIR is set)");
+            throw Error(
+                "cannot read kernel file '" + full + "' (" +
+                (dir_arg.empty() ? "OFFSETMAP_KERNEL_DIR is set" : "the runtime's kernel folder") +
+                ")");
         std::ostringstream text;
         text << in.rdbuf();
         return text.str();

@@ -118,21 +118,20 @@ typedef int16 OmI;
 #if OM_LANES == 8
 #define OM_LANE_BITS(m) __builtin_reduce_or((m) & (int8)(1, 2, 4, 8, 16, 32, 64, 128))
 #else
-#define OM_LANE_BITS(m)                                                                           \
+#define OM_LANE_BITS(m)                                                                        \
     __builtin_reduce_or((m) & (int16)(1, 2, 4, 8, 16, 32, 64, 128, 256, 512, 1024, 2048, 4096, \
                                       8192, 16384, 32768))
 #endif
 
 // Eight pairs from indices i (floats from p) where bits are set: (first, second) of each pair.
 OM_INLINE float8 om_gather8_pairs(__global const float* p, int8 i, int bits, float8* second) {
-    float16 q = as_float16(__builtin_ia32_gathersiv8di((long8)0, (const void*)(size_t)p, i,
-                                                      (unsigned char)bits, 4));
+    float16 q = as_float16(
+        __builtin_ia32_gathersiv8di((long8)0, (const void*)(size_t)p, i, (unsigned char)bits, 4));
     *second = q.odd;
     return q.even;
 }
 
-OM_INLINE void om_gather_pairs(__global const float* p, OmI i, int bits, OmF* first,
-                               OmF* second) {
+OM_INLINE void om_gather_pairs(__global const float* p, OmI i, int bits, OmF* first, OmF* second) {
 #if OM_LANES == 8
     *first = om_gather8_pairs(p, i, bits, second);
 #else

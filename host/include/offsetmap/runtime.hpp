@@ -43,6 +43,11 @@ class Runtime {
     // after `defines` ("-D" style lines are not used: `defines` is OpenCL C text). Built once.
     cl::Program program(const std::vector<std::string>& files, const std::string& defines = "");
 
+    // Programs built after this call read kernel files from `dir` (a copy of kernels/) instead
+    // of the embedded text or $OFFSETMAP_KERNEL_DIR; empty restores those. For timing two
+    // versions of a kernel in one process, in turns (offsetmap_bench --ab).
+    void set_kernel_dir(const std::string& dir);
+
   private:
     cl::Context context_;
     cl::Device device_;
@@ -53,11 +58,13 @@ class Runtime {
     bool images_ = false;
     std::mutex mutex_;
     std::map<std::string, cl::Program> programs_;
+    std::string kernel_dir_;
 };
 
-// Text of a kernel file (path relative to kernels/): embedded at build time, or read from
-// $OFFSETMAP_KERNEL_DIR when that is set (for editing kernels without rebuilding).
-std::string kernel_source(const std::string& path);
+// Text of a kernel file (path relative to kernels/): read from `dir` when given, else from
+// $OFFSETMAP_KERNEL_DIR when that is set (for editing kernels without rebuilding), else the text
+// embedded at build time.
+std::string kernel_source(const std::string& path, const std::string& dir = "");
 
 // Milliseconds between an event's start and end (needs a profiling queue).
 double event_ms(const cl::Event& event);
