@@ -105,8 +105,7 @@ typedef int16 OmI;
 // Pairs of neighbouring floats (p[i], p[i + 1]) per lane in 64-bit gathers: a bilinear patch's
 // row is such a pair, and AVX-512 gathers cost per element, so two gathers of 8 pairs replace two
 // gathers of 16 floats. Clang's gather builtin on PoCL's CPU target (one flat address space), with
-// float buffers only. Lanes outside `load` are not read (a patch whose row wraps or is clamped at
-// the map's edge is not a pair, and p[i + 1] may lie past the buffer); their values are 0.
+// float buffers only. Every lane's p[i + 1] must lie in the buffer.
 #if defined(OM_POCL) && defined(__AVX512F__) && !defined(OM_IMAGES) && \
     (OM_LANES == 8 || OM_LANES == 16) && defined(__has_builtin)
 #if __has_builtin(__builtin_ia32_gathersiv8di) && defined(OM_CLANG_LANE_BUILTINS)
@@ -114,30 +113,21 @@ typedef int16 OmI;
 #endif
 #endif
 #ifdef OM_PAIR_GATHER
-// Bit k set where lane k's mask is set.
-#if OM_LANES == 8
-#define OM_LANE_BITS(m) __builtin_reduce_or((m) & (int8)(1, 2, 4, 8, 16, 32, 64, 128))
-#else
-#define OM_LANE_BITS(m)                                                                        \
-    __builtin_reduce_or((m) & (int16)(1, 2, 4, 8, 16, 32, 64, 128, 256, 512, 1024, 2048, 4096, \
-                                      8192, 16384, 32768))
-#endif
-
-// Eight pairs from indices i (floats from p) where bits are set: (first, second) of each pair.
-OM_INLINE float8 om_gather8_pairs(__global const float* p, int8 i, int bits, float8* second) {
+// Eight pairs from indices i (floats from p): (first, second) of each pair.
+OM_INLINE float8 om_gather8_pairs(__global const float* p, int8 i, float8* second) {
     float16 q = as_float16(
-        __builtin_ia32_gathersiv8di((long8)0, (const void*)(size_t)p, i, (unsigned char)bits, 4));
+        __builtin_ia32_gathersiv8di((long8)0, (const void*)(size_t)p, i, (unsigned char)0xff, 4));
     *second = q.odd;
     return q.even;
 }
 
-OM_INLINE void om_gather_pairs(__global const float* p, OmI i, int bits, OmF* first, OmF* second) {
+OM_INLINE void om_gather_pairs(__global const float* p, OmI i, OmF* first, OmF* second) {
 #if OM_LANES == 8
-    *first = om_gather8_pairs(p, i, bits, second);
+    *first = om_gather8_pairs(p, i, second);
 #else
     float8 s0, s1;
-    float8 f0 = om_gather8_pairs(p, i.lo, bits & 0xff, &s0);
-    float8 f1 = om_gather8_pairs(p, i.hi, bits >> 8, &s1);
+    float8 f0 = om_gather8_pairs(p, i.lo, &s0);
+    float8 f1 = om_gather8_pairs(p, i.hi, &s1);
     *first = (float16)(f0, f1);
     *second = (float16)(s0, s1);
 #endif

@@ -31,7 +31,7 @@ OM_INLINE void om_lane_cone_cell(const OmLaneField* f, const OmOffsetParams* P, 
         idx = clamp(j, 0, f->hgt - 1) * f->w + clamp(i, 0, f->w - 1);
     }
 #ifdef OM_PAIR_GATHER
-    om_gather_pairs(f->aux, 2 * idx, (1 << OM_LANES) - 1, hc, c);
+    om_gather_pairs(f->aux, 2 * idx, hc, c);
 #else
     *hc = OM_GATHER(f->aux, 2 * idx);
     *c = OM_GATHER(f->aux, 2 * idx + 1);
