@@ -137,7 +137,7 @@ struct Bench {
     std::shared_ptr<Runtime> rt;
     double target_ms;
     // The roof timed beside each method: pass-through and fetches along a line in lanes.
-    cl::Kernel roof_pass, roof_line;
+    cl::Kernel roof_pass, roof_line, roof_chain;
     json out;
 
     // The roofline microkernels at `lanes` pixels per work-item (1: the file's default).
@@ -281,17 +281,20 @@ struct Bench {
         if (!roof_line()) {
             roof_pass = cl::Kernel(roof_program(1), "om_bench_passthrough");
             roof_line = cl::Kernel(roof_program(lanes), "om_bench_fetch_line");
+            roof_chain = cl::Kernel(roof_program(lanes), "om_bench_fetch_chain");
         }
         cl::Buffer sink(rt->context(), CL_MEM_WRITE_ONLY, n * sizeof(cl_float2));
         roof_pass.setArg(0, g.uv);
         roof_pass.setArg(1, g.view);
         roof_pass.setArg(2, sink);
         roof_pass.setArg(3, static_cast<int>(n));
-        roof_line.setArg(0, params_for(f, static_cast<int>(n)));
-        roof_line.setArg(1, f.heights);
-        roof_line.setArg(2, g.uv);
-        roof_line.setArg(3, sink);
-        roof_line.setArg(4, static_cast<int>(n));
+        for (cl::Kernel* k : {&roof_line, &roof_chain}) {
+            k->setArg(0, params_for(f, static_cast<int>(n)));
+            k->setArg(1, f.heights);
+            k->setArg(2, g.uv);
+            k->setArg(3, sink);
+            k->setArg(4, static_cast<int>(n));
+        }
         auto launch = [&](cl::Kernel& k, int per_item) {
             return [&, per_item] {
                 cl::Event e;
@@ -317,30 +320,37 @@ struct Bench {
             max_sum +=
                 static_cast<double>(most) * static_cast<double>(std::min<size_t>(lanes, n - b));
         }
-        // The roof's fetches along a line at the method's count per pixel (rounded up), less the
-        // same kernel making none (its own loads and stores): a fetch's cost depends on how many
-        // a work-item makes (one exposes its latency, a row of them overlaps), so the roof is
-        // taken at the method's count, as the issue asks.
+        // Two roofs at the method's fetch count per pixel (rounded up), each less the same
+        // kernel making none (its own loads and stores): fetches along a line (independent, as a
+        // linear search makes them: the faster, strict roof) and a chain of fetches each placed
+        // by the last height (the issue's roofline: dependent fetches). A fetch's cost depends on
+        // how many a work-item makes (one exposes its latency, a row of them overlaps), so both
+        // are taken at the method's count.
         const int roof_fetches = std::max(1, static_cast<int>(std::ceil(fetches - 1e-9)));
-        auto line = [&](int count) {
-            return [&, count] {
-                roof_line.setArg(5, count);
-                return launch(roof_line, lanes)();
+        auto count = [&](cl::Kernel& k, int c) {
+            return [&, c] {
+                k.setArg(5, c);
+                return launch(k, lanes)();
             };
         };
         std::vector<std::function<cl::Event()>> launches = {
             [&] { return pass.enqueue(g, f, s, t); }, launch(roof_pass, 1)};
-        if (fetches > 0) {
-            launches.push_back(line(roof_fetches));
-            launches.push_back(line(0));
-        }
+        if (fetches > 0)
+            for (cl::Kernel* k : {&roof_line, &roof_chain}) {
+                launches.push_back(count(*k, roof_fetches));
+                launches.push_back(count(*k, 0));
+            }
         std::vector<Timing> tms = time_interleaved(launches, target_ms);
         const Timing& tm = tms[0];
         double pass_ns = tms[1].median_ms * 1e6 / n;
-        double fetch =
-            fetches > 0 ? (tms[2].median_ms - tms[3].median_ms) * 1e6 / n / roof_fetches : 0.0;
+        auto per_fetch = [&](size_t at) {
+            return fetches > 0
+                       ? (tms[at].median_ms - tms[at + 1].median_ms) * 1e6 / n / roof_fetches
+                       : 0.0;
+        };
+        double fetch = per_fetch(2), chain_fetch = per_fetch(4);
         double ns = tm.median_ms * 1e6 / n;
-        double roof = pass_ns + fetches * fetch;
+        double roof = pass_ns + fetches * fetch, chain_roof = pass_ns + fetches * chain_fetch;
         return {{"method", method},
                 {"setting", describe_setting(setting)},
                 {"ns_per_pixel", ns},
@@ -352,19 +362,24 @@ struct Bench {
                 {"roofline_ratio", roof / ns},
                 {"roof_passthrough_ns_per_pixel", pass_ns},
                 {"roof_ns_per_fetch", fetch},
+                {"chain_roofline_ns_per_pixel", chain_roof},
+                {"chain_roofline_ratio", chain_roof / ns},
+                {"chain_ns_per_fetch", chain_fetch},
                 {"lanes_busy", max_sum > 0 ? busy_sum / max_sum : 1.0},
                 {"precomputed_bytes", pass.precomputed().bytes}};
     }
 };
 
 void print_row(const json& r, const char* extra = "") {
-    std::printf("  %-18s %-34s %9.2f %9.2f %9.1f %8.2f %6.2f %9.2f %7.0f%% %6.0f%% %s\n",
-                r["method"].get<std::string>().c_str(), r["setting"].get<std::string>().c_str(),
-                r["ns_per_pixel"].get<double>(), r["min_ns_per_pixel"].get<double>(),
-                r["mpix_per_s"].get<double>(), r["fetches_per_pixel"].get<double>(),
-                r["roof_ns_per_fetch"].get<double>(), r["roofline_ns_per_pixel"].get<double>(),
-                100.0 * r["roofline_ratio"].get<double>(), 100.0 * r["lanes_busy"].get<double>(),
-                extra);
+    std::printf(
+        "  %-18s %-34s %9.2f %9.2f %9.1f %8.2f %6.2f %9.2f %7.0f%% %6.2f %8.0f%% %6.0f%% %s\n",
+        r["method"].get<std::string>().c_str(), r["setting"].get<std::string>().c_str(),
+        r["ns_per_pixel"].get<double>(), r["min_ns_per_pixel"].get<double>(),
+        r["mpix_per_s"].get<double>(), r["fetches_per_pixel"].get<double>(),
+        r["roof_ns_per_fetch"].get<double>(), r["roofline_ns_per_pixel"].get<double>(),
+        100.0 * r["roofline_ratio"].get<double>(), r["chain_ns_per_fetch"].get<double>(),
+        100.0 * r["chain_roofline_ratio"].get<double>(), 100.0 * r["lanes_busy"].get<double>(),
+        extra);
 }
 
 // Two copies of the kernel sources (folders like kernels/) timed in one process: per method,
@@ -432,8 +447,9 @@ json compare_kernels(const std::array<std::string, 2>& dirs, const std::string& 
 }
 
 void print_header(const char* title) {
-    std::printf("\n%s\n  %-18s %-34s %9s %9s %9s %8s %6s %9s %8s %7s\n", title, "method", "setting",
-                "ns/pixel", "min", "Mpix/s", "fetches", "ns/f", "roof ns", "of roof", "busy");
+    std::printf("\n%s\n  %-18s %-34s %9s %9s %9s %8s %6s %9s %8s %6s %9s %7s\n", title, "method",
+                "setting", "ns/pixel", "min", "Mpix/s", "fetches", "ns/f", "roof ns", "of roof",
+                "chn/f", "of chain", "busy");
 }
 
 }  // namespace

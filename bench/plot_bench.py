@@ -55,13 +55,19 @@ def main():
         a.legend(fontsize=7)
     ax = axes[3]
     rows = doc["methods"]
-    ax.barh(range(len(rows)), [100 * r["roofline_ratio"] for r in rows], color="tab:blue")
-    ax.set_yticks(range(len(rows)))
+    y = list(range(len(rows)))
+    ax.barh([k - 0.2 for k in y], [100 * r["roofline_ratio"] for r in rows], height=0.4,
+            color="tab:blue", label="line roof (independent fetches)")
+    ax.barh([k + 0.2 for k in y], [100 * r.get("chain_roofline_ratio", 0) for r in rows],
+            height=0.4, color="tab:orange", label="chain roof (dependent fetches)")
+    ax.set_xlim(0, max(150, 10 + max(100 * r.get("chain_roofline_ratio", 0) for r in rows)))
+    ax.legend(fontsize=7, loc="lower right")
+    ax.set_yticks(y)
     ax.set_yticklabels(["%s (%.1f fetches)" % (r["method"], r["fetches_per_pixel"]) for r in rows],
                        fontsize=8)
     ax.invert_yaxis()
     ax.axvline(70, color="black", linestyle="--", linewidth=1)
-    ax.set_xlabel("% of the roofline (pass-through + fetches x ns/fetch)")
+    ax.set_xlabel("% of roof (pass-through + fetches x ns/fetch)")
     ax.set_title("defaults against the device's roofline")
     fig.suptitle("%s, %s" % (doc["device"], doc["driver"]), fontsize=10)
     fig.tight_layout()
