@@ -136,7 +136,8 @@ double host_memcpy_gbps(size_t bytes, int reps = 7, const std::function<void()>&
 struct Bench {
     std::shared_ptr<Runtime> rt;
     double target_ms;
-    // The roof timed beside each method: pass-through and fetches along a line in lanes.
+    // The roofs timed beside each method: pass-through, and fetches along a line and in a chain
+    // in lanes.
     cl::Kernel roof_pass, roof_line, roof_chain;
     json out;
 
@@ -160,25 +161,43 @@ struct Bench {
         return p;
     }
 
+    // Arguments of the roofline microkernels (kernels/bench/roofline.cl): pass-through reads the
+    // G-buffer; the fetch kernels (chain, line) its uv and the field, their count (argument 5)
+    // set per launch.
+    static void bind_passthrough(cl::Kernel& k, const DeviceGBuffer& g, const cl::Buffer& sink) {
+        k.setArg(0, g.uv);
+        k.setArg(1, g.view);
+        k.setArg(2, sink);
+        k.setArg(3, static_cast<int>(g.pixels()));
+    }
+    void bind_fetches(cl::Kernel& k, const DeviceGBuffer& g, const DeviceHeightField& f,
+                      const cl::Buffer& sink) {
+        const int n = static_cast<int>(g.pixels());
+        k.setArg(0, params_for(f, n));
+        k.setArg(1, f.heights);
+        k.setArg(2, g.uv);
+        k.setArg(3, sink);
+        k.setArg(4, n);
+    }
+
+    // A launch of a roofline kernel over n pixels at `per_item` pixels per work-item.
+    std::function<cl::Event()> roof_launch(cl::Kernel& k, size_t n, int per_item) {
+        return [this, &k, n, per_item] {
+            cl::Event e;
+            rt->queue().enqueueNDRangeKernel(k, cl::NullRange, lane_range(n, per_item),
+                                             cl::NDRange(64), nullptr, &e);
+            return e;
+        };
+    }
+
     void roofline(const Resolution& res, const DeviceHeightField& field) {
         GBuffer gb = camera_gbuffer(res);
         DeviceGBuffer g = upload(*rt, gb);
         const int n = static_cast<int>(g.pixels());
         cl::Buffer sink(rt->context(), CL_MEM_WRITE_ONLY, g.pixels() * sizeof(cl_float2));
         cl::Kernel pass(roof_program(1), "om_bench_passthrough");
-        pass.setArg(0, g.uv);
-        pass.setArg(1, g.view);
-        pass.setArg(2, sink);
-        pass.setArg(3, n);
-        const cl::NDRange local(64);
-        Timing tp = time_launches(
-            [&] {
-                cl::Event e;
-                rt->queue().enqueueNDRangeKernel(pass, cl::NullRange, lane_range(g.pixels(), 1),
-                                                 local, nullptr, &e);
-                return e;
-            },
-            target_ms);
+        bind_passthrough(pass, g, sink);
+        Timing tp = time_launches(roof_launch(pass, g.pixels(), 1), target_ms);
         const double passthrough_ns = tp.median_ms * 1e6 / n;
         const double bytes = 32.0 * n;  // 24 B in, 8 B out
         double kernel_gbps = bytes / (tp.median_ms * 1e-3) * 1e-9;
@@ -195,25 +214,13 @@ struct Bench {
         if (rt->lanes() > 1) lane_counts.push_back(rt->lanes());
         for (int lanes : lane_counts) {
             cl::Program lane_prog = roof_program(lanes);
-            const cl::NDRange lane_global = lane_range(g.pixels(), lanes);
             for (const char* kind : {"om_bench_fetch_chain", "om_bench_fetch_line"}) {
                 cl::Kernel k(lane_prog, kind);
-                k.setArg(0, params_for(field, n));
-                k.setArg(1, field.heights);
-                k.setArg(2, g.uv);
-                k.setArg(3, sink);
-                k.setArg(4, n);
+                bind_fetches(k, g, field, sink);
                 const bool dependent = std::string(kind) == "om_bench_fetch_chain";
                 for (int len : {1, 8, 32, 128}) {
                     k.setArg(5, len);
-                    Timing t = time_launches(
-                        [&] {
-                            cl::Event e;
-                            rt->queue().enqueueNDRangeKernel(k, cl::NullRange, lane_global, local,
-                                                             nullptr, &e);
-                            return e;
-                        },
-                        target_ms);
+                    Timing t = time_launches(roof_launch(k, g.pixels(), lanes), target_ms);
                     double per_fetch = (t.median_ms * 1e6 / n - passthrough_ns) / len;
                     if (len == 32) fetch_ns = std::min(fetch_ns, per_fetch);
                     std::printf(
@@ -284,25 +291,9 @@ struct Bench {
             roof_chain = cl::Kernel(roof_program(lanes), "om_bench_fetch_chain");
         }
         cl::Buffer sink(rt->context(), CL_MEM_WRITE_ONLY, n * sizeof(cl_float2));
-        roof_pass.setArg(0, g.uv);
-        roof_pass.setArg(1, g.view);
-        roof_pass.setArg(2, sink);
-        roof_pass.setArg(3, static_cast<int>(n));
-        for (cl::Kernel* k : {&roof_line, &roof_chain}) {
-            k->setArg(0, params_for(f, static_cast<int>(n)));
-            k->setArg(1, f.heights);
-            k->setArg(2, g.uv);
-            k->setArg(3, sink);
-            k->setArg(4, static_cast<int>(n));
-        }
-        auto launch = [&](cl::Kernel& k, int per_item) {
-            return [&, per_item] {
-                cl::Event e;
-                rt->queue().enqueueNDRangeKernel(k, cl::NullRange, lane_range(n, per_item),
-                                                 cl::NDRange(64), nullptr, &e);
-                return e;
-            };
-        };
+        bind_passthrough(roof_pass, g, sink);
+        bind_fetches(roof_line, g, f, sink);
+        bind_fetches(roof_chain, g, f, sink);
         // Fetch counts from one run with the fetch output on (not timed).
         OffsetResult counted = run_offset(*rt, pass, g, f, s, 1);
         double fetches = 0;
@@ -328,13 +319,13 @@ struct Bench {
         // are taken at the method's count.
         const int roof_fetches = std::max(1, static_cast<int>(std::ceil(fetches - 1e-9)));
         auto count = [&](cl::Kernel& k, int c) {
-            return [&, c] {
+            return [&, c, run = roof_launch(k, n, lanes)] {
                 k.setArg(5, c);
-                return launch(k, lanes)();
+                return run();
             };
         };
         std::vector<std::function<cl::Event()>> launches = {
-            [&] { return pass.enqueue(g, f, s, t); }, launch(roof_pass, 1)};
+            [&] { return pass.enqueue(g, f, s, t); }, roof_launch(roof_pass, n, 1)};
         if (fetches > 0)
             for (cl::Kernel* k : {&roof_line, &roof_chain}) {
                 launches.push_back(count(*k, roof_fetches));
