@@ -133,6 +133,28 @@ double host_memcpy_gbps(size_t bytes, int reps = 7, const std::function<void()>&
     return 2.0 * bytes / ts[ts.size() / 2] * 1e-9;
 }
 
+// The share of lane-steps that fetch for a live lane when pixels are grouped in tw x th tiles
+// (one work-item each; rows of `tw` when th = 1 and the width is a multiple): each group runs as
+// many steps as its slowest pixel.
+double lanes_busy(const std::vector<std::uint32_t>& fetches, int width, int height, int tw,
+                  int th) {
+    double busy = 0, steps = 0;
+    for (int y0 = 0; y0 < height; y0 += th)
+        for (int x0 = 0; x0 < width; x0 += tw) {
+            std::uint32_t most = 0;
+            int count = 0;
+            for (int y = y0; y < std::min(height, y0 + th); ++y)
+                for (int x = x0; x < std::min(width, x0 + tw); ++x) {
+                    const std::uint32_t f = fetches[static_cast<size_t>(y) * width + x];
+                    busy += f;
+                    most = std::max(most, f);
+                    ++count;
+                }
+            steps += static_cast<double>(most) * count;
+        }
+    return steps > 0 ? busy / steps : 1.0;
+}
+
 struct Bench {
     std::shared_ptr<Runtime> rt;
     double target_ms;
@@ -300,17 +322,13 @@ struct Bench {
         for (auto c : counted.fetches) fetches += c;
         fetches /= static_cast<double>(n);
         // Lanes busy: a work-item's steps last as long as its slowest lane's; the fraction of
-        // lane-steps that fetch for an active lane.
-        double busy_sum = 0, max_sum = 0;
-        for (size_t b = 0; b < n; b += static_cast<size_t>(lanes)) {
-            std::uint32_t most = 0;
-            for (size_t k = b; k < std::min(n, b + lanes); ++k) {
-                busy_sum += counted.fetches[k];
-                most = std::max(most, counted.fetches[k]);
-            }
-            max_sum +=
-                static_cast<double>(most) * static_cast<double>(std::min<size_t>(lanes, n - b));
-        }
+        // lane-steps that fetch for an active lane, for the work-item's row of `lanes` pixels and,
+        // from the same counts, for the tiles of as many pixels it could hold instead.
+        json busy_by_shape = json::object();
+        for (auto [tw, th] : {std::pair{lanes, 1}, std::pair{8, 2}, std::pair{4, 4}})
+            if (tw * th == lanes)
+                busy_by_shape[std::to_string(tw) + "x" + std::to_string(th)] =
+                    lanes_busy(counted.fetches, g.width, g.height, tw, th);
         // Two roofs at the method's fetch count per pixel (rounded up), each less the same
         // kernel making none (its own loads and stores): fetches along a line (independent, as a
         // linear search makes them: the faster, strict roof) and a chain of fetches each placed
@@ -356,7 +374,8 @@ struct Bench {
                 {"chain_roofline_ns_per_pixel", chain_roof},
                 {"chain_roofline_ratio", chain_roof / ns},
                 {"chain_ns_per_fetch", chain_fetch},
-                {"lanes_busy", max_sum > 0 ? busy_sum / max_sum : 1.0},
+                {"lanes_busy", busy_by_shape[std::to_string(lanes) + "x1"]},
+                {"lanes_busy_by_tile", busy_by_shape},
                 {"precomputed_bytes", pass.precomputed().bytes}};
     }
 };

@@ -39,14 +39,17 @@ OM_INLINE float3 om_unit_or(float3 v, float3 fallback) {
 }
 
 // Visibility of the light from the relief point above uv (height H0 = H(uv)): 1 lit, 0 shadowed.
-// n samples march from the point toward L up to the top plane (McGuire's shadow loop, with L
+// n samples march from the point toward L.xy up to the top plane (McGuire's shadow loop, with L
 // pointing toward the light, so the march runs along +L.xy). A sample at fraction f of the way
 // sees the relief at height H; its blocker angle above the horizon, seen from the point, is
-// atan(s (H - H0) / (f |D|)), where D is the uv travel to the top plane; the light is at elevation
-// alpha. hard: shadowed if any blocker angle exceeds alpha. soft (Tatarchuk's blocker-distance
-// weighting made geometric): a light of angular diameter light_size is seen half when the worst
-// blocker angle equals alpha, so visibility = clamp(1/2 - (worst - alpha) / light_size, 0, 1):
-// near blockers subtend large angles (sharp penumbra), far ones small. The light obeys the same
+// atan(s (H - H0) / (f |D|)), where D is the uv travel; the light is at elevation alpha. hard:
+// shadowed if any blocker angle exceeds alpha; D reaches the top plane along L. soft (Tatarchuk's
+// blocker-distance weighting made geometric): a light of angular diameter light_size is seen half
+// when the worst blocker angle equals alpha, so visibility = clamp(1/2 - (worst - alpha) /
+// light_size, 0, 1): near blockers subtend large angles (sharp penumbra), far ones small. A blocker
+// below alpha still hides the light's lower part, so D reaches the top plane along the light's
+// lowest ray (elevation alpha - light_size / 2): a march that stopped along L would cut the
+// penumbra's lit half off wherever the relief reaches the top plane. The light obeys the same
 // grazing rule as the view (elevation raised to the minimum), so the march is bounded.
 OM_INLINE float om_light_visibility(const OmLaneField* f, float2 uv, float3 l,
                                     const OmShadeParams* P) {
@@ -60,8 +63,11 @@ OM_INLINE float om_light_visibility(const OmLaneField* f, float2 uv, float3 l,
     }
     if (lxy <= 1.0e-6f) return 1.0f;  // light straight above: nothing rises above it
     float2 dir = l.xy / length(l.xy);
-    float run = (1.0f - h0) * P->scale * lxy / lz;  // uv distance to the top plane
     float alpha = atan2(lz, lxy);
+    float lowest = alpha;
+    if (P->shadow_mode == OM_SHADOW_SOFT)
+        lowest = fmax(alpha - 0.5f * P->light_size, asin(P->min_vz));
+    float run = (1.0f - h0) * P->scale / tan(lowest);  // uv distance to the top plane
     float worst = -M_PI_F;
     int n = max(P->shadow_steps, 1);
     for (int i = 1; i <= n; ++i) {

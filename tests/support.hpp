@@ -1,7 +1,7 @@
 // Test helpers: one shared runtime, small procedural height maps, and a one-call pass runner.
 #pragma once
-#include <gtest/gtest.h>
 #include <OpenImageIO/imageio.h>
+#include <gtest/gtest.h>
 
 #include <cmath>
 #include <functional>
@@ -47,7 +47,8 @@ inline HeightMap smooth_map(int n = 64) {
 // Noisy: independent uniform texels.
 inline HeightMap noisy_map(int n = 64, unsigned seed = 11) {
     std::mt19937 rng(seed);
-    return make_map(n, n, [&rng](int, int) { return static_cast<float>((rng() >> 8) * 0x1.0p-24); });
+    return make_map(n, n,
+                    [&rng](int, int) { return static_cast<float>((rng() >> 8) * 0x1.0p-24); });
 }
 
 // Cliffs: 4x4-texel blocks of height 0.1 or 1.0 (vertical walls one texel wide).
@@ -82,8 +83,8 @@ inline OffsetResult run(const std::string& method, const HeightMap& map, const G
 // V at elevation `elev_deg` toward azimuth `az_deg` (from +u toward +v).
 inline std::array<float, 3> view_dir(double elev_deg, double az_deg) {
     double e = elev_deg * M_PI / 180, a = az_deg * M_PI / 180;
-    return {static_cast<float>(std::cos(e) * std::cos(a)), static_cast<float>(std::cos(e) * std::sin(a)),
-            static_cast<float>(std::sin(e))};
+    return {static_cast<float>(std::cos(e) * std::cos(a)),
+            static_cast<float>(std::cos(e) * std::sin(a)), static_cast<float>(std::sin(e))};
 }
 
 inline std::vector<std::string> method_names() {
@@ -112,10 +113,44 @@ inline double constant_field_lambda_tolerance(const std::string& method, double 
     return 0.0;
 }
 
-// Test row, part two: the most height fetches a method may make per pixel at its defaults (or
-// `params`), from its documented loop bounds; `exact`'s is the DDA cell cap of passes.cpp.
-inline double fetch_cap(const std::string& method, const PassSettings& s, const HeightMap& map,
-                        const std::map<std::string, std::string>& params = {}) {
+// Cell boundaries (lines through texel centres of a w x h grid whose cells are `block` cells
+// wide) that the ray's footprint crosses for t in [ta, tb], plus one: the cells it visits. In the
+// kernels' frame: wrap traces from the fractional uv, clamp clamps the start cell position to
+// +-1e8.
+// `float_slack` adds what float positions may shift the count by: at each end a position rounds
+// by up to half its float spacing (a few cells at the clamp's 1e8), plus a cell for a point on a
+// face that lands in the neighbour.
+inline double cells_crossed(const PreparedRay& pr, const PassSettings& s, int w, int h, double ta,
+                            double tb, int block = 1, bool float_slack = false) {
+    auto axis = [&](double u, double d, int n) {
+        if (s.address == AddressMode::Wrap) u -= std::floor(u);
+        const double c0 = std::clamp(u * n - 0.5, -1e8, 1e8);  // the start is clamped
+        auto pos = [&](double t) { return c0 - t * d * n; };
+        double ca = pos(ta), cb = pos(tb);
+        double count =
+            std::fabs(std::floor(std::floor(cb) / block) - std::floor(std::floor(ca) / block));
+        if (float_slack)
+            count += 1.0 + std::ceil((std::fabs(ca) + std::fabs(cb)) * 0x1.0p-24 / block);
+        return count;
+    };
+    return axis(pr.u, pr.V[0], w) + axis(pr.v, pr.V[1], h) + 1.0;
+}
+
+// Test row, part two: the most height fetches a method may make for one ray (prepare_ray's), up
+// to ray parameter t_end (its hit, or the bottom plane when the hit is not known), at its
+// defaults (or `params`).
+// - The marching methods: their documented loop bounds (steps, samples, iterations).
+// - The cell walks, from the ray's geometry rather than the kernels' loop caps. `exact` reads
+//   one patch per cell it enters: the cells crossed, with float rounding's slack (above), and +2
+//   more under LOD (a coarser level's cell lines are at most one more per axis than level 0's
+//   over the same stretch). `cone`: each step leaves
+//   at least one cell or ends, and costs a cone fetch and at most one patch. `maxmip`: each step
+//   tests one block (or patch) and then descends a level or leaves the block; a climb follows
+//   only a leave, so descents <= top + leaves, and leaves at level k <= the level-k blocks
+//   crossed: at most top + 1 + 2 sum_k (blocks_k + 2), top <= the map's pyramid levels (wrap).
+inline double ray_fetch_cap(const std::string& method, const PassSettings& s, const HeightMap& map,
+                            const PreparedRay& pr, double t_end,
+                            const std::map<std::string, std::string>& params = {}) {
     const MethodInfo& m = find_method(method);
     std::vector<float> v = resolve_params(m, params);
     auto p = [&](const char* name) {
@@ -124,27 +159,49 @@ inline double fetch_cap(const std::string& method, const PassSettings& s, const 
         throw Error(std::string("no parameter ") + name);
     };
     if (method == "none") return 0;
-    if (method == "parallax" || method == "parallax-limited" || method == "parallax-slope") return 1;
+    if (method == "parallax" || method == "parallax-limited" || method == "parallax-slope")
+        return 1;
     if (method == "parallax-iterative") return p("iterations");
     if (method == "steep") return p("layers") + 1;
     if (method == "relief") return p("linear") + 1 + p("binary");
     if (method == "secant") return std::max(p("min_samples"), p("max_samples")) + 1 + p("refine");
     if (method == "pom") return std::max(p("min_samples"), p("max_samples")) + 1;
     if (method == "sphere") return p("steps");
-    const double cells = std::ceil(s.scale / std::sin(s.min_elevation_deg * M_PI / 180.0) * (map.width + map.height)) + 4;
+    const double t_enter = -s.scale * (1.0 - s.reference_plane) / pr.V[2];
+    const double slack = s.lod.enabled ? 2.0 : 0.0;
+    const double cells =
+        cells_crossed(pr, s, map.width, map.height, t_enter, t_end, 1, true) + slack;
     if (method == "exact") return cells;
-    // maxmip: one block test or one cell per step, at most 2 levels + 2 steps per cell crossed.
-    if (method == "maxmip") return cells * (2 * 15 + 2);
-    // cone: each step leaves at least one cell; a cone fetch and at most one patch per step.
     if (method == "cone") return 2 * cells;
+    if (method == "maxmip") {
+        int top = 0;
+        for (int w = map.width, h = map.height;
+             s.address == AddressMode::Wrap && top < 15 && w % 2 == 0 && h % 2 == 0; w /= 2, h /= 2)
+            ++top;
+        double sum = 0;
+        for (int k = 0; k <= top; ++k)
+            sum +=
+                cells_crossed(pr, s, map.width, map.height, t_enter, t_end, 1 << k, true) + slack;
+        return top + 1 + 2 * sum;
+    }
     throw Error("no fetch cap row for method " + method);
 }
 
 // The methods a test row must exist for: fails loudly when a method is added without one.
 inline const std::vector<std::string>& methods_with_rows() {
-    static const std::vector<std::string> rows = {"none",  "parallax", "parallax-limited",
-                                                  "parallax-slope", "parallax-iterative", "steep",
-                                                  "relief", "pom", "sphere", "secant", "maxmip", "cone", "exact"};
+    static const std::vector<std::string> rows = {"none",
+                                                  "parallax",
+                                                  "parallax-limited",
+                                                  "parallax-slope",
+                                                  "parallax-iterative",
+                                                  "steep",
+                                                  "relief",
+                                                  "pom",
+                                                  "sphere",
+                                                  "secant",
+                                                  "maxmip",
+                                                  "cone",
+                                                  "exact"};
     return rows;
 }
 

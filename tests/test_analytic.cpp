@@ -51,6 +51,30 @@ TEST(Analytic, ConstantFieldGivesThePlaneHit) {
         for (float c : {0.0f, 0.35f, 0.9f}) check_constant_field(c, r);
 }
 
+TEST(Analytic, PomStepCountFollowsTatarchusLerp) {
+    // Tatarchuk's dynamic sampling: n = lerp(n_max, n_min, V.z) steps (rounded), more at grazing
+    // views. On a floor (H = 0, r = 1) the linear search runs to the bottom plane, sample n, so
+    // it reads n + 1 heights; secant's refinement has nothing left to refine there (the last
+    // sample is on the floor), so it reads as many.
+    HeightMap floor = constant_map(0.0f, 16, 16);
+    PassSettings s;
+    s.scale = 0.05f;
+    std::vector<std::array<float, 5>> px;
+    for (double elev : {90.0, 70.0, 45.0, 30.0, 15.0, 5.0, 2.0})
+        for (double az : {0.0, 130.0}) {
+            auto V = view_dir(elev, az);
+            px.push_back({0.3f, 0.6f, V[0], V[1], V[2]});
+        }
+    for (const char* method : {"pom", "secant"}) {
+        OffsetResult r =
+            run(method, floor, row_gbuffer(px), s, {{"min_samples", "6"}, {"max_samples", "40"}});
+        for (size_t k = 0; k < px.size(); ++k) {
+            const double n = std::max(1.0, std::floor(40.0 + (6.0 - 40.0) * px[k][4] + 0.5));
+            EXPECT_EQ(r.fetches[k], n + 1) << method << " at V.z = " << px[k][4];
+        }
+    }
+}
+
 // H = u between the first and last texel centres (texels (i + 0.5) / n), clamped addressing.
 TEST(Analytic, RampHit) {
     const int n = 64;

@@ -141,18 +141,30 @@ TEST(BadInput, GrazingRuleRaisesViewToMinimumElevation) {
 }
 
 TEST(BadInput, HugeUvKeepsTheOffsetOfItsTile) {
-    // Tracing in the tile's local frame: uv + 1000 gives the same offset as uv (wrap mode).
+    // Tracing in the tile's local frame (wrap mode): uv = k + f traces exactly as f, and only the
+    // final uv' = k + (f + offset) rounds, to the nearest float: within half the float spacing at
+    // k of the offset of uv = f. Tiles 10^3 and 10^6 (spacing 6.1e-5 and 0.0625 uv) and negative.
     HeightMap m = noisy_map(32);
     PassSettings s;
     s.scale = 0.1f;
     auto V = view_dir(30, 200);
-    GBuffer gb =
-        row_gbuffer({{0.25f, 0.5f, V[0], V[1], V[2]}, {1000.25f, -999.5f, V[0], V[1], V[2]}});
-    for (const auto& name : method_names()) {
-        OffsetResult r = run(name, m, gb, s);
-        // float spacing at 1000 is 6e-5 uv: the offsets agree to that.
-        EXPECT_NEAR(r.uv[1].s[0] - 1000.0f, r.uv[0].s[0], 1.3e-4f) << name;
-        EXPECT_NEAR(r.uv[1].s[1] + 1000.0f, r.uv[0].s[1], 1.3e-4f) << name;
+    const float f0 = 0.25f, f1 = 0.5f;
+    for (float tile : {1000.0f, 1.0e6f}) {
+        GBuffer gb = row_gbuffer({{f0, f1, V[0], V[1], V[2]},
+                                  {tile + f0, -tile + f1, V[0], V[1], V[2]},
+                                  {-tile + f0, tile + f1, V[0], V[1], V[2]}});
+        ASSERT_EQ(gb.uv[1].s[0] - tile, f0);  // the inputs are exact
+        ASSERT_EQ(gb.uv[1].s[1] + tile, f1);
+        const float half_ulp = 0.5f * (std::nextafter(tile, 2 * tile) - tile);
+        for (const auto& name : method_names()) {
+            OffsetResult r = run(name, m, gb, s);
+            EXPECT_NEAR(r.uv[1].s[0] - tile, r.uv[0].s[0], half_ulp) << name << " at " << tile;
+            EXPECT_NEAR(r.uv[1].s[1] + tile, r.uv[0].s[1], half_ulp) << name << " at " << tile;
+            EXPECT_NEAR(r.uv[2].s[0] + tile, r.uv[0].s[0], half_ulp) << name << " at -" << tile;
+            EXPECT_NEAR(r.uv[2].s[1] - tile, r.uv[0].s[1], half_ulp) << name << " at -" << tile;
+            EXPECT_EQ(r.depth[1], r.depth[0]) << name << ": the same ray in the local frame";
+            EXPECT_EQ(r.depth[2], r.depth[0]) << name;
+        }
     }
 }
 

@@ -21,11 +21,14 @@ std::vector<std::pair<std::string, HeightMap>> fuzz_maps() {
         {"zero", constant_map(0.0f, 8, 8)},
         {"one", constant_map(1.0f, 8, 8)},
         {"1x1", constant_map(0.6f, 1, 1)},
-        {"37x11", make_map(37, 11, [](int i, int j) { return 0.5f + 0.5f * std::sin(1.3f * i + 0.7f * j); })},
+        {"37x11",
+         make_map(37, 11,
+                  [](int i, int j) { return 0.5f + 0.5f * std::sin(1.3f * i + 0.7f * j); })},
         {"npot", noisy_map(100, 5)},
     };
     auto dir = fs::temp_directory_path();
-    std::string png16 = (dir / "om_fuzz16.png").string(), exr = (dir / "om_fuzz_float.exr").string();
+    std::string png16 = (dir / "om_fuzz16.png").string(),
+                exr = (dir / "om_fuzz_float.exr").string();
     {
         std::vector<uint16_t> px(24 * 20);
         for (size_t k = 0; k < px.size(); ++k) px[k] = static_cast<uint16_t>((k * 7919) % 65536);
@@ -51,15 +54,18 @@ std::vector<std::pair<std::string, HeightMap>> fuzz_maps() {
     return maps;
 }
 
-// Random uv and V with one pixel in four replaced by a special value in one component.
-GBuffer fuzz_gbuffer(int w, int h, uint64_t seed) {
+// Random uv and V with one pixel in four replaced by a special value in one component; with
+// `lod`, a mip level per pixel in [-2, 18] (one in eight special).
+GBuffer fuzz_gbuffer(int w, int h, uint64_t seed, bool lod) {
     const float den = std::numeric_limits<float>::denorm_min();
-    const float specials[] = {kNaN, kInf, -kInf, 0.0f, -0.0f, den, -den, 1e-30f, 1e30f, -1e30f,
-                              3e38f, 1e6f, -1e6f, 1e-7f};
+    const float specials[] = {kNaN,   kInf,  -kInf,  0.0f,  -0.0f, den,   -den,
+                              1e-30f, 1e30f, -1e30f, 3e38f, 1e6f,  -1e6f, 1e-7f};
     GBuffer gb;
-    gb.resize(w, h, false, false);
+    gb.resize(w, h, false, lod);
     std::mt19937_64 rng(seed);
-    auto uni = [&rng](double lo, double hi) { return lo + (hi - lo) * ((rng() >> 11) * 0x1.0p-53); };
+    auto uni = [&rng](double lo, double hi) {
+        return lo + (hi - lo) * ((rng() >> 11) * 0x1.0p-53);
+    };
     for (size_t k = 0; k < gb.pixels(); ++k) {
         float c[5] = {static_cast<float>(uni(-2, 3)), static_cast<float>(uni(-2, 3)),
                       static_cast<float>(uni(-1, 1)), static_cast<float>(uni(-1, 1)),
@@ -70,55 +76,121 @@ GBuffer fuzz_gbuffer(int w, int h, uint64_t seed) {
         if (rng() % 4 == 0) c[rng() % 5] = specials[rng() % (sizeof specials / sizeof *specials)];
         gb.uv[k] = {{c[0], c[1]}};
         gb.view[k] = {{c[2], c[3], c[4], 0.0f}};
+        if (lod) gb.lod[k] = rng() % 8 == 0 ? specials[rng() % 4] : static_cast<float>(uni(-2, 18));
     }
     return gb;
 }
 
+// The input-classification flags, as prepare_ray (the double-precision reference) sets them.
+constexpr uint32_t kInputFlags =
+    OM_FLAG_EMPTY | OM_FLAG_INVALID | OM_FLAG_BACKFACING | OM_FLAG_GRAZING | OM_FLAG_RENORMALIZED;
+
+// Settings per fuzz map: every address mode, grazing policy, a spread of scales and reference
+// planes (r < 1 puts the ray's start above the polygon, t < 0), and the LOD system off, on with
+// the G-buffer's level, in footprint mode, and in footprint mode from the pre-pass (no level in
+// the G-buffer: neighbouring pixels of a random G-buffer are far apart, so levels run high).
+PassSettings fuzz_settings(size_t mi, bool* lod_channel) {
+    const float scales[] = {0.1f, 0.02f, 0.2f, 0.05f, 0.5f, 0.1f, 0.01f};
+    const float refs[] = {1.0f, 0.6f, 0.0f, 0.35f, 1.0f, 0.8f, 0.5f};
+    PassSettings s;
+    s.scale = scales[mi % 7];
+    s.reference_plane = refs[mi % 7];
+    s.address = mi % 2 ? AddressMode::Clamp : AddressMode::Wrap;
+    s.grazing = mi % 3 == 0   ? GrazingPolicy::Clamp
+                : mi % 3 == 1 ? GrazingPolicy::Limit
+                              : GrazingPolicy::Cap;
+    s.lod.enabled = mi % 4 != 0;
+    s.lod.footprint = mi % 4 >= 2;
+    *lod_channel = mi % 4 == 1 || mi % 4 == 2;
+    return s;
+}
+
 TEST(Fuzz, EveryMethodStaysFiniteAndWithinItsCap) {
-    // 10^7 pixels in all, split evenly across methods and maps.
+    // 10^7 pixels in all, split evenly across methods and maps. Per pixel: the input flags as the
+    // double-precision reference classifies the input (but for values within float rounding of
+    // a threshold), rejected pixels passed through untouched, traced ones finite and within the
+    // method's fetch cap for that ray, never CAPPED.
     auto maps = fuzz_maps();
     const auto names = method_names();
     const size_t per_run = 10'000'000 / (names.size() * maps.size()) + 1;
     const int w = 1024, h = static_cast<int>((per_run + w - 1) / w);
-    size_t total = 0;
+    std::map<uint32_t, size_t> seen;  // pixels per flag bit, over every run
     for (size_t mi = 0; mi < maps.size(); ++mi) {
         const auto& [map_name, map] = maps[mi];
-        PassSettings s;
-        s.scale = 0.1f;
-        s.address = mi % 2 ? AddressMode::Clamp : AddressMode::Wrap;
-        s.grazing = mi % 3 == 0 ? GrazingPolicy::Clamp : mi % 3 == 1 ? GrazingPolicy::Limit : GrazingPolicy::Cap;
-        GBuffer gb = fuzz_gbuffer(w, h, 1000 + mi);
+        bool lod_channel = false;
+        PassSettings s = fuzz_settings(mi, &lod_channel);
+        GBuffer gb = fuzz_gbuffer(w, h, 1000 + mi, lod_channel);
         auto rt = runtime();
         DeviceHeightField f = upload(*rt, map, s);
         DeviceGBuffer g = upload(*rt, gb);
+        // The grazing threshold (the cap policy raises it with the map's size).
+        double grazing_vz = std::sin(s.min_elevation_deg * M_PI / 180.0);
+        if (s.grazing == GrazingPolicy::Cap) {
+            const double kc = s.scale * std::max(map.width, map.height) / s.max_offset_texels;
+            grazing_vz = std::max(grazing_vz, kc / std::sqrt(1.0 + kc * kc));
+        }
         for (const auto& name : names) {
             // sphere: a small distance map keeps the build quick on every map.
             std::map<std::string, std::string> params;
             if (name == "sphere") params = {{"res", "32"}, {"layers", "8"}};
             OffsetPass pass(rt, name, params);
             OffsetResult r = run_offset(*rt, pass, g, f, s, 1);
-            const double cap = fetch_cap(name, s, map, params);
             size_t bad = 0;
             for (size_t k = 0; k < gb.pixels(); ++k) {
-                bool uv_finite = std::isfinite(gb.uv[k].s[0]) && std::isfinite(gb.uv[k].s[1]);
-                bool empty = std::isnan(gb.uv[k].s[0]) || std::isnan(gb.uv[k].s[1]);
-                bool ok = std::isfinite(r.depth[k]) && r.fetches[k] <= cap &&
-                          (!uv_finite || (std::isfinite(r.uv[k].s[0]) && std::isfinite(r.uv[k].s[1]))) &&
-                          ((r.flags[k] & OM_FLAG_EMPTY) != 0) == empty && !(r.flags[k] & OM_FLAG_CAPPED);
+                const double V[3] = {gb.view[k].s[0], gb.view[k].s[1], gb.view[k].s[2]};
+                PreparedRay pr =
+                    prepare_ray(gb.uv[k].s[0], gb.uv[k].s[1], V, s, map.width, map.height);
+                uint32_t differ = (r.flags[k] ^ pr.flags) & kInputFlags;
+                // Within float rounding of a threshold either side is right.
+                const double len = std::sqrt(V[0] * V[0] + V[1] * V[1] + V[2] * V[2]);
+                if (std::fabs(std::fabs(len - 1.0) - 1e-3) < 1e-6) differ &= ~OM_FLAG_RENORMALIZED;
+                if (std::fabs(V[2] / len - grazing_vz) < 1e-6) differ &= ~OM_FLAG_GRAZING;
+                // A V.z that normalises to below the smallest normal float is 0 on the device:
+                // back-facing there, grazing in double.
+                if (std::fabs(V[2] / len) < std::numeric_limits<float>::min())
+                    differ &= ~(OM_FLAG_GRAZING | OM_FLAG_BACKFACING);
+                const bool rejected =
+                    r.flags[k] & (OM_FLAG_EMPTY | OM_FLAG_INVALID | OM_FLAG_BACKFACING);
+                bool ok =
+                    differ == 0 && std::isfinite(r.depth[k]) && !(r.flags[k] & OM_FLAG_CAPPED);
+                if (rejected) {
+                    ok = ok && std::memcmp(&r.uv[k], &gb.uv[k], sizeof(cl_float2)) == 0 &&
+                         r.depth[k] == 0.0f && r.fetches[k] == 0;
+                } else {
+                    const double t_end =
+                        s.lod.enabled ? s.scale * s.reference_plane / pr.V[2] : r.depth[k];
+                    ok = ok && std::isfinite(r.uv[k].s[0]) && std::isfinite(r.uv[k].s[1]) &&
+                         r.fetches[k] <= ray_fetch_cap(name, s, map, pr, t_end, params);
+                    // exact visits every cell up to its hit (one fewer per axis for rounding).
+                    if (name == "exact" && !s.lod.enabled) {
+                        const double t_enter = -s.scale * (1.0 - s.reference_plane) / pr.V[2];
+                        ok = ok && r.fetches[k] + 2.0 >=
+                                       cells_crossed(pr, s, map.width, map.height, t_enter, t_end);
+                    }
+                }
+                for (uint32_t bit = 1; bit <= OM_FLAG_OUT_OF_TILE; bit <<= 1)
+                    if (r.flags[k] & bit) ++seen[bit];
+                seen[0] += !rejected;
                 if (!ok && bad++ < 3)
-                    ADD_FAILURE() << name << " on " << map_name << " pixel " << k << ": uv (" << gb.uv[k].s[0]
-                                  << ", " << gb.uv[k].s[1] << ") V (" << gb.view[k].s[0] << ", "
-                                  << gb.view[k].s[1] << ", " << gb.view[k].s[2] << ") -> uv' ("
-                                  << r.uv[k].s[0] << ", " << r.uv[k].s[1] << ") depth " << r.depth[k]
-                                  << " fetches " << r.fetches[k] << " (cap " << cap << ") flags "
-                                  << r.flags[k];
+                    ADD_FAILURE() << name << " on " << map_name << " pixel " << k << ": uv ("
+                                  << gb.uv[k].s[0] << ", " << gb.uv[k].s[1] << ") V (" << V[0]
+                                  << ", " << V[1] << ", " << V[2] << ") -> uv' (" << r.uv[k].s[0]
+                                  << ", " << r.uv[k].s[1] << ") depth " << r.depth[k] << " fetches "
+                                  << r.fetches[k] << " flags " << r.flags[k] << " (reference "
+                                  << pr.flags << ")";
             }
             EXPECT_EQ(bad, 0u) << name << " on " << map_name;
-            total += gb.pixels();
         }
     }
-    std::printf("fuzzed %zu pixels over %zu methods and %zu maps\n", total, names.size(), maps.size());
-    EXPECT_GE(total, 10'000'000u);
+    // Every input class and the LOD fade were met (the fuzzer reaches what it claims to test).
+    for (uint32_t bit : {OM_FLAG_EMPTY, OM_FLAG_INVALID, OM_FLAG_BACKFACING, OM_FLAG_GRAZING,
+                         OM_FLAG_RENORMALIZED, OM_FLAG_LOD_FADED})
+        EXPECT_GT(seen[bit], 1000u) << "flag " << bit;
+    std::printf(
+        "fuzzed %zu traced pixels; flags seen: empty %zu, invalid %zu, back-facing %zu, "
+        "grazing %zu, renormalised %zu, LOD-faded %zu\n",
+        seen[0], seen[OM_FLAG_EMPTY], seen[OM_FLAG_INVALID], seen[OM_FLAG_BACKFACING],
+        seen[OM_FLAG_GRAZING], seen[OM_FLAG_RENORMALIZED], seen[OM_FLAG_LOD_FADED]);
 }
 
 TEST(Fuzz, GrazingRuleHoldsDownToATenthOfADegree) {
@@ -138,8 +210,10 @@ TEST(Fuzz, GrazingRuleHoldsDownToATenthOfADegree) {
     GBuffer gb = row_gbuffer(px);
     for (const auto& name : method_names()) {
         OffsetResult r = run(name, m, gb, s);
-        const double cap = fetch_cap(name, s, m);
         for (size_t k = 0; k < px.size(); ++k) {
+            const double V[3] = {px[k][2], px[k][3], px[k][4]};
+            PreparedRay pr = prepare_ray(px[k][0], px[k][1], V, s);
+            const double cap = ray_fetch_cap(name, s, m, pr, r.depth[k]);
             double e = elevs[k / 16];
             SCOPED_TRACE(name + " at " + std::to_string(e) + " deg");
             if (e == 0) {
@@ -149,7 +223,8 @@ TEST(Fuzz, GrazingRuleHoldsDownToATenthOfADegree) {
             EXPECT_EQ((r.flags[k] & OM_FLAG_GRAZING) != 0, e < 0.1);
             EXPECT_FALSE(r.flags[k] & OM_FLAG_CAPPED);
             EXPECT_LE(r.fetches[k], cap);
-            EXPECT_TRUE(std::isfinite(r.uv[k].s[0]) && std::isfinite(r.uv[k].s[1]) && std::isfinite(r.depth[k]));
+            EXPECT_TRUE(std::isfinite(r.uv[k].s[0]) && std::isfinite(r.uv[k].s[1]) &&
+                        std::isfinite(r.depth[k]));
             // The march spans at most s / sin(0.1 deg) = 28.6 uv.
             EXPECT_LE(std::fabs(r.depth[k]), s.scale / std::sin(0.1 * M_PI / 180) * 1.0001);
         }
@@ -180,9 +255,12 @@ TEST(GrazingPolicy, LimitIsOffsetLimitingForEveryMethod) {
         double V[3] = {gb.view[k].s[0], gb.view[k].s[1], gb.view[k].s[2]};
         PreparedRay pr = prepare_ray(gb.uv[k].s[0], gb.uv[k].s[1], V, limit, m.width, m.height);
         ExactHit o = exact_hit(m, pr.u, pr.v, pr.V, limit);
-        EXPECT_LE(std::hypot((ex.uv[k].s[0] - o.u) * m.width, (ex.uv[k].s[1] - o.v) * m.height), 1e-3) << k;
+        EXPECT_LE(std::hypot((ex.uv[k].s[0] - o.u) * m.width, (ex.uv[k].s[1] - o.v) * m.height),
+                  1e-3)
+            << k;
         // No offset exceeds the slab depth s (in uv) under offset limiting.
-        EXPECT_LE(std::hypot(ex.uv[k].s[0] - gb.uv[k].s[0], ex.uv[k].s[1] - gb.uv[k].s[1]), 0.1 + 1e-6);
+        EXPECT_LE(std::hypot(ex.uv[k].s[0] - gb.uv[k].s[0], ex.uv[k].s[1] - gb.uv[k].s[1]),
+                  0.1 + 1e-6);
     }
 }
 
@@ -202,7 +280,8 @@ TEST(GrazingPolicy, CapBoundsEveryFootprintAndSparesSteeperViews) {
     for (const auto& name : method_names()) {
         OffsetResult c = run(name, m, gb, cap), f = run(name, m, gb, clamp);
         for (size_t k = 0; k < gb.pixels(); ++k) {
-            double foot = std::hypot((c.uv[k].s[0] - gb.uv[k].s[0]) * 64, (c.uv[k].s[1] - gb.uv[k].s[1]) * 64);
+            double foot = std::hypot((c.uv[k].s[0] - gb.uv[k].s[0]) * 64,
+                                     (c.uv[k].s[1] - gb.uv[k].s[1]) * 64);
             EXPECT_LE(foot, 16.0 + 1e-3) << name << " " << k;
             double elev = std::asin(gb.view[k].s[2]) * 180 / M_PI;
             if (elev > steep_enough + 0.01) {

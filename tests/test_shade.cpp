@@ -57,7 +57,8 @@ TEST(Shade, LightSourcesBackgroundAndChecker) {
     ShadeSettings ss;
     ss.specular = 0.0f;
     // Per-pixel L from the G-buffer wins over the global light; L below the polygon: ambient only.
-    GBuffer gb = row_gbuffer({{0.3f, 0.3f, 0, 0, 1}, {0.3f, 0.3f, 0, 0, 1},
+    GBuffer gb = row_gbuffer({{0.3f, 0.3f, 0, 0, 1},
+                              {0.3f, 0.3f, 0, 0, 1},
                               {std::numeric_limits<float>::quiet_NaN(), 0.3f, 0, 0, 1}});
     gb.light = {{{0, 0, 1, 0}}, {{0.6f, 0, -0.8f, 0}}, {{0, 0, 1, 0}}};
     Image4 white{1, 1, {{{1, 1, 1, 1}}}};
@@ -76,7 +77,8 @@ TEST(Shade, NormalMapFileWithGreenFlip) {
     auto path = (std::filesystem::temp_directory_path() / "om_normal.png").string();
     const float nrm[3] = {0.6f, -0.48f, 0.64f};
     std::vector<unsigned char> px(3);
-    for (int c = 0; c < 3; ++c) px[c] = static_cast<unsigned char>(std::lround((0.5f + 0.5f * nrm[c]) * 255));
+    for (int c = 0; c < 3; ++c)
+        px[c] = static_cast<unsigned char>(std::lround((0.5f + 0.5f * nrm[c]) * 255));
     auto out = OIIO::ImageOutput::create(path);
     ASSERT_TRUE(out->open(path, OIIO::ImageSpec(1, 1, 3, OIIO::TypeDesc::UINT8)));
     ASSERT_TRUE(out->write_image(OIIO::TypeDesc::UINT8, px.data()));
@@ -100,21 +102,28 @@ TEST(Shade, NormalMapFileWithGreenFlip) {
 namespace omtest {
 namespace {
 
-// A box of height 1 (texels 56..71 of a 128 map) on a floor of 0, s = 0.1, lit from +u at elevation
-// alpha: the box's top edge at u_top = 56.5 / 128 (bilinear: the wall rises between the centres of
-// texels 55 and 56) casts a shadow on the floor behind it (toward -u) of length s / tan(alpha).
+// A box of height `top` (texels 56..71 of a 128 map) on a floor of 0, s = 0.1, lit from +u at
+// elevation alpha: the box's top edge at u_top = 56.5 / 128 (bilinear: the wall rises between the
+// centres of texels 55 and 56) casts a shadow on the floor behind it (toward -u).
 struct BoxScene {
     static constexpr int n = 128;
-    HeightMap map = make_map(n, n, [](int i, int j) {
-        return (i >= 56 && i < 72 && j >= 56 && j < 72) ? 1.0f : 0.0f;
-    });
+    static constexpr double s = 0.1;
+    float top = 1.0f;
+    HeightMap map;
     double u_top = 56.5 / n, u_foot = 55.5 / n;
     std::vector<double> us;
 
-    std::vector<cl_float4> shade_floor(double alpha_deg, ShadowMode mode, float size_deg = 8.0f) {
+    explicit BoxScene(float top_height = 1.0f) : top(top_height) {
+        map = make_map(n, n, [this](int i, int j) {
+            return (i >= 56 && i < 72 && j >= 56 && j < 72) ? top : 0.0f;
+        });
+    }
+
+    std::vector<cl_float4> shade_floor(double alpha_deg, ShadowMode mode, float size_deg = 8.0f,
+                                       int steps = 64) {
         std::vector<std::array<float, 5>> px;
         us.clear();
-        for (double u = 0.10; u < u_foot - 1.0 / n; u += 0.25 / n) {
+        for (double u = 0.05; u < u_foot - 1.0 / n; u += 0.25 / n) {
             us.push_back(u);
             px.push_back({static_cast<float>(u), 0.5f, 0, 0, 1});
         }
@@ -123,20 +132,31 @@ struct BoxScene {
         auto L = view_dir(alpha_deg, 0);
         std::copy(L.begin(), L.end(), ss.light);
         ss.shadow = mode;
-        ss.shadow_steps = 64;
+        ss.shadow_steps = steps;
         ss.light_size_deg = size_deg;
         Image4 white{1, 1, {{{1, 1, 1, 1}}}};
         auto rt = runtime();
-        PassSettings s;
-        s.scale = 0.1f;
-        DeviceHeightField f = upload(*rt, map, s);
+        PassSettings ps;
+        ps.scale = static_cast<float>(s);
+        DeviceHeightField f = upload(*rt, map, ps);
         GBuffer gb = row_gbuffer(px);
         DeviceGBuffer g = upload(*rt, gb);
         OffsetPass pass(rt, "none");
-        OffsetResult r = run_offset(*rt, pass, g, f, s, 1);
+        OffsetResult r = run_offset(*rt, pass, g, f, ps, 1);
         ShadePass sp(rt);
         DeviceImage da = upload(*rt, white);
-        return run_shade(*rt, sp, r, g, f, &da, s, ss);
+        return run_shade(*rt, sp, r, g, f, &da, ps, ss);
+    }
+
+    // The light's visible share on the floor, from the shaded colour (white albedo, flat floor:
+    // N . L = sin alpha).
+    std::vector<double> visibility(double alpha_deg, float size_deg, int steps = 64) {
+        ShadeSettings ss;
+        auto c = shade_floor(alpha_deg, ShadowMode::Soft, size_deg, steps);
+        std::vector<double> vis;
+        const double full = ss.diffuse * std::sin(alpha_deg * M_PI / 180);
+        for (const auto& px : c) vis.push_back((px.s[0] - ss.ambient) / full);
+        return vis;
     }
 };
 
@@ -157,7 +177,8 @@ TEST(Shadows, HardShadowOfABoxHasTheAnalyticLength) {
                 EXPECT_NEAR(c[k].s[0], lit, 1e-4) << "lit at u=" << u << " alpha " << alpha;
             }
             if (u > edge + tol) {
-                EXPECT_NEAR(c[k].s[0], ss.ambient, 1e-4) << "shadow at u=" << u << " alpha " << alpha;
+                EXPECT_NEAR(c[k].s[0], ss.ambient, 1e-4)
+                    << "shadow at u=" << u << " alpha " << alpha;
             }
             checked += std::fabs(u - edge) > tol;
         }
@@ -167,33 +188,71 @@ TEST(Shadows, HardShadowOfABoxHasTheAnalyticLength) {
     }
 }
 
-TEST(Shadows, SoftShadowIsHalfLitAtTheGeometricEdgeAndWidensWithDistance) {
-    BoxScene box;
-    ShadeSettings ss;
-    const double alpha = 40.0;
-    auto c = box.shade_floor(alpha, ShadowMode::Soft, 8.0f);
-    const double full = ss.diffuse * std::sin(alpha * M_PI / 180);
-    const double edge = box.u_top - 0.1 / std::tan(alpha * M_PI / 180);
-    std::vector<double> vis;
-    for (size_t k = 0; k < box.us.size(); ++k) vis.push_back((c[k].s[0] - ss.ambient) / full);
-    // Visibility falls monotonically from lit to dark toward the box ...
-    for (size_t k = 1; k < vis.size(); ++k) EXPECT_LE(vis[k], vis[k - 1] + 1e-5) << box.us[k];
-    // ... is one half where the top edge sits exactly on the light direction ...
-    size_t ke = 0;
-    while (ke + 1 < box.us.size() && box.us[ke] < edge) ++ke;
-    EXPECT_NEAR(vis[ke], 0.5, 0.15) << "at u=" << box.us[ke] << ", edge " << edge;
-    // ... and the penumbra's width is the light's angular size seen over the blocker distance:
-    // d alpha = 8 deg at distance s / sin(alpha) from the edge gives about d / sin(alpha) on the
-    // floor: (0.1 / sin 40) * (8 deg in rad) / sin 40 ~ 0.034 uv. Visibility is 0 and 1 outside.
-    double half = 0.5 * 0.1 / std::sin(alpha * M_PI / 180) * (8.0 * M_PI / 180) / std::sin(alpha * M_PI / 180);
-    for (size_t k = 0; k < box.us.size(); ++k) {
-        if (box.us[k] < edge - 1.5 * half) {
-            EXPECT_NEAR(vis[k], 1.0, 1e-4) << box.us[k];
+// The soft shadow's geometric prediction. A light of angular diameter sigma at elevation alpha,
+// seen from a floor point at distance d in front of the box's top edge (height difference
+// b = s * top), is cut by the blocker's edge at angle w = atan(b / d): the visible share of the
+// light (uniform across its elevation) is v(d) = clamp(1/2 - (w - alpha) / sigma, 0, 1). The edge
+// bounds every other blocker angle: on the wall (height (x - u_foot) n top, x < u_top) and on the
+// top (x > u_top) the angle is below atan(b / d). So the penumbra spans the d where w is within
+// sigma / 2 of alpha, and its width on the floor is b (cot(alpha - sigma/2) - cot(alpha +
+// sigma/2)): proportional to the blocker's height, i.e. to its distance along the light. The march
+// samples the light ray every delta (its length over the step count) and so sees the edge itself
+// only up to delta past it: the worst angle it finds lies in [atan(b / (d + delta)), w], and v is
+// at most (w - atan(b / (d + delta))) / sigma above the prediction, never below it.
+double predicted_visibility(double d, double b, double alpha, double sigma) {
+    return std::clamp(0.5 - (std::atan(b / d) - alpha) / sigma, 0.0, 1.0);
+}
+
+TEST(Shadows, SoftShadowFollowsTheGeometricPenumbraAndWidensWithDistance) {
+    const double alpha_deg = 40.0, sigma_deg = 8.0;
+    const double alpha = alpha_deg * M_PI / 180, sigma = sigma_deg * M_PI / 180;
+    const int steps = 256;
+    double width[2] = {0, 0}, predicted[2] = {0, 0}, tol[2] = {0, 0};
+    const float tops[2] = {1.0f, 0.5f};
+    for (int b_i = 0; b_i < 2; ++b_i) {
+        BoxScene box(tops[b_i]);
+        const double b = BoxScene::s * box.top;
+        std::vector<double> vis = box.visibility(alpha_deg, static_cast<float>(sigma_deg), steps);
+        // The march reaches as far as a ray toward the light's lowest point needs to climb to the
+        // top plane (H = 1): s / tan(alpha - sigma / 2) from the floor.
+        const double delta = BoxScene::s / std::tan(alpha - sigma / 2) / steps;
+        size_t in_penumbra = 0;
+        for (size_t k = 0; k < box.us.size(); ++k) {
+            const double d = box.u_top - box.us[k];
+            const double lo = predicted_visibility(d, b, alpha, sigma);
+            const double hi = predicted_visibility(d + delta, b, alpha, sigma);
+            EXPECT_GE(vis[k], lo - 1e-4) << "top " << box.top << " at u=" << box.us[k];
+            EXPECT_LE(vis[k], hi + 1e-4) << "top " << box.top << " at u=" << box.us[k];
+            in_penumbra += lo > 0.0 && lo < 1.0;
         }
-        if (box.us[k] > edge + 1.5 * half) {
-            EXPECT_NEAR(vis[k], 0.0, 1e-4) << box.us[k];
-        }
+        EXPECT_GT(in_penumbra, 5u) << "the penumbra spans several pixels";
+        // Its measured width, between visibility 0.1 and 0.9 (linear between samples).
+        auto crossing = [&](double level) {
+            for (size_t k = 1; k < vis.size(); ++k)
+                if (vis[k - 1] >= level && vis[k] < level)
+                    return box.us[k - 1] + (box.us[k] - box.us[k - 1]) * (vis[k - 1] - level) /
+                                               (vis[k - 1] - vis[k]);
+            ADD_FAILURE() << "visibility never crosses " << level;
+            return 0.0;
+        };
+        width[b_i] = crossing(0.1) - crossing(0.9);
+        predicted[b_i] =
+            b * (1 / std::tan(alpha - 0.4 * sigma) - 1 / std::tan(alpha + 0.4 * sigma));
+        // The measured curve lies between the prediction at d and at d + delta, so each crossing
+        // sits within delta of the predicted one, on the same side: the width is off by at most
+        // delta. Linear interpolation between pixels h apart adds h^2 |v''| / (8 |v'|) =
+        // h^2 d / (4 (d^2 + b^2)) < 1e-5 uv here.
+        tol[b_i] = delta + 1e-5;
+        std::printf(
+            "soft shadow, blocker %.2f: penumbra (10-90 %%) %.5f uv, predicted %.5f +- %.5f\n", b,
+            width[b_i], predicted[b_i], tol[b_i]);
+        EXPECT_NEAR(width[b_i], predicted[b_i], tol[b_i]);
     }
+    // Twice the blocker height (twice its distance from the floor along the light): twice the
+    // width, within what the two widths' tolerances allow.
+    EXPECT_GT(width[0] / width[1], (predicted[0] - tol[0]) / (predicted[1] + tol[1]));
+    EXPECT_LT(width[0] / width[1], (predicted[0] + tol[0]) / (predicted[1] - tol[1]));
+    EXPECT_GT((predicted[0] - tol[0]) / (predicted[1] + tol[1]), 1.8);  // the bound is informative
 }
 
 }  // namespace

@@ -120,6 +120,13 @@ OM_INLINE OmLaneHit om_lane_linear_search(const OmLaneRay* r, const OmLaneField*
     return hit;
 }
 
+// The ray cut with the straight segment between two samples lambda_a < lambda_b whose gaps
+// (height minus ray height) are g_a < 0 <= g_b: Tatarchuk's segment intersection, and one secant
+// step. pom and secant share it, so secant without refinement is pom bit for bit.
+OM_INLINE OmF om_lane_segment_cut(OmF la, OmF lb, OmF ga, OmF gb) {
+    return la + (lb - la) * (ga / (ga - gb));
+}
+
 // One step of parallax with slope (Premecz 2006, section 3), from the ray point at t: intersect
 // the ray with the plane through the relief point above p(t).xy with the relief's normal there.
 // Premecz traces (u, v, 0) + V t with h = SCALE H + BIAS <= 0; here t runs the other way

@@ -9,10 +9,10 @@ OM_INLINE void om_trace_lanes(const OmLaneRay* r, const OmLaneField* f, const Om
     OmLaneHit hit = om_lane_linear_search(r, f, n, active, fetches OM_IMG_ARG);
     // Along the segment, height minus ray height goes from d0 < 0 (above) to d1 >= 0.
     OmF fn = OM_TO_FLOAT(n);
-    OmF l0 = OM_TO_FLOAT(hit.index - 1) / fn;
+    OmF l0 = OM_TO_FLOAT(hit.index - 1) / fn, l1 = OM_TO_FLOAT(hit.index) / fn;
     OmF d0 = hit.h_prev - (1.0f - l0);
-    OmF d1 = hit.h_cur - (1.0f - OM_TO_FLOAT(hit.index) / fn);
-    OmF lambda = OM_SEL((OmF)0.0f, l0 + (d0 / (d0 - d1)) / fn, hit.index > 0);
+    OmF d1 = hit.h_cur - (1.0f - l1);
+    OmF lambda = OM_SEL((OmF)0.0f, om_lane_segment_cut(l0, l1, d0, d1), hit.index > 0);
     OmF t = om_lane_ray_t(r, lambda);
     *t_hit = t;
     *u_hit = r->u - t * r->vx;

@@ -7,8 +7,10 @@
 // can leave the bracket; this is regula falsi (the new point replaces the end of the same sign)
 // with the Illinois modification (halve the stale end's gap), so it stays bracketed and converges
 // superlinearly. With m = 0 this is exactly pom.
-// The answer is the first evaluated point within tol of the relief, else the secant point of the
-// final bracket (free: no fetch). Cost: at most n + 1 + m fetches.
+// The answer is the first refinement point within tol of the relief, else the secant point of the
+// final bracket (free: no fetch); a linear-search sample already within tol ends the refinement
+// at once. So with m = 0 the answer is pom's segment cut, bit for bit. Cost: at most n + 1 + m
+// fetches.
 OM_INLINE void om_trace_lanes(const OmLaneRay* r, const OmLaneField* f, const OmOffsetParams* P,
                               OmI active, OmF* t_hit, OmF* u_hit, OmF* v_hit, OmI* fetches,
                               OmI* flags OM_IMG_PARAM) {
@@ -24,10 +26,11 @@ OM_INLINE void om_trace_lanes(const OmLaneRay* r, const OmLaneField* f, const Om
     OmI kept = 0;                       // +1: the a end survived the last step, -1: b
     OmI run = active & (hit.index > 0);
     OmI done = !run || gb <= tol;
-    OmF lambda = OM_SEL((OmF)0.0f, lb, run);
+    OmI found = 0;  // a refinement point within tol: the answer
+    OmF lambda = 0.0f;
     for (int k = 0; k < m && OM_ANY(!done); ++k) {
         OmI live = !done;
-        OmF x = la + (lb - la) * wa / (wa - wb);
+        OmF x = om_lane_segment_cut(la, lb, wa, wb);
         OmF tx = om_lane_ray_t(r, x);
         OmF g = om_lane_height(f, r->u - tx * r->vx, r->v - tx * r->vy, live, fetches OM_IMG_ARG) -
                 (1.0f - x);
@@ -45,9 +48,10 @@ OM_INLINE void om_trace_lanes(const OmLaneRay* r, const OmLaneField* f, const Om
         wb = OM_SEL(wb, 0.5f * wb, neg & (kept == -1));
         kept = OM_SEL(OM_SEL(kept, (OmI)-1, neg), (OmI)1, pos);
         done |= conv;
+        found |= conv;
     }
     // Otherwise the secant of the final bracket with its true gaps (refine = 0: pom's step).
-    lambda = OM_SEL(lambda, la + (lb - la) * ga / (ga - gb), !done);
+    lambda = OM_SEL(OM_SEL((OmF)0.0f, om_lane_segment_cut(la, lb, ga, gb), run), lambda, found);
     OmF t = om_lane_ray_t(r, lambda);
     *t_hit = t;
     *u_hit = r->u - t * r->vx;

@@ -1,0 +1,176 @@
+#!/usr/bin/env python3
+"""Mutation check: every planted bug in mutants.ini must be caught by the tests it names.
+
+    tests/mutants/run.py [--build build/release] [--only NAME ...] [--jobs N] [--table FILE]
+
+Kernel mutants are applied to a copy of kernels/ that the test binary loads through
+OFFSETMAP_KERNEL_DIR (no rebuild); host mutants are applied in place, the test binary rebuilt,
+and the source restored (and rebuilt) afterwards, whatever happens. A mutant is killed when one
+of its tests fails; it survives when they all pass. A mutant whose `find` text does not occur
+exactly once, whose kernel does not build, or whose host source does not compile is stale: the
+list must be mended. Exit status 1 when any mutant survives or is stale. Standard library only.
+"""
+import argparse
+import configparser
+import os
+import re
+import shutil
+import signal
+import subprocess
+import sys
+import tempfile
+import time
+from concurrent.futures import ThreadPoolExecutor
+
+ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), "..", ".."))
+TIMEOUT_S = 600
+
+
+def load(path):
+    cp = configparser.ConfigParser(interpolation=None, delimiters=("=",))
+    cp.optionxform = str
+    with open(path) as f:
+        cp.read_file(f)
+    mutants = []
+    for name in cp.sections():
+        m = dict(cp[name])
+        missing = {"file", "find", "replace", "tests", "why"} - set(m)
+        if missing:
+            sys.exit(f"mutants.ini [{name}]: missing {', '.join(sorted(missing))}")
+        m["name"] = name
+        mutants.append(m)
+    return mutants
+
+
+def mutate(text, m):
+    count = text.count(m["find"])
+    if count != 1:
+        return None, f"'find' occurs {count} times in {m['file']}"
+    return text.replace(m["find"], m["replace"]), None
+
+
+def run_tests(build, m, kernel_dir=None):
+    env = dict(os.environ, OFFSETMAP_TEST_DATA=os.path.join(ROOT, "data"))
+    env.pop("OFFSETMAP_KERNEL_DIR", None)
+    if kernel_dir:
+        env["OFFSETMAP_KERNEL_DIR"] = kernel_dir
+    cmd = [os.path.join(build, "tests", "offsetmap_tests"), "--gtest_filter=" + m["tests"]]
+    try:
+        p = subprocess.run(cmd, env=env, capture_output=True, text=True, timeout=TIMEOUT_S)
+    except subprocess.TimeoutExpired:
+        return "killed", "timed out (a hang counts as caught)"
+    out = p.stdout + p.stderr
+    if "kernel build failed" in out:
+        return "stale", "the mutated kernel does not build"
+    ran = re.search(r"\[==========\] (\d+) tests? from", out)
+    if not ran or int(ran.group(1)) == 0:
+        return "stale", f"no test matches '{m['tests']}'"
+    failed = sorted(set(re.findall(r"^\[  FAILED  \] (\S+)", out, re.M)) - {"1", "TEST,"})
+    failed = [f for f in failed if "." in f]
+    if p.returncode != 0 and failed:
+        return "killed", ", ".join(failed)
+    if p.returncode != 0:
+        return "killed", f"test binary exited {p.returncode}"
+    return "survived", "every named test passed"
+
+
+def kernel_mutant(build, m):
+    with tempfile.TemporaryDirectory(prefix="om_mutant_") as tmp:
+        kdir = os.path.join(tmp, "kernels")
+        shutil.copytree(os.path.join(ROOT, "kernels"), kdir)
+        target = os.path.join(tmp, m["file"])
+        with open(target) as f:
+            text, err = mutate(f.read(), m)
+        if err:
+            return "stale", err
+        with open(target, "w") as f:
+            f.write(text)
+        return run_tests(build, m, kdir)
+
+
+def build_tests(build):
+    p = subprocess.run(["cmake", "--build", build, "--target", "offsetmap_tests", "-j",
+                        str(os.cpu_count() or 2)], capture_output=True, text=True)
+    return p.returncode == 0, p.stdout + p.stderr
+
+
+def host_mutant(build, m):
+    path = os.path.join(ROOT, m["file"])
+    with open(path) as f:
+        original = f.read()
+    text, err = mutate(original, m)
+    if err:
+        return "stale", err
+    try:
+        with open(path, "w") as f:
+            f.write(text)
+        ok, log = build_tests(build)
+        if not ok:
+            return "stale", "the mutated source does not compile"
+        return run_tests(build, m)
+    finally:
+        with open(path, "w") as f:
+            f.write(original)
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--build", default=os.path.join(ROOT, "build", "release"))
+    ap.add_argument("--only", nargs="*", help="mutant names")
+    ap.add_argument("--jobs", type=int, default=os.cpu_count() or 2)
+    ap.add_argument("--table", help="also write the result table (markdown) here")
+    args = ap.parse_args()
+    build = os.path.abspath(args.build)
+    mutants = load(os.path.join(os.path.dirname(os.path.abspath(__file__)), "mutants.ini"))
+    if args.only:
+        unknown = set(args.only) - {m["name"] for m in mutants}
+        if unknown:
+            sys.exit(f"unknown mutants: {', '.join(sorted(unknown))}")
+        mutants = [m for m in mutants if m["name"] in args.only]
+    # A host mutant edits the tree in place: restore it on Ctrl-C or a kill too.
+    signal.signal(signal.SIGTERM, lambda *_: sys.exit(1))
+
+    results = {}
+    start = time.time()
+
+    def one(m):
+        t0 = time.time()
+        kind = kernel_mutant if m["file"].startswith("kernels/") else None
+        verdict, detail = kind(build, m) if kind else ("?", "")
+        results[m["name"]] = (verdict, detail, time.time() - t0)
+        print(f"  {verdict:8} {m['name']:34} {detail}", flush=True)
+
+    kernels = [m for m in mutants if m["file"].startswith("kernels/")]
+    hosts = [m for m in mutants if not m["file"].startswith("kernels/")]
+    print(f"mutants: {len(kernels)} kernel (OFFSETMAP_KERNEL_DIR), {len(hosts)} host (rebuilt)")
+    with ThreadPoolExecutor(max_workers=max(1, args.jobs)) as pool:
+        list(pool.map(one, kernels))
+    try:
+        for m in hosts:
+            t0 = time.time()
+            verdict, detail = host_mutant(build, m)
+            results[m["name"]] = (verdict, detail, time.time() - t0)
+            print(f"  {verdict:8} {m['name']:34} {detail}", flush=True)
+    finally:
+        if hosts:
+            ok, log = build_tests(build)  # the restored sources
+            if not ok:
+                print(log)
+                sys.exit("mutants: the restored tree does not build")
+
+    rows = ["| mutant | file | the bug | killed by |", "|---|---|---|---|"]
+    for m in mutants:
+        verdict, detail, _ = results[m["name"]]
+        by = detail if verdict == "killed" else f"**{verdict.upper()}**: {detail}"
+        rows.append(f"| {m['name']} | {m['file']} | {m['why']} | {by} |")
+    if args.table:
+        with open(args.table, "w") as f:
+            f.write("\n".join(rows) + "\n")
+    bad = [n for n, (v, _, _) in results.items() if v != "killed"]
+    print(f"mutants: {len(results) - len(bad)} of {len(results)} killed in "
+          f"{time.time() - start:.0f} s" + (f"; not killed: {', '.join(bad)}" if bad else ""))
+    return 1 if bad else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
