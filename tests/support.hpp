@@ -4,7 +4,12 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
 #include <functional>
+#include <map>
 #include <memory>
 #include <random>
 
@@ -18,6 +23,31 @@ using namespace offsetmap;
 inline std::shared_ptr<Runtime> runtime() {
     static std::shared_ptr<Runtime> rt = Runtime::create();
     return rt;
+}
+
+// A measured figure the README cites: tests/readme_figures.py checks each README number marked
+// <!--f:test:KEY--> against it. Written to <build>/figures/<Suite.Test>.json ($OFFSETMAP_FIGURES
+// overrides the folder), rewritten whole at every record.
+inline void record_figure(const std::string& key, double value) {
+    const char* dir = std::getenv("OFFSETMAP_FIGURES");
+    if (!dir || !*dir) dir = OFFSETMAP_FIGURES_DIR;
+    static std::map<std::string, std::map<std::string, double>> figures;  // per test
+    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+    const std::string test =
+        info ? std::string(info->test_suite_name()) + "." + info->name() : "none";
+    auto& mine = figures[test];
+    mine[key] = value;
+    std::filesystem::create_directories(dir);
+    std::ofstream out(std::string(dir) + "/" + test + ".json");
+    out << "{";
+    const char* sep = "\n";
+    for (const auto& [k, v] : mine) {
+        char num[32];
+        std::snprintf(num, sizeof num, "%.17g", v);
+        out << sep << "  \"" << k << "\": " << num;
+        sep = ",\n";
+    }
+    out << "\n}\n";
 }
 
 inline HeightMap make_map(int w, int h, const std::function<float(int, int)>& f) {

@@ -94,7 +94,9 @@ TEST(DepthOffset, ViewSpaceDepthFormulaHoldsUnderARealCamera) {
                 ++checked;
             }
         EXPECT_GT(checked, gb.pixels() / 2);
-        if (ref < 1.0f) EXPECT_GT(negative, 0u) << "some hits above the polygon";
+        if (ref < 1.0f) {
+            EXPECT_GT(negative, 0u) << "some hits above the polygon";
+        }
     }
 }
 

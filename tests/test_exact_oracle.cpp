@@ -100,6 +100,22 @@ HeightMap nonsquare_map() {
     });
 }
 
+// The worst disagreement and its share of the per-ray tolerance over several comparisons.
+struct Worst {
+    double texels = 0.0, ratio = 0.0;
+    size_t rays = 0;
+    void add(const OracleStats& s) {
+        texels = std::max(texels, s.worst);
+        ratio = std::max(ratio, s.worst_ratio);
+        rays += 64 * 32;
+    }
+    void record(const std::string& key) const {
+        record_figure(key + ".worst_texels", texels);
+        record_figure(key + ".worst_share_of_tolerance", ratio);
+        record_figure(key + ".rays", static_cast<double>(rays));
+    }
+};
+
 // A method that ends in exact's patch solve (maxmip, cone), held to exact's bound: smooth, noisy
 // and cliff maps at both scales and reference planes, plus `extra` maps, wrapped; the non-square
 // map wrapped and clamped.
@@ -109,13 +125,17 @@ void agrees_like_exact(const std::string& method, std::vector<Case> extra = {}) 
                                {"cliffs", cliff_map(64)},
                                {"noisy-256", noisy_map(256, 9)}};
     for (auto& c : extra) cases.push_back(std::move(c));
+    Worst worst;
     for (const auto& c : cases)
         for (float scale : {0.05f, 0.2f})
             for (float ref : {1.0f, 0.6f})
-                compare_with_oracle(c.map, c.name, scale, ref, 5.0, AddressMode::Wrap, method);
+                worst.add(
+                    compare_with_oracle(c.map, c.name, scale, ref, 5.0, AddressMode::Wrap, method));
     HeightMap m = nonsquare_map();
-    compare_with_oracle(m, "nonsquare-wrap", 0.1f, 0.8f, 5.0, AddressMode::Wrap, method);
-    compare_with_oracle(m, "nonsquare-clamp", 0.1f, 1.0f, 5.0, AddressMode::Clamp, method);
+    worst.add(compare_with_oracle(m, "nonsquare-wrap", 0.1f, 0.8f, 5.0, AddressMode::Wrap, method));
+    worst.add(
+        compare_with_oracle(m, "nonsquare-clamp", 0.1f, 1.0f, 5.0, AddressMode::Clamp, method));
+    worst.record(method + ".oracle");
 }
 
 TEST(ExactOracle, AgreesOnRandomRaysDownTo5Degrees) {
@@ -123,10 +143,12 @@ TEST(ExactOracle, AgreesOnRandomRaysDownTo5Degrees) {
                                {"noisy", noisy_map(64)},
                                {"cliffs", cliff_map(64)},
                                {"noisy-256", noisy_map(256, 9)}};
+    Worst worst;
     for (const auto& c : cases)
         for (float scale : {0.05f, 0.2f})
             for (float ref : {1.0f, 0.6f})
-                compare_with_oracle(c.map, c.name, scale, ref, 5.0, AddressMode::Wrap);
+                worst.add(compare_with_oracle(c.map, c.name, scale, ref, 5.0, AddressMode::Wrap));
+    worst.record("exact.oracle.5to90");
 }
 
 TEST(ExactOracle, AgreesAtGrazingViewsDownToHalfADegree) {
@@ -135,11 +157,13 @@ TEST(ExactOracle, AgreesAtGrazingViewsDownToHalfADegree) {
     // s / sin(0.5 deg) = 5.7 uv (370 cells of a 64^2 map at s = 0.05).
     std::vector<Case> cases = {
         {"smooth", smooth_map(64)}, {"noisy", noisy_map(64)}, {"cliffs", cliff_map(64)}};
+    Worst worst;
     for (const auto& c : cases)
-        for (float ref : {1.0f, 0.6f}) {
-            compare_with_oracle(c.map, c.name, 0.05f, ref, 0.5, AddressMode::Wrap, "exact", 5.0);
-            compare_with_oracle(c.map, c.name, 0.05f, ref, 0.5, AddressMode::Clamp, "exact", 5.0);
-        }
+        for (float ref : {1.0f, 0.6f})
+            for (AddressMode address : {AddressMode::Wrap, AddressMode::Clamp})
+                worst.add(
+                    compare_with_oracle(c.map, c.name, 0.05f, ref, 0.5, address, "exact", 5.0));
+    worst.record("exact.oracle.grazing");
 }
 
 TEST(ExactOracle, AgreesWithClampAddressingAndNonSquareMaps) {
@@ -252,6 +276,7 @@ TEST(Cone, MapHoldsNoReliefInsideAnyCellConeAndIsNotLooser) {
         }
     }
     std::printf("cone map 32^2 noise: sampled bound / stored cone at most %.2f\n", loosest);
+    record_figure("cone.map.loosest", loosest);
 }
 
 TEST(Cone, SavesFetchesOverExactOnLongRays) {
@@ -271,6 +296,9 @@ TEST(Cone, SavesFetchesOverExactOnLongRays) {
         "fetches per pixel, 256^2 smooth map, 5-30 deg, s = 0.1: exact %.1f, maxmip %.1f, cone "
         "%.1f\n",
         fe, fm, fc);
+    record_figure("longrays.exact.fetches", fe);
+    record_figure("longrays.maxmip.fetches", fm);
+    record_figure("longrays.cone.fetches", fc);
     EXPECT_LT(fc, 0.5 * fe);
     std::printf("fetches per pixel, 256^2 noise: exact %.1f, maxmip %.1f, cone %.1f\n",
                 fetches(noise, "exact"), fetches(noise, "maxmip"), fetches(noise, "cone"));
@@ -325,7 +353,9 @@ TEST(ExactOracle, OracleMatchesBruteForceMarch) {
             EXPECT_NEAR(o.u, pr.u - hi * pr.V[0], 1e-9 + 1e-6 * (t1 - t0)) << c.name << " " << k;
             above_polygon += o.t < 0;
         }
-        if (c.ref < 1.0f) EXPECT_GT(above_polygon, 0u) << c.name << ": t < 0 is exercised";
+        if (c.ref < 1.0f) {
+            EXPECT_GT(above_polygon, 0u) << c.name << ": t < 0 is exercised";
+        }
     }
 }
 

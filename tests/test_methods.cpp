@@ -94,6 +94,10 @@ TEST(Convergence, SteepStopsAtItsFirstLayerBelowTheRelief) {
                 "steep layers=%d on %s: mean %.4f p99 %.4f texels; %zu rays within one "
                 "layer, %zu crossed a crest between samples\n",
                 n, noisy ? "noise" : "smooth", e.mean, e.p99, within, crest);
+            const std::string key = std::string("steep.") + (noisy ? "noise" : "smooth") +
+                                    ".layers" + std::to_string(n);
+            record_figure(key + ".mean", e.mean);
+            record_figure(key + ".crest_rays", static_cast<double>(crest));
             if (!noisy) {
                 EXPECT_LT(e.mean, 0.5 * prev_mean) << n;  // layers x4: the one-layer bound / 4
             } else if (n == 8) {
@@ -112,6 +116,8 @@ TEST(Convergence, ReliefAndPomFallTowardZero) {
     for (auto [n, m] : std::vector<std::pair<int, int>>{{8, 2}, {16, 6}, {64, 12}}) {
         Errors e = st.of("relief", {{"linear", std::to_string(n)}, {"binary", std::to_string(m)}});
         std::printf("relief linear=%d binary=%d: mean %.5f p99 %.5f\n", n, m, e.mean, e.p99);
+        record_figure("relief.linear" + std::to_string(n) + ".binary" + std::to_string(m) + ".mean",
+                      e.mean);
         EXPECT_LT(e.mean, prev);
         prev = e.mean;
         if (n == 64) {
@@ -123,6 +129,7 @@ TEST(Convergence, ReliefAndPomFallTowardZero) {
         auto ns = std::to_string(n);
         Errors e = st.of("pom", {{"min_samples", ns}, {"max_samples", ns}});
         std::printf("pom samples=%d: mean %.5f p99 %.5f\n", n, e.mean, e.p99);
+        record_figure("pom.samples" + std::to_string(n) + ".mean", e.mean);
         EXPECT_LT(e.mean, 0.5 * prev);
         prev = e.mean;
         if (n == 128) {
@@ -140,6 +147,9 @@ TEST(SeedClaims, SlopeBeatsParallaxOnSmoothSlopes) {
     Errors safe = st.of("parallax-slope", {{"safe", "1"}});
     std::printf("mean error: parallax %.4f, slope %.4f, slope (safe) %.4f\n", par.mean, slope.mean,
                 safe.mean);
+    record_figure("premecz.parallax.mean", par.mean);
+    record_figure("premecz.slope.mean", slope.mean);
+    record_figure("premecz.slope_safe.mean", safe.mean);
     EXPECT_LT(slope.mean, par.mean);
     // Premecz's safe form drops the 1 / (N.V) factor, which is 1 / V.z on a flat patch: every
     // off-vertical step falls short by V.z of its length, so it is worse than plain parallax.
@@ -153,6 +163,7 @@ TEST(SeedClaims, IterationsBeatOneSlopeStep) {
     Errors four = st.of("parallax-iterative", {{"iterations", "4"}});
     Errors k1 = st.of("parallax-iterative", {{"iterations", "1"}});
     std::printf("mean error: slope %.4f, iterative k=4 %.4f\n", one.mean, four.mean);
+    record_figure("premecz.iterative4.mean", four.mean);
     EXPECT_LT(four.mean, 0.5 * one.mean);
     EXPECT_NEAR(k1.mean, one.mean, 1e-6);  // k = 1 is parallax-slope
 }
@@ -166,6 +177,8 @@ TEST(SeedClaims, PomBeatsSteepAtEqualLayers) {
         Errors steep = st.of("steep", {{"layers", ns}});
         Errors pom = st.of("pom", {{"min_samples", ns}, {"max_samples", ns}});
         std::printf("layers %d: steep %.4f, pom %.4f\n", n, steep.mean, pom.mean);
+        record_figure("tatarchuk.layers" + std::to_string(n) + ".steep", steep.mean);
+        record_figure("tatarchuk.layers" + std::to_string(n) + ".pom", pom.mean);
         EXPECT_LT(pom.mean, 0.5 * steep.mean) << n;
     }
 }
@@ -248,6 +261,7 @@ TEST(Convergence, SphereStopsWithinAVoxelOfItsProxyAndNeverPassesTheHit) {
             "sphere res=%d layers=%d: mean %.4f p99 %.4f texels, %zu of %zu rays stopped "
             "at the proxy\n",
             res, layers, e.mean, e.p99, stopped, st.gb.pixels());
+        record_figure("sphere.res" + std::to_string(res) + ".mean", e.mean);
         EXPECT_GT(stopped, st.gb.pixels() * 9 / 10);
         EXPECT_LT(e.mean, prev);
         prev = e.mean;
@@ -332,6 +346,9 @@ TEST(SeedClaims, SphereNeverOvershootsAThinSpikeSteepSkips) {
     }
     std::printf("%zu rays hit a spike: steep (8 layers) passed %zu of them, sphere %zu\n",
                 spike_hits, steep_skips, sphere_over);
+    record_figure("spikes.hits", static_cast<double>(spike_hits));
+    record_figure("spikes.steep8_passed", static_cast<double>(steep_skips));
+    record_figure("spikes.sphere_passed", static_cast<double>(sphere_over));
     ASSERT_GT(spike_hits, 100u);
     EXPECT_GT(steep_skips, spike_hits / 10);
     EXPECT_EQ(sphere_over, 0u);
@@ -360,6 +377,10 @@ TEST(Secant, RefinesFasterThanBinarySearchAndIsPomWithoutRefinement) {
         "16 linear steps + 2 refinements: secant %.6f, relief %.5f; secant 4 %.7f vs relief 6 "
         "%.5f\n",
         sec2.mean, rel2.mean, sec4.mean, rel6.mean);
+    record_figure("secant.refine2.mean", sec2.mean);
+    record_figure("relief.binary2.mean", rel2.mean);
+    record_figure("secant.refine4.mean", sec4.mean);
+    record_figure("relief.binary6.mean", rel6.mean);
     EXPECT_LT(sec2.mean, 0.25 * rel2.mean);
     EXPECT_LT(sec4.mean, rel6.mean);  // fewer fetches, lower error
     // refine = 0 is pom bit for bit: uv', depth, fetches and flags (at its default tol too).

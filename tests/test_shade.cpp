@@ -247,6 +247,9 @@ TEST(Shadows, SoftShadowFollowsTheGeometricPenumbraAndWidensWithDistance) {
             "soft shadow, blocker %.2f: penumbra (10-90 %%) %.5f uv, predicted %.5f +- %.5f\n", b,
             width[b_i], predicted[b_i], tol[b_i]);
         EXPECT_NEAR(width[b_i], predicted[b_i], tol[b_i]);
+        const std::string key = "penumbra.top" + std::to_string(static_cast<int>(box.top * 100));
+        record_figure(key + ".width_texels", width[b_i] * BoxScene::n);
+        record_figure(key + ".predicted_texels", predicted[b_i] * BoxScene::n);
     }
     // Twice the blocker height (twice its distance from the floor along the light): twice the
     // width, within what the two widths' tolerances allow.

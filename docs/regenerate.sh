@@ -1,0 +1,57 @@
+#!/usr/bin/env bash
+# Regenerates every measurement the README cites: data files into docs/data/, charts into
+# docs/img/ (about 20 minutes on 2 cores; run it on a quiet machine, timings are in the data).
+# Then `/usr/bin/python3 tests/readme_figures.py --write` rewrites the README's marked figures
+# and generated tables from these files, and `./run test` checks that they agree.
+#   docs/regenerate.sh [demo|sweep|failure|temporal|bench ...]   (default: all of them)
+set -euo pipefail
+cd "$(dirname "$0")/.."
+./run build >/dev/null
+OM=./build/release/offsetmap
+DATA=docs/data IMG=docs/img
+mkdir -p "$DATA" "$IMG"
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+
+parts=("$@")
+[ ${#parts[@]} -gt 0 ] || parts=(demo sweep failure temporal bench)
+for part in "${parts[@]}"; do
+    case $part in
+    demo)  # the README's first table: every method on the demo scene
+        $OM compare --height-map data/rocks.png --width 640 --height 360 --shadows soft -o "$tmp/demo"
+        cp "$tmp/demo/summary.json" "$DATA/demo-summary.json"
+        ;;
+    sweep)  # the full sweep: seven maps x camera and random views, every method's grid
+        $OM sweep --data data -o "$tmp/sweep"
+        cp "$tmp/sweep/sweep.csv" "$DATA/sweep.csv"
+        for f in pareto-ns pareto-fetches pareto-by-map; do cp "$tmp/sweep/$f.png" "$IMG/"; done
+        ;;
+    failure)  # failure maps: the bricks under each grazing policy, and smooth bumps
+        for policy in clamp limit cap; do
+            $OM failure-map --height-map data/rocks.png --grazing $policy -o "$tmp/f-$policy"
+            cp "$tmp/f-$policy/failure.csv" "$DATA/failure-rocks-$policy.csv"
+        done
+        cp "$tmp/f-clamp/failure-map.png" "$IMG/failure-map-rocks.png"
+        cp "$tmp/f-limit/failure-map.png" "$IMG/failure-map-rocks-limit.png"
+        cp "$tmp/f-cap/failure-map.png" "$IMG/failure-map-rocks-cap.png"
+        $OM failure-map --height-map data/bumps.png -o "$tmp/f-bumps"
+        cp "$tmp/f-bumps/failure.csv" "$DATA/failure-bumps.csv"
+        cp "$tmp/f-bumps/failure-map.png" "$IMG/failure-map-bumps.png"
+        ;;
+    temporal)  # stability along a camera path over the bricks
+        $OM temporal --height-map data/rocks.png -o "$tmp/temporal"
+        cp "$tmp/temporal/temporal.csv" "$DATA/temporal.csv"
+        cp "$tmp/temporal/temporal.png" "$IMG/"
+        ;;
+    bench)  # throughput: two full runs; the README cites the second (ratios moved between them)
+        ./build/release/offsetmap_bench --out "$tmp/bench1" >/dev/null
+        ./build/release/offsetmap_bench --out "$tmp/bench2"
+        cp "$tmp/bench1/bench.json" "$DATA/bench-run1.json"
+        cp "$tmp/bench2/bench.json" "$DATA/bench.json"
+        cp "$tmp/bench2/bench-growth.png" "$IMG/"
+        ;;
+    *) echo "regenerate.sh: unknown part '$part'" >&2; exit 2 ;;
+    esac
+done
+lscpu | sed -n 's/^Model name: *//p;s/^Flags:.*\(avx512f\).*/AVX-512/p' >"$DATA/machine.txt"
+echo "regenerate.sh: wrote $DATA and $IMG"
