@@ -49,15 +49,21 @@ OM_INLINE float3 om_unit_or(float3 v, float3 fallback) {
 // light_size, 0, 1): near blockers subtend large angles (sharp penumbra), far ones small. A blocker
 // below alpha still hides the light's lower part, so D reaches the top plane along the light's
 // lowest ray (elevation alpha - light_size / 2): a march that stopped along L would cut the
-// penumbra's lit half off wherever the relief reaches the top plane. The light obeys the same
-// grazing rule as the view (elevation raised to the minimum), so the march is bounded.
+// penumbra's lit half off wherever the relief reaches the top plane. The light's march obeys the
+// view's grazing rule (the host's GrazingRule): raised to min_vz (clamp, cap), or along
+// normalize(L.xy, 1) under offset limiting, so the march is bounded and sees the relief the view
+// rays see.
 OM_INLINE float om_light_visibility(const OmLaneField* f, float2 uv, float3 l,
                                     const OmShadeParams* P) {
     float h0 = om_lane_height_at(f, uv.x, uv.y);
     if (h0 >= 1.0f || P->scale <= 0.0f) return 1.0f;
     float lxy = length(l.xy);
     float lz = l.z;
-    if (lz < P->min_vz) {
+    if (P->grazing_limit) {
+        float k = rsqrt(lxy * lxy + 1.0f);
+        lxy *= k;
+        lz = k;
+    } else if (lz < P->min_vz) {
         lz = P->min_vz;
         lxy = sqrt(1.0f - lz * lz);
     }

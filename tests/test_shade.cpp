@@ -110,10 +110,12 @@ struct BoxScene {
     static constexpr double s = 0.1;
     float top = 1.0f;
     HeightMap map;
+    PassSettings pass;  // scale s; the grazing rule the light's march obeys
     double u_top = 56.5 / n, u_foot = 55.5 / n;
     std::vector<double> us;
 
     explicit BoxScene(float top_height = 1.0f) : top(top_height) {
+        pass.scale = static_cast<float>(s);
         map = make_map(n, n, [this](int i, int j) {
             return (i >= 56 && i < 72 && j >= 56 && j < 72) ? top : 0.0f;
         });
@@ -136,8 +138,7 @@ struct BoxScene {
         ss.light_size_deg = size_deg;
         Image4 white{1, 1, {{{1, 1, 1, 1}}}};
         auto rt = runtime();
-        PassSettings ps;
-        ps.scale = static_cast<float>(s);
+        const PassSettings& ps = pass;
         DeviceHeightField f = upload(*rt, map, ps);
         GBuffer gb = row_gbuffer(px);
         DeviceGBuffer g = upload(*rt, gb);
@@ -185,6 +186,42 @@ TEST(Shadows, HardShadowOfABoxHasTheAnalyticLength) {
         EXPECT_GT(checked, 100u);
         auto none = box.shade_floor(alpha, ShadowMode::None);
         for (size_t k = 0; k < box.us.size(); ++k) EXPECT_NEAR(none[k].s[0], lit, 1e-4);
+    }
+}
+
+TEST(Shadows, TheLightsMarchObeysTheViewsGrazingRule) {
+    // Light at 25 degrees over the box (s = 0.1, 128^2 map). The shadow's length on the floor is
+    // s / tan of the elevation the march uses: 25 degrees under clamp; under cap (16 texels) the
+    // light is raised like a view, to atan(s 128 / 16) = 38.7 degrees, a shadow of exactly the cap,
+    // 16 texels; under limit the march runs along normalize(L.xy, 1), a shadow of s |L.xy| =
+    // s cos 25. Tolerance: one texel, as for the hard shadow above.
+    const double alpha = 25.0, n = BoxScene::n;
+    ShadeSettings ss;
+    const double lit = ss.ambient + ss.diffuse * std::sin(alpha * M_PI / 180);
+    struct Case {
+        GrazingPolicy policy;
+        double length;  // uv
+    };
+    for (const Case& c : {Case{GrazingPolicy::Clamp, 0.1 / std::tan(alpha * M_PI / 180)},
+                          Case{GrazingPolicy::Cap, 16.0 / n},
+                          Case{GrazingPolicy::Limit, 0.1 * std::cos(alpha * M_PI / 180)}}) {
+        BoxScene box;
+        box.pass.grazing = c.policy;
+        box.pass.max_offset_texels = 16.0f;
+        auto col = box.shade_floor(alpha, ShadowMode::Hard);
+        const double edge = box.u_top - c.length, tol = 1.0 / n;
+        size_t checked = 0;
+        for (size_t k = 0; k < box.us.size(); ++k) {
+            const double u = box.us[k];
+            if (u < edge - tol) {
+                EXPECT_NEAR(col[k].s[0], lit, 1e-4) << "lit at " << u;
+            }
+            if (u > edge + tol) {
+                EXPECT_NEAR(col[k].s[0], ss.ambient, 1e-4) << "shadow at " << u;
+            }
+            checked += std::fabs(u - edge) > tol;
+        }
+        EXPECT_GT(checked, 100u) << static_cast<int>(c.policy);
     }
 }
 

@@ -22,14 +22,11 @@ PreparedRay prepare_ray(double u, double v, const double view[3], const PassSett
     if (std::fabs(len - 1.0) > 1e-3) r.flags |= OM_FLAG_RENORMALIZED;
     for (int a = 0; a < 3; ++a) r.V[a] = view[a] / len;
     if (!(r.V[2] > 0.0)) return r.flags |= OM_FLAG_BACKFACING, r;
-    double min_vz = std::sin(s.min_elevation_deg * M_PI / 180.0);
-    if (s.grazing == GrazingPolicy::Cap) {
-        double k = s.scale * std::max(map_w, map_h) / s.max_offset_texels;
-        min_vz = std::max(min_vz, k / std::sqrt(1.0 + k * k));
-    }
+    const GrazingRule rule = grazing_rule(s, map_w, map_h);
+    const double min_vz = rule.min_vz;
     // Flagged under every policy, as the kernels do: below the (cap-raised) minimum.
     if (r.V[2] < min_vz) r.flags |= OM_FLAG_GRAZING;
-    if (s.grazing == GrazingPolicy::Limit) {
+    if (rule.limit) {
         double n = std::sqrt(r.V[0] * r.V[0] + r.V[1] * r.V[1] + 1.0);
         r.V[0] /= n;
         r.V[1] /= n;

@@ -73,18 +73,11 @@ OmOffsetParams offset_params(const PassSettings& s, int pixels, int hf_w, int hf
     p.address_mode = s.address == AddressMode::Wrap ? OM_ADDRESS_WRAP : OM_ADDRESS_CLAMP;
     p.scale = s.scale;
     p.ref_plane = s.reference_plane;
-    p.min_vz = static_cast<float>(std::sin(s.min_elevation_deg * M_PI / 180.0));
-    if (s.grazing == GrazingPolicy::Cap) {
-        // Footprint s |V.xy| / V.z max(W, H) <= cap  <=>  tan(elevation) >= s max(W, H) / cap.
-        double k = s.scale * std::max(hf_w, hf_h) / s.max_offset_texels;
-        p.min_vz = std::max(p.min_vz, static_cast<float>(k / std::sqrt(1.0 + k * k)));
-    }
-    p.grazing_limit = s.grazing == GrazingPolicy::Limit ? 1 : 0;
+    const GrazingRule g = grazing_rule(s, hf_w, hf_h);
+    p.min_vz = g.min_vz;
+    p.grazing_limit = g.limit ? 1 : 0;
+    p.max_cells = g.max_cells;
     p.tile_mask = s.out_of_tile_mask ? 1 : 0;
-    // A ray spans at most s / min_vz in uv between the top and bottom planes, so it crosses at
-    // most that many cell rows plus columns, plus the start cell and rounding.
-    double cells = std::ceil(s.scale / p.min_vz * (hf_w + hf_h)) + 4.0;
-    p.max_cells = static_cast<om_int>(std::min(cells, static_cast<double>(INT_MAX / 2)));
     p.mip_levels = 1;
     p.lod_enabled = s.lod.enabled ? 1 : 0;
     p.lod_threshold = s.lod.threshold;
@@ -489,7 +482,9 @@ cl::Event ShadePass::enqueue(const cl::Buffer& uv, const cl::Buffer& flags, cons
     p.light_size = static_cast<float>(s.light_size_deg * M_PI / 180.0);
     p.scale = settings.scale;
     p.ref_plane = settings.reference_plane;
-    p.min_vz = static_cast<float>(std::sin(settings.min_elevation_deg * M_PI / 180.0));
+    const GrazingRule rule = grazing_rule(settings, f.width, f.height);
+    p.min_vz = rule.min_vz;
+    p.grazing_limit = rule.limit ? 1 : 0;
     p.has_albedo = albedo ? 1 : 0;
     p.albedo_width = albedo ? albedo->width : 0;
     p.albedo_height = albedo ? albedo->height : 0;

@@ -75,8 +75,8 @@ typedef struct {
     om_int shadow_mode;                  // OM_SHADOW_*
     om_int shadow_steps;                 // samples along the light ray
     om_float light_size;                 // soft shadows: the light's angular diameter (radians)
-    om_float scale, ref_plane, min_vz;   // the relief, as in OmOffsetParams
-    om_int pad;
+    om_float scale, ref_plane, min_vz;   // the relief and the grazing rule, as in OmOffsetParams
+    om_int grazing_limit;                // the light's march obeys the view's grazing rule
 } OmShadeParams;
 
 #define OM_SHADOW_NONE 0

@@ -57,6 +57,20 @@ struct PassSettings {
 // Throws Error naming the setting that is out of range.
 void validate(const PassSettings& settings);
 
+// The grazing rule and the march cap, derived once (host/src/grazing.cpp) for the offset pass, the
+// shade pass (the light obeys the view's rule), the oracle and the tests.
+struct GrazingRule {
+    // Views with a lower V.z are flagged GRAZING and, but under Limit, raised to it (same
+    // azimuth). sin(min_elevation_deg), raised by the Cap policy so that a footprint through the
+    // whole slab spans at most max_offset_texels. A float, as the kernels compare it.
+    float min_vz = 0.0f;
+    bool limit = false;  // Limit policy: rays along normalize(V.x, V.y, 1)
+    // The most cells a ray's footprint crosses between the top and bottom planes (it spans at
+    // most s / min_vz in uv), plus the start cell and rounding: every cell walk's hard cap.
+    int max_cells = 0;
+};
+GrazingRule grazing_rule(const PassSettings& settings, int map_w, int map_h);
+
 // The kernel parameters a pass with these settings uses over a hf_w x hf_h height map (grazing
 // rule, march cap, LOD); method parameters and mip levels are the caller's to fill in.
 OmOffsetParams offset_params(const PassSettings& settings, int pixels, int hf_w, int hf_h);
