@@ -123,12 +123,7 @@ TEST(Fuzz, EveryMethodStaysFiniteAndWithinItsCap) {
         auto rt = runtime();
         DeviceHeightField f = upload(*rt, map, s);
         DeviceGBuffer g = upload(*rt, gb);
-        // The grazing threshold (the cap policy raises it with the map's size).
-        double grazing_vz = std::sin(s.min_elevation_deg * M_PI / 180.0);
-        if (s.grazing == GrazingPolicy::Cap) {
-            const double kc = s.scale * std::max(map.width, map.height) / s.max_offset_texels;
-            grazing_vz = std::max(grazing_vz, kc / std::sqrt(1.0 + kc * kc));
-        }
+        const double grazing_vz = grazing_rule(s, map.width, map.height).min_vz;
         for (const auto& name : names) {
             // sphere: a small distance map keeps the build quick on every map.
             std::map<std::string, std::string> params;
