@@ -59,7 +59,7 @@ OM_INLINE float om_light_visibility(const OmLaneField* f, float2 uv, float3 l,
     if (h0 >= 1.0f || P->scale <= 0.0f) return 1.0f;
     float lxy = length(l.xy);
     float lz = l.z;
-    if (P->grazing_limit) {
+    if (P->grazing == OM_GRAZING_LIMIT) {
         float k = rsqrt(lxy * lxy + 1.0f);
         lxy *= k;
         lz = k;

@@ -70,16 +70,15 @@ OmOffsetParams offset_params(const PassSettings& s, int pixels, int hf_w, int hf
     p.pixel_count = pixels;
     p.hf_width = hf_w;
     p.hf_height = hf_h;
-    p.address_mode = s.address == AddressMode::Wrap ? OM_ADDRESS_WRAP : OM_ADDRESS_CLAMP;
+    p.address_mode = static_cast<om_int>(s.address);
     p.scale = s.scale;
     p.ref_plane = s.reference_plane;
     const GrazingRule g = grazing_rule(s, hf_w, hf_h);
     p.min_vz = g.min_vz;
-    p.grazing_limit = g.limit ? 1 : 0;
+    p.grazing = static_cast<om_int>(s.grazing);
     p.max_cells = g.max_cells;
     p.tile_mask = s.out_of_tile_mask ? 1 : 0;
     p.mip_levels = 1;
-    p.lod_enabled = s.lod.enabled ? 1 : 0;
     p.lod_threshold = s.lod.threshold;
     p.lod_fade = s.lod.fade;
     p.lod_min_detail = s.lod.min_detail;
@@ -461,7 +460,7 @@ cl::Event ShadePass::enqueue(const cl::Buffer& uv, const cl::Buffer& flags, cons
     p.pixel_count = static_cast<int>(g.pixels());
     p.hf_width = f.width;
     p.hf_height = f.height;
-    p.address_mode = settings.address == AddressMode::Wrap ? OM_ADDRESS_WRAP : OM_ADDRESS_CLAMP;
+    p.address_mode = static_cast<om_int>(settings.address);
     p.light_x = s.light[0];
     p.light_y = s.light[1];
     p.light_z = s.light[2];
@@ -475,16 +474,14 @@ cl::Event ShadePass::enqueue(const cl::Buffer& uv, const cl::Buffer& flags, cons
     if (!(s.light_size_deg > 0.0f && s.light_size_deg <= 90.0f))
         throw Error("light size must be in (0, 90] degrees, got " +
                     std::to_string(s.light_size_deg));
-    p.shadow_mode = s.shadow == ShadowMode::Hard   ? OM_SHADOW_HARD
-                    : s.shadow == ShadowMode::Soft ? OM_SHADOW_SOFT
-                                                   : OM_SHADOW_NONE;
+    p.shadow_mode = static_cast<om_int>(s.shadow);
     p.shadow_steps = s.shadow_steps;
     p.light_size = static_cast<float>(s.light_size_deg * M_PI / 180.0);
     p.scale = settings.scale;
     p.ref_plane = settings.reference_plane;
     const GrazingRule rule = grazing_rule(settings, f.width, f.height);
     p.min_vz = rule.min_vz;
-    p.grazing_limit = rule.limit ? 1 : 0;
+    p.grazing = static_cast<om_int>(settings.grazing);
     p.has_albedo = albedo ? 1 : 0;
     p.albedo_width = albedo ? albedo->width : 0;
     p.albedo_height = albedo ? albedo->height : 0;

@@ -54,7 +54,7 @@ OM_INLINE OmI om_lane_setup(OmF u, OmF v, OmF vx, OmF vy, OmF vz, const OmOffset
     vz = OM_SEL(vz, 1.0f, backfacing);
     OmI grazing = vz < P->min_vz;
     flags |= OM_SEL((OmI)0, (OmI)OM_FLAG_GRAZING, grazing);
-    if (P->grazing_limit) {
+    if (P->grazing == OM_GRAZING_LIMIT) {
         // Welsh's offset limiting as a ray: horizontal travel per unit of depth is |V.xy|, not
         // |V.xy| / V.z, so no offset exceeds the depth it crosses; biased at every angle but 90.
         OmF k = rsqrt(vx * vx + vy * vy + 1.0f);

@@ -30,27 +30,41 @@ typedef std::uint32_t om_uint;
 #define OM_FLAG_LOD_FADED 64u    // past the LOD threshold: normal mapping only (uv' = uv)
 #define OM_FLAG_OUT_OF_TILE 128u // tile mask on and uv' outside [0,1]^2: discard (a silhouette)
 
-#define OM_GRAZING_CLAMP 0  // V.z raised to min_vz (the default rule)
-#define OM_GRAZING_LIMIT 1  // offset limiting for every method: rays along normalize(V.xy, 1)
+// Enums, one definition each for host and device: the kernels and the shared structs use the OM_*
+// constants (as om_int), the host's enum classes take their values from them.
+enum { OM_ADDRESS_WRAP = 0, OM_ADDRESS_CLAMP = 1 };  // height addressing: tiling, or edge texels
+// The grazing rule (host/src/grazing.cpp): views below min_vz raised to it (clamp); Welsh's offset
+// limiting, rays along normalize(V.xy, 1) (limit); min_vz raised so that no footprint passes
+// max_offset_texels (cap).
+enum { OM_GRAZING_CLAMP = 0, OM_GRAZING_LIMIT = 1, OM_GRAZING_CAP = 2 };
+enum { OM_SHADOW_NONE = 0, OM_SHADOW_HARD = 1, OM_SHADOW_SOFT = 2 };  // the relief's self-shadows
 
-#define OM_ADDRESS_WRAP 0
-#define OM_ADDRESS_CLAMP 1
+#ifndef __OPENCL_VERSION__
+namespace offsetmap {
+enum class AddressMode : om_int { Wrap = OM_ADDRESS_WRAP, Clamp = OM_ADDRESS_CLAMP };
+enum class GrazingPolicy : om_int {
+    Clamp = OM_GRAZING_CLAMP,
+    Limit = OM_GRAZING_LIMIT,
+    Cap = OM_GRAZING_CAP
+};
+enum class ShadowMode : om_int { None = OM_SHADOW_NONE, Hard = OM_SHADOW_HARD, Soft = OM_SHADOW_SOFT };
+}  // namespace offsetmap
+#endif
 
 typedef struct {
     om_int pixel_count;  // G-buffer pixels (width * height)
     om_int hf_width;     // height-field texels along u
     om_int hf_height;    // height-field texels along v
-    om_int address_mode; // OM_ADDRESS_WRAP or OM_ADDRESS_CLAMP
+    om_int address_mode; // OM_ADDRESS_*
     om_float scale;      // depth scale s, in uv units
     om_float ref_plane;  // reference plane r in [0,1]: the polygon sits at height r
     om_float min_vz;     // grazing rule: V.z is raised to at least this (sin of min elevation)
     om_int max_cells;    // hard cap on cells or steps any marching loop may visit
     om_int mip_levels;   // levels in the height buffer: level 0, then each half the size
-    om_int lod_enabled;  // Tatarchuk's LOD system (per-pixel mip level from the lod buffer)
     om_float lod_threshold;   // mip level at and past which the pass is plain normal mapping
     om_float lod_fade;        // levels below the threshold over which the effect fades out
     om_float lod_min_detail;  // step-count factor at the threshold (1 at level 0)
-    om_int grazing_limit;     // OM_GRAZING_LIMIT: trace along normalize(V.x, V.y, 1) (Welsh)
+    om_int grazing;           // OM_GRAZING_*: the policy (min_vz already holds cap's raise)
     om_int tile_mask;         // flag OM_FLAG_OUT_OF_TILE where uv' leaves [0,1]^2
     om_int lod_footprint;     // LOD mode: steps from the texels crossed, fade over a texel range
     om_float lod_fade_lo;     // footprint mode: texels crossed at which the effect is gone
@@ -76,11 +90,8 @@ typedef struct {
     om_int shadow_steps;                 // samples along the light ray
     om_float light_size;                 // soft shadows: the light's angular diameter (radians)
     om_float scale, ref_plane, min_vz;   // the relief and the grazing rule, as in OmOffsetParams
-    om_int grazing_limit;                // the light's march obeys the view's grazing rule
+    om_int grazing;                      // OM_GRAZING_*: the light's march obeys the view's rule
 } OmShadeParams;
 
-#define OM_SHADOW_NONE 0
-#define OM_SHADOW_HARD 1
-#define OM_SHADOW_SOFT 2
 
 #endif

@@ -13,8 +13,6 @@
 
 namespace offsetmap {
 
-enum class AddressMode { Wrap, Clamp };
-
 // Tatarchuk's level-of-detail system (off by default). The per-pixel mip level m comes from the
 // G-buffer's lod buffer, or from the uv footprint between neighbouring pixels when it has none.
 // Heights are read at level floor(m), step counts scale by mix(1, min_detail, m / threshold), and
@@ -32,14 +30,6 @@ struct LodSettings {
     float fade_texels_hi = 2.0f;
 };
 
-// What happens at grazing views (DESIGN.md: bounded loops, finite outputs, a documented rule).
-//  Clamp: views below min_elevation_deg are traced at that elevation (the default).
-//  Limit: Welsh's offset limiting for every method: rays along normalize(V.x, V.y, 1), so an offset
-//         never exceeds the depth it crosses (biased at every view but straight down).
-//  Cap:   a march-length cap (slope limit): the ray's footprint through the whole slab is at most
-//         max_offset_texels, i.e. views are raised to atan(s max(W, H) / max_offset_texels).
-enum class GrazingPolicy { Clamp, Limit, Cap };
-
 // The relief's placement (DESIGN.md): surface z = scale * (H - reference_plane), in uv units.
 struct PassSettings {
     float scale = 0.05f;             // depth scale s, in uv units, [0, 1]
@@ -47,6 +37,12 @@ struct PassSettings {
     float min_elevation_deg = 1.0f;  // grazing rule: views lower than this are raised to it
     AddressMode address = AddressMode::Wrap;
     LodSettings lod;
+    // What happens at grazing views (GrazingPolicy, om_shared.h; bounded loops, finite outputs):
+    //  Clamp: views below min_elevation_deg are traced at that elevation (the default).
+    //  Limit: Welsh's offset limiting for every method: rays along normalize(V.x, V.y, 1), so an
+    //         offset never exceeds the depth it crosses (biased at every view but straight down).
+    //  Cap:   a march-length cap: the ray's footprint through the whole slab is at most
+    //         max_offset_texels, i.e. views are raised to atan(s max(W, H) / max_offset_texels).
     GrazingPolicy grazing = GrazingPolicy::Clamp;
     float max_offset_texels = 32.0f;  // Cap policy: longest footprint of a ray, [1, 1e6]
     // Flag pixels whose uv' leaves [0,1]^2 (OM_FLAG_OUT_OF_TILE), for silhouettes on non-tiling
@@ -149,8 +145,6 @@ class OffsetPass {
     size_t footprint_pixels_ = 0;
     Precomputed precomputed_;
 };
-
-enum class ShadowMode { None, Hard, Soft };
 
 struct ShadeSettings {
     float light[3] = {0.55f, 0.35f, 0.76f};  // tangent-space L when the G-buffer has none
