@@ -165,7 +165,7 @@ struct Bench {
 
     // The roofline microkernels at `lanes` pixels per work-item (1: the file's default).
     cl::Program roof_program(int lanes) {
-        const std::vector<std::string> files = {"common/lanes.h", "common/lane_sampling.cl",
+        const std::vector<std::string> files = {"common/lanes.h", "common/sampling.cl",
                                                 "bench/roofline.cl"};
         return lanes == 1 ? rt->program(files)
                           : rt->program(files, "#define OM_LANES " + std::to_string(lanes) + "\n");

@@ -1,4 +1,4 @@
-// The one offset kernel entry: G-buffer load, validation, LOD, one method's om_trace_lanes, store,
+// The one offset kernel entry: G-buffer load, validation, LOD, one method's om_trace, store,
 // for OM_LANES consecutive pixels per work-item (lanes.h); the host launches ceil(pixels /
 // OM_LANES) work-items. Compiled once per method; the method file is pasted in before this file.
 // aux is the method's precomputed data (NULL for most); lod is the per-pixel mip level (NULL unless
@@ -51,7 +51,7 @@
 // A full work-item's G-buffer (interleaved uv and view) split into planes with vector loads and
 // shuffles, and its uv' interleaved back. Works on global or private memory (generic macros).
 #if OM_LANES == 8
-#define om_lane_load_full(pu, pv, u, v, vx, vy, vz)       \
+#define om_load_full(pu, pv, u, v, vx, vy, vz)            \
     do {                                                  \
         float16 a_ = vload16(0, pu);                      \
         float16 b_ = vload16(0, pv), c_ = vload16(1, pv); \
@@ -61,11 +61,11 @@
         *(vy) = (float8)(b_.s159d, c_.s159d);             \
         *(vz) = (float8)(b_.s26ae, c_.s26ae);             \
     } while (0)
-#define om_lane_store_uv(ou, ov, p)                                                                \
+#define om_store_uv(ou, ov, p)                                                                     \
     vstore16(shuffle2((ou), (ov), (uint16)(0, 8, 1, 9, 2, 10, 3, 11, 4, 12, 5, 13, 6, 14, 7, 15)), \
              0, p)
 #elif OM_LANES == 16
-#define om_lane_load_full(pu, pv, u, v, vx, vy, vz)                            \
+#define om_load_full(pu, pv, u, v, vx, vy, vz)                                 \
     do {                                                                       \
         float16 a_ = vload16(0, pu), b_ = vload16(1, pu);                      \
         float16 c_ = vload16(0, pv), d_ = vload16(1, pv), e_ = vload16(2, pv), \
@@ -76,7 +76,7 @@
         *(vy) = (float16)(c_.s159d, d_.s159d, e_.s159d, f_.s159d);             \
         *(vz) = (float16)(c_.s26ae, d_.s26ae, e_.s26ae, f_.s26ae);             \
     } while (0)
-#define om_lane_store_uv(ou, ov, p)                                                                \
+#define om_store_uv(ou, ov, p)                                                                     \
     do {                                                                                           \
         vstore16(shuffle2((ou), (ov),                                                              \
                           (uint16)(0, 16, 1, 17, 2, 18, 3, 19, 4, 20, 5, 21, 6, 22, 7, 23)),       \
@@ -110,7 +110,7 @@ __kernel void om_offset(const OmOffsetParams P, __global const float2* gb_uv2,
     vz = gb_view[4 * base + 2];
 #else
     if (base + OM_LANES <= n) {
-        om_lane_load_full(gb_uv + 2 * base, gb_view + 4 * base, &u, &v, &vx, &vy, &vz);
+        om_load_full(gb_uv + 2 * base, gb_view + 4 * base, &u, &v, &vx, &vy, &vz);
     } else {
         float tu[2 * OM_LANES], tv[4 * OM_LANES];
         for (int k = 0; k < OM_LANES; ++k) {
@@ -119,12 +119,12 @@ __kernel void om_offset(const OmOffsetParams P, __global const float2* gb_uv2,
             tu[2 * k + 1] = gb_uv[2 * id + 1];
             for (int c = 0; c < 4; ++c) tv[4 * k + c] = gb_view[4 * id + c];
         }
-        om_lane_load_full(tu, tv, &u, &v, &vx, &vy, &vz);
+        om_load_full(tu, tv, &u, &v, &vx, &vy, &vz);
     }
 #endif
-    OmLaneRay ray;
+    OmRay ray;
     OmF base_u, base_v;
-    OmI flags = om_lane_setup(u, v, vx, vy, vz, &P, &ray, &base_u, &base_v);
+    OmI flags = om_ray_setup(u, v, vx, vy, vz, &P, &ray, &base_u, &base_v);
     OmF blend = 1.0f;
     OmI level = 0;
 #ifdef OM_LOD
@@ -142,15 +142,16 @@ __kernel void om_offset(const OmOffsetParams P, __global const float2* gb_uv2,
         ray.detail = mix((OmF)1.0f, (OmF)P.lod_min_detail, clamp(m / P.lod_threshold, 0.0f, 1.0f));
     }
 #endif
-    OmLaneField f = om_lane_field(heights, &P, level);
+    OmField f = om_field(heights, &P, level);
     f.aux = aux;
     OmI rejected = (flags & (int)(OM_FLAG_EMPTY | OM_FLAG_INVALID | OM_FLAG_BACKFACING)) != 0;
     OmI traced = !rejected && blend > 0.0f;
-    OmF t = 0.0f, hu = ray.u, hv = ray.v;
+    OmF t = 0.0f;
     OmI fetches = 0, trace_flags = 0;
-    if (OM_ANY(traced))
-        om_trace_lanes(&ray, &f, &P, traced, &t, &hu, &hv, &fetches, &trace_flags OM_IMG_ARG);
-    // LOD fade toward normal mapping (blend = 1 without LOD).
+    if (OM_ANY(traced)) t = om_trace(&ray, &f, &P, traced, &fetches, &trace_flags OM_IMG_ARG);
+    // Every method returns the hit's ray parameter t: uv' is the ray's footprint there, and the
+    // LOD fade moves it toward normal mapping (blend = 1 without LOD).
+    OmF hu = ray.u - t * ray.vx, hv = ray.v - t * ray.vy;
     hu = ray.u + blend * (hu - ray.u);
     hv = ray.v + blend * (hv - ray.v);
     OmF ou = hu + base_u, ov = hv + base_v;
@@ -167,7 +168,7 @@ __kernel void om_offset(const OmOffsetParams P, __global const float2* gb_uv2,
     out_uv[2 * base + 1] = ov;
 #else
     if (base + OM_LANES <= n) {
-        om_lane_store_uv(ou, ov, out_uv + 2 * base);
+        om_store_uv(ou, ov, out_uv + 2 * base);
     } else {
         float pu[OM_LANES], pv[OM_LANES];
         OM_VSTORE(ou, pu);

@@ -2,14 +2,7 @@
 // neutral procedural checker). It does not know which method produced uv'.
 
 OM_INLINE float4 om_fetch4(__global const float4* img, int w, int h, int wrap, int i, int j) {
-    if (wrap) {
-        i = om_lane_wrap(i, w);
-        j = om_lane_wrap(j, h);
-    } else {
-        i = clamp(i, 0, w - 1);
-        j = clamp(j, 0, h - 1);
-    }
-    return img[j * w + i];
+    return img[om_address(j, h, wrap) * w + om_address(i, w, wrap)];
 }
 
 // Bilinear, texel centres at (i + 0.5) / W as for heights.
@@ -53,9 +46,8 @@ OM_INLINE float3 om_unit_or(float3 v, float3 fallback) {
 // view's grazing rule (the host's GrazingRule): raised to min_vz (clamp, cap), or along
 // normalize(L.xy, 1) under offset limiting, so the march is bounded and sees the relief the view
 // rays see.
-OM_INLINE float om_light_visibility(const OmLaneField* f, float2 uv, float3 l,
-                                    const OmShadeParams* P) {
-    float h0 = om_lane_height_at(f, uv.x, uv.y);
+OM_INLINE float om_light_visibility(const OmField* f, float2 uv, float3 l, const OmShadeParams* P) {
+    float h0 = om_height_at(f, uv.x, uv.y);
     if (h0 >= 1.0f || P->scale <= 0.0f) return 1.0f;
     float lxy = length(l.xy);
     float lz = l.z;
@@ -79,7 +71,7 @@ OM_INLINE float om_light_visibility(const OmLaneField* f, float2 uv, float3 l,
     for (int i = 1; i <= n; ++i) {
         float frac = (float)i / (float)n;
         float2 p = uv + frac * run * dir;
-        float h = om_lane_height_at(f, p.x, p.y);
+        float h = om_height_at(f, p.x, p.y);
         worst = fmax(worst, atan2(P->scale * (h - h0), frac * run));
         if (P->shadow_mode == OM_SHADOW_HARD && worst > alpha) return 0.0f;
     }
@@ -112,7 +104,7 @@ __kernel void om_shade(const OmShadeParams P, __global const float2* uv_in,
     float lit = l.z > 0.0f ? 1.0f : 0.0f;
     float ndl = fmax(dot(n, l), 0.0f) * lit;
     if (ndl > 0.0f && P.shadow_mode != OM_SHADOW_NONE) {
-        OmLaneField f = om_lane_field_of(heights, P.hf_width, P.hf_height, wrap);
+        OmField f = om_field_of(heights, P.hf_width, P.hf_height, wrap);
         ndl *= om_light_visibility(&f, uv, l, &P);
     }
     float3 hv = om_unit_or(l + v, n);

@@ -222,7 +222,7 @@ TEST(BadInput, KernelBuildFailureCarriesTheBuildLog) {
     auto dir = fs::temp_directory_path() / "om_broken_kernels";
     fs::remove_all(dir);
     fs::copy(OFFSETMAP_SOURCE_DIR "/kernels", dir, fs::copy_options::recursive);
-    std::ofstream(dir / "methods/parallax.cl") << "void om_trace_lanes( this is not C";
+    std::ofstream(dir / "methods/parallax.cl") << "void om_trace( this is not C";
     setenv("OFFSETMAP_KERNEL_DIR", dir.c_str(), 1);
     // A fresh runtime: the shared one has the good program cached.
     auto rt =

@@ -11,9 +11,9 @@
 namespace OM_NS {
 using namespace ::clc;
 #include "common/lanes.h"
-#include "common/lane_sampling.cl"
-#include "common/lane_ray.cl"
-#include "common/lane_patch.cl"
+#include "common/sampling.cl"
+#include "common/ray.cl"
+#include "common/patch.cl"
 #include OM_METHOD_FILE
 #include "offset.cl"
 }  // namespace OM_NS

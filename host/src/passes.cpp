@@ -19,8 +19,8 @@ cl::NDRange padded(size_t n) { return cl::NDRange((n + kLocalSize - 1) / kLocalS
 
 // Every offset program: the sampling layer, the ray, the shared searches, one method, the entry.
 std::vector<std::string> offset_program_files(const MethodInfo& m) {
-    return {"common/lanes.h",       "common/lane_sampling.cl",  "common/lane_ray.cl",
-            "common/lane_patch.cl", "methods/" + m.kernel_file, "offset.cl"};
+    return {"common/lanes.h",       "common/sampling.cl",  "common/ray.cl",
+            "common/patch.cl", "methods/" + m.kernel_file, "offset.cl"};
 }
 
 void set_optional(cl::Kernel& k, cl_uint index, const cl::Buffer& b) {
@@ -158,7 +158,7 @@ DeviceHeightField upload(Runtime& rt, const HeightMap& map, const PassSettings& 
         return f;
     }
     f.normals = cl::Buffer(rt.context(), CL_MEM_READ_WRITE, n * sizeof(cl_float4));
-    cl::Kernel k(rt.program({"common/lanes.h", "common/lane_sampling.cl", "prep/normals.cl"}),
+    cl::Kernel k(rt.program({"common/lanes.h", "common/sampling.cl", "prep/normals.cl"}),
                  "om_normals");
     k.setArg(0, offset_params(settings, 0, map.width, map.height));
     k.setArg(1, f.heights);
@@ -239,7 +239,7 @@ double OffsetPass::build_distance_map(const DeviceHeightField& f, const PassSett
     const size_t voxels = static_cast<size_t>(res) * res * layers;
     precomputed_.bytes = voxels * sizeof(float);
     cl::Program program =
-        rt.program({"common/lanes.h", "common/lane_sampling.cl", "prep/distance.cl"});
+        rt.program({"common/lanes.h", "common/sampling.cl", "prep/distance.cl"});
     cl::Buffer colmax(rt.context(), CL_MEM_READ_WRITE,
                       static_cast<size_t>(res) * res * sizeof(float));
     aux_ = cl::Buffer(rt.context(), CL_MEM_READ_WRITE, voxels * sizeof(float));
@@ -276,7 +276,7 @@ double OffsetPass::build_max_pyramid(const DeviceHeightField& f, const PassSetti
     aux_ = cl::Buffer(rt.context(), CL_MEM_READ_WRITE, std::max<size_t>(floats, 1) * sizeof(float));
     if (levels == 0) return 0.0;
     cl::Program program =
-        rt.program({"common/lanes.h", "common/lane_sampling.cl", "prep/maxmip.cl"});
+        rt.program({"common/lanes.h", "common/sampling.cl", "prep/maxmip.cl"});
     OmOffsetParams p = offset_params(settings, 0, f.width, f.height);
     double ms = 0.0;
     cl::Kernel first(program, "om_maxmip_first");
@@ -316,7 +316,7 @@ double OffsetPass::build_cone_map(const DeviceHeightField& f, const PassSettings
     const int bw = (f.width + kBlock - 1) / kBlock, bh = (f.height + kBlock - 1) / kBlock;
     const size_t cells = static_cast<size_t>(f.width) * f.height;
     precomputed_.bytes = 2 * cells * sizeof(float);
-    cl::Program program = rt.program({"common/lanes.h", "common/lane_sampling.cl", "prep/cone.cl"});
+    cl::Program program = rt.program({"common/lanes.h", "common/sampling.cl", "prep/cone.cl"});
     OmOffsetParams p = offset_params(settings, 0, f.width, f.height);
     cl::Buffer blocks(rt.context(), CL_MEM_READ_WRITE,
                       static_cast<size_t>(bw) * bh * sizeof(float));
@@ -446,7 +446,7 @@ DeviceImage upload(Runtime& rt, const Image4& image) {
 
 ShadePass::ShadePass(std::shared_ptr<Runtime> runtime) : runtime_(std::move(runtime)) {
     kernel_ = cl::Kernel(
-        runtime_->program({"common/lanes.h", "common/lane_sampling.cl", "shade.cl"}), "om_shade");
+        runtime_->program({"common/lanes.h", "common/sampling.cl", "shade.cl"}), "om_shade");
 }
 
 cl::Event ShadePass::enqueue(const cl::Buffer& uv, const cl::Buffer& flags, const DeviceGBuffer& g,

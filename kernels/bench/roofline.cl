@@ -17,11 +17,11 @@ __kernel void om_bench_fetch_chain(const OmOffsetParams P, __global const float*
                                    __global const float* uv, __global float* out, int n,
                                    int chain) {
     OmI id = min((int)get_global_id(0) * OM_LANES + OM_LANE_IDS, n - 1);
-    OmLaneField f = om_lane_field(heights, &P, (OmI)0);
+    OmField f = om_field(heights, &P, (OmI)0);
     OmF u = OM_GATHER(uv, 2 * id), v = OM_GATHER(uv, 2 * id + 1);
     OmI fetches = 0;
     for (int k = 0; k < chain; ++k) {
-        OmF h = om_lane_height(&f, u, v, (OmI)1, &fetches OM_IMG_ARG);
+        OmF h = om_height(&f, u, v, (OmI)1, &fetches OM_IMG_ARG);
         u += 0.37f * h / f.fw;
         v += 0.11f * h / f.fh;
     }
@@ -38,13 +38,13 @@ __kernel void om_bench_fetch_chain(const OmOffsetParams P, __global const float*
 __kernel void om_bench_fetch_line(const OmOffsetParams P, __global const float* heights,
                                   __global const float* uv, __global float* out, int n, int count) {
     OmI id = min((int)get_global_id(0) * OM_LANES + OM_LANE_IDS, n - 1);
-    OmLaneField f = om_lane_field(heights, &P, (OmI)0);
+    OmField f = om_field(heights, &P, (OmI)0);
     OmF u = OM_GATHER(uv, 2 * id), v = OM_GATHER(uv, 2 * id + 1);
     OmF du = 0.61f / f.fw, dv = 0.29f / f.fh, sum = 0.0f;
     OmI fetches = 0;
     for (int k = 0; k < count; ++k)
         sum +=
-            om_lane_height(&f, u + (float)k * du, v + (float)k * dv, (OmI)1, &fetches OM_IMG_ARG);
+            om_height(&f, u + (float)k * du, v + (float)k * dv, (OmI)1, &fetches OM_IMG_ARG);
     OmF r = u + v + sum * 0.0f + OM_TO_FLOAT(fetches) * 0.0f;
     for (int k = 0; k < OM_LANES; ++k) {
         int i = (int)get_global_id(0) * OM_LANES + k;

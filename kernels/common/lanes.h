@@ -1,4 +1,4 @@
-// Lanes: the methods that march (lane methods, methods/*.cl defining om_trace_lanes) are written
+// Lanes: every method (methods/*.cl, each defining om_trace) is written
 // once over OmF / OmI, which are float / int when OM_LANES is 1 (one pixel per work-item: GPUs,
 // the C++ peer) and float8 / float16 (8 or 16 consecutive pixels per work-item) on a CPU, where
 // the compiler then keeps every pixel of a work-item in one SIMD register (DESIGN.md, performance

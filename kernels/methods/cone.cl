@@ -9,7 +9,7 @@
 //    cones from crawling near the surface (Bán et al.'s minimum step size; Policarpo's relaxed
 //    cones get their speed by allowing an overshoot, which then needs a binary search and can cross
 //    thin features twice).
-//  - otherwise solve the cell exactly (om_lane_patch_hit, shared with `exact`): the first root is
+//  - otherwise solve the cell exactly (om_patch_hit, shared with `exact`): the first root is
 //  the
 //    answer, else go on from the cell exit.
 // So the result is `exact`'s, to float precision, and each step leaves at least one cell.
@@ -20,16 +20,11 @@
 
 // Each lane's cell maximum and cone ratio (clamp: cells off the map have no cone, their maximum
 // from the patch itself).
-OM_INLINE void om_lane_cone_cell(const OmLaneField* f, const OmOffsetParams* P, OmI i, OmI j,
-                                 OmF* hc, OmF* c OM_IMG_PARAM) {
-    OmI idx, outside = 0;
-    if (P->address_mode == OM_ADDRESS_WRAP) {
-        idx = f->pot ? (j & (f->hgt - 1)) * f->w + (i & (f->w - 1))
-                     : om_lane_wrap(j, f->hgt) * f->w + om_lane_wrap(i, f->w);
-    } else {
-        outside = i < 0 || j < 0 || i >= f->w || j >= f->hgt;
-        idx = clamp(j, 0, f->hgt - 1) * f->w + clamp(i, 0, f->w - 1);
-    }
+OM_INLINE void om_cone_cell(const OmField* f, OmI i, OmI j, OmF* hc, OmF* c OM_IMG_PARAM) {
+    OmI i0, i1, j0, j1;
+    om_patch_address(f, i, j, &i0, &i1, &j0, &j1);  // the cell's own texel, after the address mode
+    OmI idx = j0 * f->width + i0;
+    OmI outside = f->wrap ? (OmI)0 : (OmI)(i != i0 || j != j0);
 #ifdef OM_PAIR_GATHER
     om_gather_pairs(f->aux, 2 * idx, hc, c);
 #else
@@ -39,19 +34,18 @@ OM_INLINE void om_lane_cone_cell(const OmLaneField* f, const OmOffsetParams* P, 
     *c = OM_SEL(*c, 0.0f, outside);
     if (OM_ANY(outside)) {
         OmF k00, k10, k01, k11;
-        om_lane_corners(f, i, j, &k00, &k10, &k01, &k11 OM_IMG_ARG);
+        om_corners(f, i, j, &k00, &k10, &k01, &k11 OM_IMG_ARG);
         *hc = OM_SEL(*hc, fmax(fmax(k00, k10), fmax(k01, k11)), outside);
     }
 }
 
-OM_INLINE void om_trace_lanes(const OmLaneRay* r, const OmLaneField* f, const OmOffsetParams* P,
-                              OmI active, OmF* t_hit, OmF* u_hit, OmF* v_hit, OmI* fetches,
-                              OmI* flags OM_IMG_PARAM) {
-    OmLaneWalk w = om_lane_walk(r, f);
+OM_INLINE OmF om_trace(const OmRay* r, const OmField* f, const OmOffsetParams* P, OmI active,
+                       OmI* fetches, OmI* flags OM_IMG_PARAM) {
+    OmWalk w = om_walk(r, f);
     OmF across = sqrt(w.dx * w.dx + w.dy * w.dy), down = r->vz / r->scale;  // per unit t: texels, H
     OmF t = r->t_enter;
     OmI i, j;
-    om_lane_walk_cell(&w, t, &i, &j);
+    om_walk_cell(&w, t, &i, &j);
     // The cone map is built from level 0: under LOD (a coarser level) walk cells like `exact`.
     OmI cones = f->level == 0;
     OmF hit_t = r->t_exit;
@@ -59,16 +53,16 @@ OM_INLINE void om_trace_lanes(const OmLaneRay* r, const OmLaneField* f, const Om
     for (int n = 0; n < P->max_cells && OM_ANY(!done); ++n) {
         OmI live = !done;
         OmF tx, ty;
-        OmF t_out = om_lane_walk_exit(&w, i, j, (OmI)1, r->t_exit, &tx, &ty);
+        OmF t_out = om_walk_exit(&w, i, j, (OmI)1, r->t_exit, &tx, &ty);
         OmF hc, c;
-        om_lane_cone_cell(f, P, i, j, &hc, &c OM_IMG_ARG);
+        om_cone_cell(f, i, j, &hc, &c OM_IMG_ARG);
         *fetches += OM_ONE(live & cones);
         hc = OM_SEL((OmF)1.0f, hc, cones);
         c = OM_SEL((OmF)0.0f, c, cones);
         OmI below = live & (r->ref - t_out * down < hc);
         if (OM_ANY(below)) {
             OmF th;
-            OmI hit = om_lane_patch_hit(r, f, &w, i, j, t, t_out, below, fetches, &th OM_IMG_ARG);
+            OmI hit = om_patch_hit(r, f, &w, i, j, t, t_out, below, fetches, &th OM_IMG_ARG);
             hit_t = OM_SEL(hit_t, th, hit);
             done |= hit;
             live &= !hit;
@@ -80,7 +74,7 @@ OM_INLINE void om_trace_lanes(const OmLaneRay* r, const OmLaneField* f, const Om
         done |= past;
         jump &= !past;
         OmI ni, nj;
-        om_lane_walk_cell(&w, t_cone, &ni, &nj);
+        om_walk_cell(&w, t_cone, &ni, &nj);
         jump &= ni != i || nj != j;  // rounding can leave it in this cell: step normally
         t = OM_SEL(t, t_cone, jump);
         i = OM_SEL(i, ni, jump);
@@ -89,11 +83,9 @@ OM_INLINE void om_trace_lanes(const OmLaneRay* r, const OmLaneField* f, const Om
         OmI step = live & !past & !jump;
         OmI end = step & (t_out >= r->t_exit);
         done |= end;
-        om_lane_walk_step(&w, step & !end, tx, ty, t_out, &t, &i, &j);
+        om_walk_step(&w, step & !end, tx, ty, t_out, &t, &i, &j);
     }
     // Lanes still walking ran out of cells.
     *flags |= OM_SEL((OmI)0, (OmI)OM_FLAG_CAPPED, !done);
-    *t_hit = hit_t;
-    *u_hit = r->u - hit_t * r->vx;
-    *v_hit = r->v - hit_t * r->vy;
+    return hit_t;
 }

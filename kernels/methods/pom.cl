@@ -2,19 +2,15 @@
 // at grazing views: Tatarchuk's dynamic sampling rate; p[0] = n_min, p[1] = n_max), then the ray
 // intersected with the straight segment joining the last two height samples. Tatarchuk's V.N is
 // V.z here. Cost: at most n_max + 1 fetches.
-OM_INLINE void om_trace_lanes(const OmLaneRay* r, const OmLaneField* f, const OmOffsetParams* P,
-                              OmI active, OmF* t_hit, OmF* u_hit, OmF* v_hit, OmI* fetches,
-                              OmI* flags OM_IMG_PARAM) {
-    OmI n = om_lane_count(r, mix((OmF)P->p[1], (OmF)P->p[0], r->vz));
-    OmLaneHit hit = om_lane_linear_search(r, f, n, active, fetches OM_IMG_ARG);
+OM_INLINE OmF om_trace(const OmRay* r, const OmField* f, const OmOffsetParams* P, OmI active,
+                       OmI* fetches, OmI* flags OM_IMG_PARAM) {
+    OmI n = om_step_count(r, mix((OmF)P->p[1], (OmF)P->p[0], r->vz));
+    OmSearchHit hit = om_linear_search(r, f, n, active, fetches OM_IMG_ARG);
     // Along the segment, height minus ray height goes from d0 < 0 (above) to d1 >= 0.
     OmF fn = OM_TO_FLOAT(n);
     OmF l0 = OM_TO_FLOAT(hit.index - 1) / fn, l1 = OM_TO_FLOAT(hit.index) / fn;
     OmF d0 = hit.h_prev - (1.0f - l0);
     OmF d1 = hit.h_cur - (1.0f - l1);
-    OmF lambda = OM_SEL((OmF)0.0f, om_lane_segment_cut(l0, l1, d0, d1), hit.index > 0);
-    OmF t = om_lane_ray_t(r, lambda);
-    *t_hit = t;
-    *u_hit = r->u - t * r->vx;
-    *v_hit = r->v - t * r->vy;
+    OmF lambda = OM_SEL((OmF)0.0f, om_segment_cut(l0, l1, d0, d1), hit.index > 0);
+    return om_ray_t(r, lambda);
 }

@@ -2,26 +2,22 @@
 // search of m = p[1] steps between the last sample above and the first below the relief. Returns
 // the bracket's lower end (a point at or below the surface, as Policarpo's best depth).
 // Cost: at most n + 1 + m fetches.
-OM_INLINE void om_trace_lanes(const OmLaneRay* r, const OmLaneField* f, const OmOffsetParams* P,
-                              OmI active, OmF* t_hit, OmF* u_hit, OmF* v_hit, OmI* fetches,
-                              OmI* flags OM_IMG_PARAM) {
-    OmI n = om_lane_count(r, (OmF)P->p[0]);
+OM_INLINE OmF om_trace(const OmRay* r, const OmField* f, const OmOffsetParams* P, OmI active,
+                       OmI* fetches, OmI* flags OM_IMG_PARAM) {
+    OmI n = om_step_count(r, (OmF)P->p[0]);
     int m = (int)P->p[1];
-    OmLaneHit hit = om_lane_linear_search(r, f, n, active, fetches OM_IMG_ARG);
+    OmSearchHit hit = om_linear_search(r, f, n, active, fetches OM_IMG_ARG);
     OmF fn = OM_TO_FLOAT(n);
     OmF hi = OM_TO_FLOAT(hit.index) / fn;
     OmF lo = OM_SEL((OmF)0.0f, OM_TO_FLOAT(hit.index - 1) / fn, hit.index > 0);
     OmI refine = active & (hit.index > 0);
     for (int k = 0; k < m && OM_ANY(refine); ++k) {
         OmF mid = 0.5f * (lo + hi);
-        OmF tm = om_lane_ray_t(r, mid);
-        OmF h = om_lane_height(f, r->u - tm * r->vx, r->v - tm * r->vy, refine, fetches OM_IMG_ARG);
+        OmF tm = om_ray_t(r, mid);
+        OmF h = om_height(f, r->u - tm * r->vx, r->v - tm * r->vy, refine, fetches OM_IMG_ARG);
         OmI below = h >= 1.0f - mid;
         hi = OM_SEL(hi, mid, refine & below);
         lo = OM_SEL(lo, mid, refine & !below);
     }
-    OmF t = om_lane_ray_t(r, hi);
-    *t_hit = t;
-    *u_hit = r->u - t * r->vx;
-    *v_hit = r->v - t * r->vy;
+    return om_ray_t(r, hi);
 }

@@ -11,13 +11,12 @@
 // final bracket (free: no fetch); a linear-search sample already within tol ends the refinement
 // at once. So with m = 0 the answer is pom's segment cut, bit for bit. Cost: at most n + 1 + m
 // fetches.
-OM_INLINE void om_trace_lanes(const OmLaneRay* r, const OmLaneField* f, const OmOffsetParams* P,
-                              OmI active, OmF* t_hit, OmF* u_hit, OmF* v_hit, OmI* fetches,
-                              OmI* flags OM_IMG_PARAM) {
-    OmI n = om_lane_count(r, mix((OmF)P->p[1], (OmF)P->p[0], r->vz));
+OM_INLINE OmF om_trace(const OmRay* r, const OmField* f, const OmOffsetParams* P, OmI active,
+                       OmI* fetches, OmI* flags OM_IMG_PARAM) {
+    OmI n = om_step_count(r, mix((OmF)P->p[1], (OmF)P->p[0], r->vz));
     int m = (int)P->p[2];
     float tol = P->p[3];
-    OmLaneHit hit = om_lane_linear_search(r, f, n, active, fetches OM_IMG_ARG);
+    OmSearchHit hit = om_linear_search(r, f, n, active, fetches OM_IMG_ARG);
     OmF fn = OM_TO_FLOAT(n);
     OmF la = OM_TO_FLOAT(hit.index - 1) / fn, lb = OM_TO_FLOAT(hit.index) / fn;
     OmF ga = hit.h_prev - (1.0f - la);  // < 0: above the relief
@@ -30,9 +29,9 @@ OM_INLINE void om_trace_lanes(const OmLaneRay* r, const OmLaneField* f, const Om
     OmF lambda = 0.0f;
     for (int k = 0; k < m && OM_ANY(!done); ++k) {
         OmI live = !done;
-        OmF x = om_lane_segment_cut(la, lb, wa, wb);
-        OmF tx = om_lane_ray_t(r, x);
-        OmF g = om_lane_height(f, r->u - tx * r->vx, r->v - tx * r->vy, live, fetches OM_IMG_ARG) -
+        OmF x = om_segment_cut(la, lb, wa, wb);
+        OmF tx = om_ray_t(r, x);
+        OmF g = om_height(f, r->u - tx * r->vx, r->v - tx * r->vy, live, fetches OM_IMG_ARG) -
                 (1.0f - x);
         OmI conv = live & (fabs(g) <= tol);
         OmI pos = live & !conv & (g > 0.0f);
@@ -51,9 +50,6 @@ OM_INLINE void om_trace_lanes(const OmLaneRay* r, const OmLaneField* f, const Om
         found |= conv;
     }
     // Otherwise the secant of the final bracket with its true gaps (refine = 0: pom's step).
-    lambda = OM_SEL(OM_SEL((OmF)0.0f, om_lane_segment_cut(la, lb, ga, gb), run), lambda, found);
-    OmF t = om_lane_ray_t(r, lambda);
-    *t_hit = t;
-    *u_hit = r->u - t * r->vx;
-    *v_hit = r->v - t * r->vy;
+    lambda = OM_SEL(OM_SEL((OmF)0.0f, om_segment_cut(la, lb, ga, gb), run), lambda, found);
+    return om_ray_t(r, lambda);
 }

@@ -10,27 +10,22 @@
 // shrinking as res and layers grow; or when the steps run out (sphere tracing converges slowly at
 // grazing views, where each step shrinks the gap by a factor of about 1 - V.z).
 // Cost: one distance fetch per step, counted as one fetch.
-// A lane method: lanes that stop early wait for the others (fixed step budget).
-OM_INLINE OmF om_lane_sphere_distance(const OmLaneField* f, const OmOffsetParams* P, int res,
-                                      int layers, OmF u, OmF v, OmF z) {
+// Lanes that stop early wait for the others (a fixed step budget).
+OM_INLINE OmF om_sphere_distance(const OmField* f, const OmOffsetParams* P, int res, int layers,
+                                 OmF u, OmF v, OmF z) {
     OmF x = clamp(u * (float)res, -1.0e7f, 1.0e7f), y = clamp(v * (float)res, -1.0e7f, 1.0e7f);
     OmI i = OM_TO_INT(OM_LFLOOR(x)), j = OM_TO_INT(OM_LFLOOR(y));
     OmI k = clamp(OM_TO_INT(z), 0, layers - 1);
-    if (P->address_mode == OM_ADDRESS_WRAP) {
-        i = om_lane_wrap(i, (OmI)res);
-        j = om_lane_wrap(j, (OmI)res);
-    } else {
-        i = clamp(i, 0, res - 1);
-        j = clamp(j, 0, res - 1);
-    }
+    const int wrap = P->address_mode == OM_ADDRESS_WRAP;
+    i = om_address(i, (OmI)res, wrap);
+    j = om_address(j, (OmI)res, wrap);
     return OM_GATHER(f->aux, (k * res + j) * res + i);
 }
 
-OM_INLINE void om_trace_lanes(const OmLaneRay* r, const OmLaneField* f, const OmOffsetParams* P,
-                              OmI active, OmF* t_hit, OmF* u_hit, OmF* v_hit, OmI* fetches,
-                              OmI* flags OM_IMG_PARAM) {
+OM_INLINE OmF om_trace(const OmRay* r, const OmField* f, const OmOffsetParams* P, OmI active,
+                       OmI* fetches, OmI* flags OM_IMG_PARAM) {
     int res = (int)P->p[0], layers = (int)P->p[1];
-    OmI steps = om_lane_count(r, (OmF)P->p[2]);
+    OmI steps = om_step_count(r, (OmF)P->p[2]);
     // The layer coordinate z = w layers / s of the ray at t, w = s (t_exit - t) / (t_exit -
     // t_enter): one multiply per step, where two divisions lay on the step's dependent chain
     // (a point on a voxel face may fall in either voxel: both boxes hold it, so both are safe).
@@ -40,12 +35,10 @@ OM_INLINE void om_trace_lanes(const OmLaneRay* r, const OmLaneField* f, const Om
     for (int n = 0; OM_ANY(marching); ++n) {
         marching &= (OmI)n < steps;
         OmF z = (r->t_exit - t) * z_per_t;
-        OmF d = om_lane_sphere_distance(f, P, res, layers, r->u - t * r->vx, r->v - t * r->vy, z);
+        OmF d = om_sphere_distance(f, P, res, layers, r->u - t * r->vx, r->v - t * r->vy, z);
         *fetches += OM_ONE(marching);
         marching &= d > 0.0f;
         t = OM_SEL(t, fmin(t + d, r->t_exit), marching);
     }
-    *t_hit = t;
-    *u_hit = r->u - t * r->vx;
-    *v_hit = r->v - t * r->vy;
+    return t;
 }

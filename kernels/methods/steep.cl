@@ -4,14 +4,10 @@
 // With LOD on, the level is the coarser of p[1] and the pixel's.
 // McGuire steps t += E.xy * bumpScale / (n E.z) from the polygon at height 1: the same march with
 // the top plane at the polygon (r = 1). Cost: at most n + 1 fetches.
-OM_INLINE void om_trace_lanes(const OmLaneRay* r, const OmLaneField* f, const OmOffsetParams* P,
-                              OmI active, OmF* t_hit, OmF* u_hit, OmF* v_hit, OmI* fetches,
-                              OmI* flags OM_IMG_PARAM) {
-    OmI n = om_lane_count(r, (OmF)P->p[0]);
-    OmLaneField level = om_lane_field(f->h, P, max(f->level, (int)P->p[1]));
-    OmLaneHit hit = om_lane_linear_search(r, &level, n, active, fetches OM_IMG_ARG);
-    OmF t = om_lane_ray_t(r, OM_TO_FLOAT(hit.index) / OM_TO_FLOAT(n));
-    *t_hit = t;
-    *u_hit = r->u - t * r->vx;
-    *v_hit = r->v - t * r->vy;
+OM_INLINE OmF om_trace(const OmRay* r, const OmField* f, const OmOffsetParams* P, OmI active,
+                       OmI* fetches, OmI* flags OM_IMG_PARAM) {
+    OmI n = om_step_count(r, (OmF)P->p[0]);
+    OmField level = om_field(f->heights, P, max(f->level, (int)P->p[1]));
+    OmSearchHit hit = om_linear_search(r, &level, n, active, fetches OM_IMG_ARG);
+    return om_ray_t(r, OM_TO_FLOAT(hit.index) / OM_TO_FLOAT(n));
 }

@@ -23,17 +23,17 @@ __kernel void om_cone_blocks(const OmOffsetParams P, __global const float* heigh
                              __global float* block_max) {
     int I = get_global_id(0), J = get_global_id(1);
     if (I >= bw || J >= bh) return;
-    OmLaneField f = om_lane_field(heights, &P, 0);
+    OmField f = om_field(heights, &P, 0);
     float m = 0.0f;
     for (int y = OM_CONE_BLOCK * J; y <= OM_CONE_BLOCK * (J + 1); ++y)
         for (int x = OM_CONE_BLOCK * I; x <= OM_CONE_BLOCK * (I + 1); ++x)
-            m = fmax(m, om_lane_texel(&f, x, y));
+            m = fmax(m, om_texel(&f, x, y));
     block_max[J * bw + I] = m;
 }
 
-OM_INLINE float om_cell_max(const OmLaneField* f, int i, int j) {
+OM_INLINE float om_cell_max(const OmField* f, int i, int j) {
     float k00, k10, k01, k11;
-    om_lane_corners(f, i, j, &k00, &k10, &k01, &k11);
+    om_corners(f, i, j, &k00, &k10, &k01, &k11);
     return fmax(fmax(k00, k10), fmax(k01, k11));
 }
 
@@ -49,7 +49,7 @@ __kernel void om_cone_map(const OmOffsetParams P, __global const float* heights,
                           float global_max, float max_ratio, __global float* cone) {
     int i = get_global_id(0), j = get_global_id(1);
     if (i >= P.hf_width || j >= P.hf_height) return;
-    OmLaneField f = om_lane_field(heights, &P, 0);
+    OmField f = om_field(heights, &P, 0);
     const int B = OM_CONE_BLOCK;
     float hc = om_cell_max(&f, i, j);
     float best = max_ratio;
@@ -64,10 +64,8 @@ __kernel void om_cone_map(const OmOffsetParams P, __global const float* heights,
                 int gx = om_gap(i, 1, B * I, B), gy = om_gap(j, 1, B * J, B);
                 float gap = fmax(sqrt((float)(gx * gx + gy * gy)), M_SQRT1_2_F);
                 if (blocks_valid) {
-                    int ci = P.address_mode == OM_ADDRESS_WRAP ? om_lane_wrap(I, bw)
-                                                               : clamp(I, 0, bw - 1);
-                    int cj = P.address_mode == OM_ADDRESS_WRAP ? om_lane_wrap(J, bh)
-                                                               : clamp(J, 0, bh - 1);
+                    int ci = om_address(I, bw, P.address_mode == OM_ADDRESS_WRAP);
+                    int cj = om_address(J, bh, P.address_mode == OM_ADDRESS_WRAP);
                     float m = block_max[cj * bw + ci];
                     if (m <= hc || gap >= best * (m - hc)) continue;
                 } else if (gap >= best * (global_max - hc)) {

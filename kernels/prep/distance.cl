@@ -15,7 +15,7 @@ __kernel void om_column_max(const OmOffsetParams P, __global const float* height
                             __global float* colmax) {
     int i = get_global_id(0), j = get_global_id(1);
     if (i >= res || j >= res) return;
-    OmLaneField f = om_lane_field(heights, &P, 0);
+    OmField f = om_field(heights, &P, 0);
     float x0 = (float)i / res, x1 = (float)(i + 1) / res;
     float y0 = (float)j / res, y1 = (float)(j + 1) / res;
     // Patch lines in uv: u = (n + 0.5) / W.
@@ -26,7 +26,7 @@ __kernel void om_column_max(const OmOffsetParams P, __global const float* height
         float v = gy < ny0 ? y0 : (gy > ny1 ? y1 : ((float)gy + 0.5f) / f.fh);
         for (int gx = nx0 - 1; gx <= nx1 + 1; ++gx) {
             float u = gx < nx0 ? x0 : (gx > nx1 ? x1 : ((float)gx + 0.5f) / f.fw);
-            m = fmax(m, om_lane_height_at(&f, u, v));
+            m = fmax(m, om_height_at(&f, u, v));
         }
     }
     colmax[j * res + i] = m;
@@ -47,13 +47,8 @@ __kernel void om_distance_map(const OmOffsetParams P, __global const float* colm
             float ex = fmax(fabs((float)di) - 1.0f, 0.0f) * cell;
             if (ex >= d) continue;
             int ci = i + di, cj = j + dj;
-            if (P.address_mode == OM_ADDRESS_WRAP) {
-                ci = om_lane_wrap(ci, res);
-                cj = om_lane_wrap(cj, res);
-            } else {
-                ci = clamp(ci, 0, res - 1);
-                cj = clamp(cj, 0, res - 1);
-            }
+            ci = om_address(ci, res, P.address_mode == OM_ADDRESS_WRAP);
+            cj = om_address(cj, res, P.address_mode == OM_ADDRESS_WRAP);
             float ez = fmax(w_low - s * colmax[cj * res + ci], 0.0f);
             d = fmin(d, sqrt(ex * ex + ey * ey + ez * ez));
         }

@@ -8,10 +8,10 @@ __kernel void om_maxmip_first(const OmOffsetParams P, __global const float* heig
                               __global float* level1, int w1, int h1) {
     int I = get_global_id(0), J = get_global_id(1);
     if (I >= w1 || J >= h1) return;
-    OmLaneField f = om_lane_field(heights, &P, 0);
+    OmField f = om_field(heights, &P, 0);
     float m = 0.0f;
     for (int y = 2 * J; y <= 2 * J + 2; ++y)
-        for (int x = 2 * I; x <= 2 * I + 2; ++x) m = fmax(m, om_lane_texel(&f, x, y));
+        for (int x = 2 * I; x <= 2 * I + 2; ++x) m = fmax(m, om_texel(&f, x, y));
     level1[J * w1 + I] = m;
 }
 

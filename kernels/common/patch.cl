@@ -3,7 +3,7 @@
 // form with selects for its branches (the rare bisection runs only when a lane needs it).
 
 // First tau in [0, tmax] with c0 + c1 tau + c2 tau^2 <= 0, given c0 > 0; -1 when there is none.
-OM_INLINE OmF om_lane_first_root(OmF c0, OmF c1, OmF c2, OmF tmax, OmI active) {
+OM_INLINE OmF om_first_root(OmF c0, OmF c1, OmF c2, OmF tmax, OmI active) {
     OmF disc = c1 * c1 - 4.0f * c2 * c0;
     OmF q = -0.5f * (c1 + copysign(sqrt(fmax(disc, 0.0f)), c1));
     OmF r1 = c0 / q, r2 = q / c2;
@@ -32,10 +32,10 @@ OM_INLINE OmF om_lane_first_root(OmF c0, OmF c1, OmF c2, OmF tmax, OmI active) {
 typedef struct {
     OmF cx, cy, dx, dy;
     OmI si, sj;
-} OmLaneWalk;
+} OmWalk;
 
-OM_INLINE OmLaneWalk om_lane_walk(const OmLaneRay* r, const OmLaneField* f) {
-    OmLaneWalk w;
+OM_INLINE OmWalk om_walk(const OmRay* r, const OmField* f) {
+    OmWalk w;
     w.cx = clamp(r->u * f->fw - 0.5f, -1.0e8f, 1.0e8f);
     w.cy = clamp(r->v * f->fh - 0.5f, -1.0e8f, 1.0e8f);
     w.dx = r->vx * f->fw;
@@ -46,15 +46,15 @@ OM_INLINE OmLaneWalk om_lane_walk(const OmLaneRay* r, const OmLaneField* f) {
 }
 
 // The cell holding the ray at t.
-OM_INLINE void om_lane_walk_cell(const OmLaneWalk* w, OmF t, OmI* i, OmI* j) {
+OM_INLINE void om_walk_cell(const OmWalk* w, OmF t, OmI* i, OmI* j) {
     *i = OM_TO_INT(OM_LFLOOR(w->cx - t * w->dx));
     *j = OM_TO_INT(OM_LFLOOR(w->cy - t * w->dy));
 }
 
 // Where the ray leaves the square of cells [x_lo, x_lo + size) x [y_lo, y_lo + size): through an
 // x face at tx, a y face at ty; returns the first of those and t_exit.
-OM_INLINE OmF om_lane_walk_exit(const OmLaneWalk* w, OmI x_lo, OmI y_lo, OmI size, OmF t_exit,
-                                OmF* tx, OmF* ty) {
+OM_INLINE OmF om_walk_exit(const OmWalk* w, OmI x_lo, OmI y_lo, OmI size, OmF t_exit, OmF* tx,
+                           OmF* ty) {
     OmI bx = OM_SEL(x_lo + size, x_lo, w->si < 0), by = OM_SEL(y_lo + size, y_lo, w->sj < 0);
     *tx = OM_SEL((OmF)INFINITY, (w->cx - OM_TO_FLOAT(bx)) / w->dx, w->dx != 0.0f);
     *ty = OM_SEL((OmF)INFINITY, (w->cy - OM_TO_FLOAT(by)) / w->dy, w->dy != 0.0f);
@@ -62,8 +62,8 @@ OM_INLINE OmF om_lane_walk_exit(const OmLaneWalk* w, OmI x_lo, OmI y_lo, OmI siz
 }
 
 // Lanes in `step` move on to the neighbouring cell through the exit face found above.
-OM_INLINE void om_lane_walk_step(const OmLaneWalk* w, OmI step, OmF tx, OmF ty, OmF t_out, OmF* t,
-                                 OmI* i, OmI* j) {
+OM_INLINE void om_walk_step(const OmWalk* w, OmI step, OmF tx, OmF ty, OmF t_out, OmF* t, OmI* i,
+                            OmI* j) {
     *t = OM_SEL(*t, t_out, step);
     *i = OM_SEL(*i, *i + w->si, step & (tx <= ty));
     *j = OM_SEL(*j, *j + w->sj, step & !(tx <= ty));
@@ -72,11 +72,10 @@ OM_INLINE void om_lane_walk_step(const OmLaneWalk* w, OmI step, OmF tx, OmF ty, 
 // Whether each lane's ray is on or below bilinear patch (i, j) somewhere in [t, t_out], and the
 // first such t (t itself may be negative: the ray starts above the polygon when r < 1). Counts one
 // fetch in the lanes of `active`; other lanes return false.
-OM_INLINE OmI om_lane_patch_hit(const OmLaneRay* r, const OmLaneField* f, const OmLaneWalk* w,
-                                OmI i, OmI j, OmF t, OmF t_out, OmI active, OmI* fetches,
-                                OmF* t_hit OM_IMG_PARAM) {
+OM_INLINE OmI om_patch_hit(const OmRay* r, const OmField* f, const OmWalk* w, OmI i, OmI j, OmF t,
+                           OmF t_out, OmI active, OmI* fetches, OmF* t_hit OM_IMG_PARAM) {
     OmF k00, k10, k01, k11;
-    om_lane_corners(f, i, j, &k00, &k10, &k01, &k11 OM_IMG_ARG);
+    om_corners(f, i, j, &k00, &k10, &k01, &k11 OM_IMG_ARG);
     *fetches += OM_ONE(active);
     OmF e1 = k10 - k00, e2 = k01 - k00, e3 = k00 - k10 - k01 + k11;
     OmF a = w->cx - t * w->dx - OM_TO_FLOAT(i), b = w->cy - t * w->dy - OM_TO_FLOAT(j);
@@ -87,7 +86,7 @@ OM_INLINE OmI om_lane_patch_hit(const OmLaneRay* r, const OmLaneField* f, const 
     OmF q1 = -r->vz - s * (e1 * da + e2 * db + e3 * (a * db + b * da));
     OmF q2 = -s * e3 * da * db;
     OmI at_start = q0 <= 0.0f;
-    OmF tau = om_lane_first_root(q0, q1, q2, t_out - t, active & !at_start);
+    OmF tau = om_first_root(q0, q1, q2, t_out - t, active & !at_start);
     *t_hit = OM_SEL(t + tau, t, at_start);
     return active & (at_start | (tau >= 0.0f));
 }

@@ -11,13 +11,13 @@ typedef struct {
     OmF t_enter, t_exit;
     OmF detail;    // LOD step-count factor in (0, 1]
     OmI step_cap;  // LOD footprint mode: no more steps than the texels the ray crosses
-} OmLaneRay;
+} OmRay;
 
-OM_INLINE OmI om_lane_count(const OmLaneRay* r, OmF n) {
+OM_INLINE OmI om_step_count(const OmRay* r, OmF n) {
     return max(1, min(OM_TO_INT(n * r->detail + 0.5f), r->step_cap));
 }
 
-OM_INLINE OmF om_lane_ray_t(const OmLaneRay* r, OmF lambda) {
+OM_INLINE OmF om_ray_t(const OmRay* r, OmF lambda) {
     return r->t_enter + lambda * (r->t_exit - r->t_enter);
 }
 
@@ -28,8 +28,8 @@ OM_INLINE OmF om_lane_ray_t(const OmLaneRay* r, OmF lambda) {
 // the cap policy only raises min_vz (host side). The limit policy replaces V by normalize(V.xy, 1).
 // Views below min_vz are flagged GRAZING under every policy. Tracing in a local frame (the
 // fractional part of uv under wrap) keeps float precision for any tile index.
-OM_INLINE OmI om_lane_setup(OmF u, OmF v, OmF vx, OmF vy, OmF vz, const OmOffsetParams* P,
-                            OmLaneRay* r, OmF* base_u, OmF* base_v) {
+OM_INLINE OmI om_ray_setup(OmF u, OmF v, OmF vx, OmF vy, OmF vz, const OmOffsetParams* P, OmRay* r,
+                           OmF* base_u, OmF* base_v) {
     OmI empty = isnan(u) || isnan(v);
     OmI finite = isfinite(u) && isfinite(v) && isfinite(vx) && isfinite(vy) && isfinite(vz);
     // Scale by the largest component first so |V| neither overflows nor underflows. Three
@@ -92,14 +92,14 @@ typedef struct {
     OmI index;   // first sample i in 0..n with H(lambda_i) >= 1 - lambda_i
     OmF h_prev;  // height at sample index - 1 (1 when index is 0)
     OmF h_cur;   // height at sample index
-} OmLaneHit;
+} OmSearchHit;
 
 // n + 1 samples at lambda_i = i / n from the top plane down, each lane with its own n, stopping at
 // the first sample at or below the relief (lambda_n = 1 is the bottom plane where every H >= 0, so
 // each lane stops by i = n); the loop ends when every lane has.
-OM_INLINE OmLaneHit om_lane_linear_search(const OmLaneRay* r, const OmLaneField* f, OmI n,
-                                          OmI active, OmI* fetches OM_IMG_PARAM) {
-    OmLaneHit hit;
+OM_INLINE OmSearchHit om_linear_search(const OmRay* r, const OmField* f, OmI n, OmI active,
+                                       OmI* fetches OM_IMG_PARAM) {
+    OmSearchHit hit;
     hit.index = n;
     hit.h_prev = 1.0f;
     hit.h_cur = 0.0f;
@@ -107,9 +107,8 @@ OM_INLINE OmLaneHit om_lane_linear_search(const OmLaneRay* r, const OmLaneField*
     OmI searching = active;
     for (int i = 0; OM_ANY(searching); ++i) {
         OmF lambda = OM_TO_FLOAT((OmI)i) * inv_n;
-        OmF t = om_lane_ray_t(r, lambda);
-        OmF h =
-            om_lane_height(f, r->u - t * r->vx, r->v - t * r->vy, searching, fetches OM_IMG_ARG);
+        OmF t = om_ray_t(r, lambda);
+        OmF h = om_height(f, r->u - t * r->vx, r->v - t * r->vy, searching, fetches OM_IMG_ARG);
         OmI found = searching & (h >= 1.0f - lambda || (OmI)i >= n);
         hit.index = OM_SEL(hit.index, (OmI)i, found);
         hit.h_prev = OM_SEL(hit.h_prev, h_prev, found);
@@ -123,7 +122,7 @@ OM_INLINE OmLaneHit om_lane_linear_search(const OmLaneRay* r, const OmLaneField*
 // The ray cut with the straight segment between two samples lambda_a < lambda_b whose gaps
 // (height minus ray height) are g_a < 0 <= g_b: Tatarchuk's segment intersection, and one secant
 // step. pom and secant share it, so secant without refinement is pom bit for bit.
-OM_INLINE OmF om_lane_segment_cut(OmF la, OmF lb, OmF ga, OmF gb) {
+OM_INLINE OmF om_segment_cut(OmF la, OmF lb, OmF ga, OmF gb) {
     return la + (lb - la) * (ga / (ga - gb));
 }
 
@@ -136,11 +135,11 @@ OM_INLINE OmF om_lane_segment_cut(OmF la, OmF lb, OmF ga, OmF gb) {
 //   (plane parallel to or facing away from the ray) is taken as 1e-4, so the step runs to the slab.
 // safe form (Premecz's "safer" variant): the division dropped, t' = t - gap N.z with N unit.
 // Either way t' is clamped to the slab [t_enter, t_exit].
-OM_INLINE OmF om_lane_slope_step(const OmLaneRay* r, const OmLaneField* f, OmF t, int safe,
-                                 OmI active, OmI* fetches OM_IMG_PARAM) {
+OM_INLINE OmF om_slope_step(const OmRay* r, const OmField* f, OmF t, int safe, OmI active,
+                            OmI* fetches OM_IMG_PARAM) {
     OmF gu, gv;
-    OmF h = om_lane_height_grad(f, r->u - t * r->vx, r->v - t * r->vy, active, fetches, &gu,
-                                &gv OM_IMG_ARG);
+    OmF h =
+        om_height_grad(f, r->u - t * r->vx, r->v - t * r->vy, active, fetches, &gu, &gv OM_IMG_ARG);
     OmF gap = r->scale * (h - r->ref) + t * r->vz;
     OmF su = r->scale * gu, sv = r->scale * gv;
     OmF dt = safe ? gap * rsqrt(1.0f + su * su + sv * sv)
