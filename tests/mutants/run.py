@@ -50,7 +50,9 @@ def mutate(text, m):
 
 
 def run_tests(build, m, kernel_dir=None):
-    env = dict(os.environ, OFFSETMAP_TEST_DATA=os.path.join(ROOT, "data"))
+    # Figures a mutated build measures must not reach the README check's folder.
+    env = dict(os.environ, OFFSETMAP_TEST_DATA=os.path.join(ROOT, "data"),
+               OFFSETMAP_FIGURES=os.path.join(tempfile.gettempdir(), "om_mutant_figures"))
     env.pop("OFFSETMAP_KERNEL_DIR", None)
     if kernel_dir:
         env["OFFSETMAP_KERNEL_DIR"] = kernel_dir
