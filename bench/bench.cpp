@@ -165,8 +165,8 @@ struct Bench {
 
     // The roofline microkernels at `lanes` pixels per work-item (1: the file's default).
     cl::Program roof_program(int lanes) {
-        const std::vector<std::string> files = {"common/lanes.h", "common/sampling.cl",
-                                                "bench/roofline.cl"};
+        std::vector<std::string> files = sampling_files();
+        files.push_back("bench/roofline.cl");
         return lanes == 1 ? rt->program(files)
                           : rt->program(files, "#define OM_LANES " + std::to_string(lanes) + "\n");
     }
@@ -567,7 +567,7 @@ int main(int argc, char** argv) {
         json peers = json::array();
         for (auto& r : rows) {
             const std::string name = r["method"];
-            if (find_method(name).precompute != Precompute::None) continue;
+            if (find_method(name).precompute) continue;  // the peer builds no precomputed data
             auto run =
                 cpu_peer::run(name, {}, host_main, host_maps[1024], s, smoke ? 1 : 3, threads);
             double loop_ns = run.median_ms * 1e6 / static_cast<double>(host_main.pixels());
@@ -647,23 +647,18 @@ int main(int argc, char** argv) {
             for (int size : {256, 1024, 4096}) {
                 double pyramid = mip_pyramid_floats(size, size, mip_level_count(size, size)) * 4.0;
                 for (const auto& m : methods()) {
-                    double pre = 0;
-                    if (m.precompute == Precompute::DistanceMap) {
-                        std::vector<float> v = resolve_params(m, {});
-                        pre = 4.0 * v[0] * v[0] * v[1] + 4.0 * v[0] * v[0];
-                    } else if (m.precompute == Precompute::MaxMip) {
-                        for (int k = 1; (size >> k) > 0 && k <= 15; ++k)
-                            pre += 4.0 * (size >> k) * (size >> k);
-                    } else if (m.precompute == Precompute::ConeMap) {
-                        pre = 8.0 * size * size;
-                    }
+                    // What the pass keeps, from the method's row (wrap addressing, defaults).
+                    const double pre =
+                        m.precompute ? static_cast<double>(m.precompute->bytes(
+                                           resolve_params(m, {}), PassSettings{}, size, size))
+                                     : 0.0;
                     json row = {{"resolution", res.name},   {"map_size", size},
                                 {"method", m.name},         {"gbuffer_bytes", 24 * px},
                                 {"output_bytes", 12 * px},  {"debug_output_bytes", 8 * px},
                                 {"pyramid_bytes", pyramid}, {"normals_bytes", 16.0 * size * size},
                                 {"precomputed_bytes", pre}};
                     memory.push_back(row);
-                    if (size == 1024 && (m.name == "pom" || m.precompute != Precompute::None))
+                    if (size == 1024 && (m.name == "pom" || m.precompute))
                         std::printf("  %-6s %-8s 1024^2: %8.1f %8.1f (+%.1f) %8.1f %8.1f %8.1f\n",
                                     res.name, m.name.c_str(), 24 * px / 1048576, 12 * px / 1048576,
                                     8 * px / 1048576, pyramid / 1048576,

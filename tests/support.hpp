@@ -169,34 +169,22 @@ inline double cells_crossed(const PreparedRay& pr, const PassSettings& s, int w,
 // Test row, part two: the most height fetches a method may make for one ray (prepare_ray's), up
 // to ray parameter t_end (its hit, or the bottom plane when the hit is not known), at its
 // defaults (or `params`).
-// - The marching methods: their documented loop bounds (steps, samples, iterations).
+// - The marching methods: the registry row's cap, from their documented loop bounds (steps,
+//   samples, iterations).
 // - The cell walks, from the ray's geometry rather than the kernels' loop caps. `exact` reads
 //   one patch per cell it enters: the cells crossed, with float rounding's slack (above), and +2
 //   more under LOD (a coarser level's cell lines are at most one more per axis than level 0's
-//   over the same stretch). `cone`: each step leaves
-//   at least one cell or ends, and costs a cone fetch and at most one patch. `maxmip`: each step
-//   tests one block (or patch) and then descends a level or leaves the block; a climb follows
-//   only a leave, so descents <= top + leaves, and leaves at level k <= the level-k blocks
-//   crossed: at most top + 1 + 2 sum_k (blocks_k + 2), top <= the map's pyramid levels (wrap).
+//   over the same stretch). `cone`: each step leaves at least one cell or ends, and costs a cone
+//   fetch and at most one patch. `maxmip`: each step tests one block (or patch) and then descends
+//   a level or leaves the block; a climb follows only a leave, so descents <= top + leaves, and
+//   leaves at level k <= the level-k blocks crossed: at most top + 1 + 2 sum_k (blocks_k + 2),
+//   top <= the map's pyramid levels.
 inline double ray_fetch_cap(const std::string& method, const PassSettings& s, const HeightMap& map,
                             const PreparedRay& pr, double t_end,
                             const std::map<std::string, std::string>& params = {}) {
     const MethodInfo& m = find_method(method);
-    std::vector<float> v = resolve_params(m, params);
-    auto p = [&](const char* name) {
-        for (size_t k = 0; k < m.params.size(); ++k)
-            if (m.params[k].name == name) return static_cast<double>(v[k]);
-        throw Error(std::string("no parameter ") + name);
-    };
-    if (method == "none") return 0;
-    if (method == "parallax" || method == "parallax-limited" || method == "parallax-slope")
-        return 1;
-    if (method == "parallax-iterative") return p("iterations");
-    if (method == "steep") return p("layers") + 1;
-    if (method == "relief") return p("linear") + 1 + p("binary");
-    if (method == "secant") return std::max(p("min_samples"), p("max_samples")) + 1 + p("refine");
-    if (method == "pom") return std::max(p("min_samples"), p("max_samples")) + 1;
-    if (method == "sphere") return p("steps");
+    const double cap = m.fetch_cap(resolve_params(m, params));
+    if (cap >= 0) return cap;
     const double t_enter = -s.scale * (1.0 - s.reference_plane) / pr.V[2];
     const double slack = s.lod.enabled ? 2.0 : 0.0;
     const double cells =
@@ -204,17 +192,14 @@ inline double ray_fetch_cap(const std::string& method, const PassSettings& s, co
     if (method == "exact") return cells;
     if (method == "cone") return 2 * cells;
     if (method == "maxmip") {
-        int top = 0;
-        for (int w = map.width, h = map.height;
-             s.address == AddressMode::Wrap && top < 15 && w % 2 == 0 && h % 2 == 0; w /= 2, h /= 2)
-            ++top;
+        const int top = om_maxmip_levels(map.width, map.height, static_cast<om_int>(s.address));
         double sum = 0;
         for (int k = 0; k <= top; ++k)
             sum +=
                 cells_crossed(pr, s, map.width, map.height, t_enter, t_end, 1 << k, true) + slack;
         return top + 1 + 2 * sum;
     }
-    throw Error("no fetch cap row for method " + method);
+    throw Error("no cell-walk fetch cap in the test rows for method " + method);
 }
 
 // The methods a test row must exist for: fails loudly when a method is added without one.

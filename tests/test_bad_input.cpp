@@ -52,7 +52,7 @@ TEST(BadInput, EveryMethodPassesThroughFlagsAndStaysFinite) {
         s.scale = 0.2f;
         s.address = address;
         HeightMap m = noisy_map(32);
-        // The cap every march obeys (see passes.cpp): (s / min_vz)(W + H) + 4 cells.
+        // The cap every march obeys (grazing_rule): (s / min_vz)(W + H) + 4 cells.
         double cap = std::ceil(s.scale / std::sin(s.min_elevation_deg * M_PI / 180) * 64) + 4;
         for (const auto& name : method_names()) {
             OffsetResult r = run(name, m, gb, s);

@@ -28,7 +28,7 @@ TEST(CpuPeer, MatchesTheKernelsOnRandomRays) {
                 s.scale = 0.08f;
                 s.grazing = policy;
                 s.max_offset_texels = 8.0f;
-                if (m.precompute != Precompute::None) continue;  // the peer builds no distance map
+                if (m.precompute) continue;  // the peer builds no precomputed data
                 OffsetResult gpu = run(m.name, map, gb, s);
                 cpu_peer::Run cpu = cpu_peer::run(m.name, {}, gb, map, s, 0, 2);
                 std::vector<size_t> apart;

@@ -20,10 +20,13 @@ TEST(Registry, SeedAndGroundTruthMethodsAreListedWithKernels) {
 }
 
 TEST(Registry, ParametersResolveWithDefaultsRangesAndClearErrors) {
-    MethodInfo m{"demo", "none.cl", "", "", "none",
+    MethodInfo m{"demo", "none.cl", "", "",
                  {{"steps", 16, 1, 256, true, "linear steps"}, {"bias", 0.5f, 0, 1, false, ""}}};
-    EXPECT_EQ(resolve_params(m, {}), (std::vector<float>{16, 0.5f}));
-    EXPECT_EQ(resolve_params(m, {{"steps", "32"}, {"bias", "0.25"}}), (std::vector<float>{32, 0.25f}));
+    EXPECT_EQ(resolve_params(m, {}).values, (std::vector<float>{16, 0.5f}));
+    MethodParams p = resolve_params(m, {{"steps", "32"}, {"bias", "0.25"}});
+    EXPECT_EQ(p.values, (std::vector<float>{32, 0.25f}));
+    EXPECT_EQ(p["bias"], 0.25f);  // by name
+    EXPECT_THROW(p["step"], Error);
     auto expect_error = [&](std::map<std::string, std::string> o, const std::string& needle) {
         try {
             resolve_params(m, o);

@@ -56,11 +56,11 @@ Run run(const std::string& method, const std::map<std::string, std::string>& par
         const GBuffer& gb, const HeightMap& map, const PassSettings& s, int repeats,
         unsigned threads) {
     const MethodInfo& m = find_method(method);
-    if (m.precompute != Precompute::None)
+    if (m.precompute)
         throw Error("the C++ peer does not build precomputed data ('" + method + "')");
     validate(s);
     Entry entry = entry_for(m.kernel_file);
-    std::vector<float> values = resolve_params(m, params);
+    std::vector<float> values = resolve_params(m, params).values;
     int levels = 1;
     std::vector<float> pyramid = host_pyramid(map, levels);
 

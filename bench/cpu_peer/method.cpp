@@ -1,5 +1,7 @@
 // One method's offset kernel compiled as C++ (built once per method file by CMake with
-// OM_METHOD_FILE, OM_NS and OM_ENTRY defined): the kernel's own source, run over a pixel range.
+// OM_PROGRAM_INC, OM_NS and OM_ENTRY defined): the kernel's own source, run over a pixel range.
+// OM_PROGRAM_INC is the method's program as offsetmap_peer_gen writes it from the registry row:
+// its parameter slots and the same files in the same order as the OpenCL build.
 #include "clc_compat.hpp"
 #include "cpu_peer.hpp"
 
@@ -10,12 +12,7 @@
 #define OM_OUT_FLAGS
 namespace OM_NS {
 using namespace ::clc;
-#include "common/lanes.h"
-#include "common/sampling.cl"
-#include "common/ray.cl"
-#include "common/patch.cl"
-#include OM_METHOD_FILE
-#include "offset.cl"
+#include OM_PROGRAM_INC
 }  // namespace OM_NS
 
 namespace offsetmap::cpu_peer {

@@ -147,7 +147,7 @@ void print_methods(bool json) {
             out.push_back({{"name", m.name},
                            {"summary", m.summary},
                            {"reference", m.reference},
-                           {"precomputed", m.precomputed},
+                           {"precomputed", m.precompute ? m.precompute->doc : "none"},
                            {"kernel", "kernels/methods/" + m.kernel_file},
                            {"params", params}});
         }
@@ -156,7 +156,7 @@ void print_methods(bool json) {
     }
     for (const auto& m : methods()) {
         std::cout << m.name << "\n    " << m.summary << "\n    source: " << m.reference
-                  << "\n    precomputed: " << m.precomputed << "\n";
+                  << "\n    precomputed: " << (m.precompute ? m.precompute->doc : "none") << "\n";
         for (const auto& p : m.params)
             std::cout << "    --set " << p.name << "=" << p.default_value << "  [" << p.min_value
                       << ", " << p.max_value << "]" << (p.integer ? " integer" : "") << "  "
@@ -170,8 +170,8 @@ int render(const ReliefOptions& relief, const SceneOptions& scene_opts, const st
     std::map<std::string, std::string> overrides;
     for (const auto& s : sets) parse_assignment(s, overrides);
     PassSettings settings = relief.settings();
-    const MethodInfo& info = find_method(method);
-    resolve_params(info, overrides);  // parameter errors before any file is read
+    // Parameter errors before any file is read; resolved once, here.
+    const MethodParams params = resolve_params(find_method(method), overrides);
 
     HeightMap map = load_height_map(relief.height_map, {relief.channel, relief.depth_map});
     if (map.clamped)
@@ -186,7 +186,7 @@ int render(const ReliefOptions& relief, const SceneOptions& scene_opts, const st
     auto rt = Runtime::create(relief.device);
     DeviceHeightField field = upload(*rt, map, settings, relief.normal_map.empty() ? nullptr : &normals);
     DeviceGBuffer dg = upload(*rt, gb);
-    OffsetPass pass(rt, method, overrides);
+    OffsetPass pass(rt, params);
     OffsetResult result = run_offset(*rt, pass, dg, field, settings, 1);
 
     size_t traced_n = 0;

@@ -25,8 +25,7 @@ GBuffer load_gbuffer(const std::string& path) {
     auto in = OIIO::ImageInput::open(path);
     if (!in) throw Error("cannot read G-buffer '" + path + "': " + OIIO::geterror());
     const OIIO::ImageSpec& spec = in->spec();
-    if (spec.width <= 0 || spec.height <= 0)
-        throw Error("G-buffer '" + path + "' is empty");
+    if (spec.width <= 0 || spec.height <= 0) throw Error("G-buffer '" + path + "' is empty");
     std::map<std::string, int> index;
     for (int c = 0; c < spec.nchannels; ++c) index[spec.channelnames[c]] = c;
     std::string present;
@@ -78,8 +77,8 @@ void save_gbuffer(const std::string& path, const GBuffer& gb) {
     auto out = OIIO::ImageOutput::create(path);
     if (!out || !out->open(path, spec) || !out->write_image(OIIO::TypeDesc::FLOAT, data.data()) ||
         !out->close())
-        throw Error("cannot write G-buffer '" + path + "': " +
-                    (out ? out->geterror() : OIIO::geterror()));
+        throw Error("cannot write G-buffer '" + path +
+                    "': " + (out ? out->geterror() : OIIO::geterror()));
 }
 
 DeviceGBuffer upload(Runtime& rt, const GBuffer& gb) {

@@ -18,8 +18,8 @@ Pixels read_pixels(const std::string& path, const std::string& what) {
     auto in = OIIO::ImageInput::open(path);
     if (!in) {
         std::string why = OIIO::geterror();
-        throw Error("cannot read " + what + " '" + path + "': " +
-                    (why.empty() ? std::string("unknown image format") : why));
+        throw Error("cannot read " + what + " '" + path +
+                    "': " + (why.empty() ? std::string("unknown image format") : why));
     }
     const OIIO::ImageSpec& spec = in->spec();
     if (spec.width <= 0 || spec.height <= 0 || spec.nchannels <= 0)
@@ -32,8 +32,8 @@ Pixels read_pixels(const std::string& path, const std::string& what) {
     p.data.resize(static_cast<size_t>(p.width) * p.height * p.channels);
     if (!in->read_image(0, 0, 0, p.channels, OIIO::TypeDesc::FLOAT, p.data.data())) {
         std::string why = in->geterror();
-        throw Error("cannot decode " + what + " '" + path + "': " +
-                    (why.empty() ? std::string("corrupt or truncated data") : why));
+        throw Error("cannot decode " + what + " '" + path +
+                    "': " + (why.empty() ? std::string("corrupt or truncated data") : why));
     }
     return p;
 }

@@ -43,7 +43,8 @@ Rgb8 heat_map(int width, int height, const std::vector<float>& values, float vma
             float x = std::clamp(std::log1p(std::max(v, 0.0f)) / denom, 0.0f, 1.0f) * 4.0f;
             int i = std::min(static_cast<int>(x), 3);
             float f = x - i;
-            for (int ch = 0; ch < 3; ++ch) c[ch] = stops[i][ch] + f * (stops[i + 1][ch] - stops[i][ch]);
+            for (int ch = 0; ch < 3; ++ch)
+                c[ch] = stops[i][ch] + f * (stops[i + 1][ch] - stops[i][ch]);
         }
         for (int ch = 0; ch < 3; ++ch)
             img.rgb[k * 3 + ch] = static_cast<std::uint8_t>(std::lround(c[ch] * 255.0f));
@@ -55,11 +56,13 @@ Rgb8 contact_sheet(const std::vector<std::pair<std::string, Rgb8>>& tiles, int c
     if (tiles.empty()) return {};
     const int label_h = 28, pad = 6;
     int tw = 0, th = 0;
-    for (const auto& t : tiles) tw = std::max(tw, t.second.width), th = std::max(th, t.second.height);
+    for (const auto& t : tiles)
+        tw = std::max(tw, t.second.width), th = std::max(th, t.second.height);
     const int cols = std::max(1, std::min(columns, static_cast<int>(tiles.size())));
     const int rows = (static_cast<int>(tiles.size()) + cols - 1) / cols;
     const int cw = tw + pad, ch = th + label_h + pad;
-    OIIO::ImageBuf sheet(OIIO::ImageSpec(cols * cw + pad, rows * ch + pad, 3, OIIO::TypeDesc::FLOAT));
+    OIIO::ImageBuf sheet(
+        OIIO::ImageSpec(cols * cw + pad, rows * ch + pad, 3, OIIO::TypeDesc::FLOAT));
     const float bg[3] = {0.08f, 0.08f, 0.09f};
     OIIO::ImageBufAlgo::fill(sheet, bg);
     for (size_t n = 0; n < tiles.size(); ++n) {
@@ -88,8 +91,8 @@ void write_image(const std::string& path, const Rgb8& image) {
     OIIO::ImageSpec spec(image.width, image.height, 3, OIIO::TypeDesc::UINT8);
     if (!out || !out->open(path, spec) ||
         !out->write_image(OIIO::TypeDesc::UINT8, image.rgb.data()) || !out->close())
-        throw Error("cannot write image '" + path + "': " +
-                    (out ? out->geterror() : OIIO::geterror()));
+        throw Error("cannot write image '" + path +
+                    "': " + (out ? out->geterror() : OIIO::geterror()));
 }
 
 void write_uv_exr(const std::string& path, const OffsetResult& r) {
@@ -108,8 +111,8 @@ void write_uv_exr(const std::string& path, const OffsetResult& r) {
     auto out = OIIO::ImageOutput::create(path);
     if (!out || !out->open(path, spec) || !out->write_image(OIIO::TypeDesc::FLOAT, data.data()) ||
         !out->close())
-        throw Error("cannot write uv output '" + path + "': " +
-                    (out ? out->geterror() : OIIO::geterror()));
+        throw Error("cannot write uv output '" + path +
+                    "': " + (out ? out->geterror() : OIIO::geterror()));
 }
 
 }  // namespace offsetmap

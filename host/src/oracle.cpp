@@ -66,7 +66,8 @@ ExactHit exact_hit(const HeightMap& map, double u, double v, const double V[3],
     const double t0 = -scale * (1.0 - ref) / V[2], t1 = scale * ref / V[2];
     // Ray height above the relief; the first t where it is <= 0 is the hit.
     auto gap = [&](double t) {
-        return -t * V[2] - scale * (bilinear_height(map, u - t * V[0], v - t * V[1], s.address) - ref);
+        return -t * V[2] -
+               scale * (bilinear_height(map, u - t * V[0], v - t * V[1], s.address) - ref);
     };
     // Every t where the footprint crosses a line through texel centres: between two consecutive
     // ones the ray stays inside one bilinear patch, where gap(t) is exactly quadratic.

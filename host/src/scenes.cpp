@@ -65,10 +65,12 @@ GBuffer make_scene(const SweepScene& s) {
     gb.resize(s.azimuths * s.patch, s.elevations * s.patch, false, false);
     for (int e = 0; e < s.elevations; ++e) {
         double f = s.elevations > 1 ? static_cast<double>(e) / (s.elevations - 1) : 0.0;
-        double elev = (s.max_elevation_deg + f * (s.min_elevation_deg - s.max_elevation_deg)) * kDeg;
+        double elev =
+            (s.max_elevation_deg + f * (s.min_elevation_deg - s.max_elevation_deg)) * kDeg;
         for (int a = 0; a < s.azimuths; ++a) {
             double az = 2.0 * M_PI * a / s.azimuths;
-            glm::dvec3 v(std::cos(elev) * std::cos(az), std::cos(elev) * std::sin(az), std::sin(elev));
+            glm::dvec3 v(std::cos(elev) * std::cos(az), std::cos(elev) * std::sin(az),
+                         std::sin(elev));
             for (int py = 0; py < s.patch; ++py)
                 for (int px = 0; px < s.patch; ++px) {
                     size_t k = static_cast<size_t>(e * s.patch + py) * gb.width + a * s.patch + px;

@@ -36,8 +36,8 @@ SweepRecord measure(Runtime& rt, OffsetPass& pass, ShadePass& shade, const Devic
     if (n) rec.depth_error /= n, rec.fetches_mean /= n;
     rec.kernel_ms = r.median_kernel_ms();
     rec.ns_per_pixel = rec.kernel_ms * 1e6 / static_cast<double>(g.pixels());
-    rec.psnr_db = psnr_srgb(run_shade(rt, shade, r, g, f, nullptr, settings, ShadeSettings{}),
-                            exact_rgb);
+    rec.psnr_db =
+        psnr_srgb(run_shade(rt, shade, r, g, f, nullptr, settings, ShadeSettings{}), exact_rgb);
     rec.precomputed_bytes = pass.precomputed().bytes;
     rec.precompute_ms = pass.precomputed().build_ms;
     return rec;
@@ -66,7 +66,8 @@ std::vector<SweepRecord> run_sweep(std::shared_ptr<Runtime> rt, const std::vecto
     ShadePass shade(rt);
     std::vector<SweepRecord> out;
     size_t total = 0, done = 0;
-    for (const auto* m : chosen) total += (o.defaults_only || m->sweep.empty()) ? 1 : m->sweep.size();
+    for (const auto* m : chosen)
+        total += (o.defaults_only || m->sweep.empty()) ? 1 : m->sweep.size();
     total *= maps.size() * views.size();
     for (const auto& nm : maps) {
         DeviceHeightField field = upload(*rt, nm.map, o.settings);
@@ -74,7 +75,8 @@ std::vector<SweepRecord> run_sweep(std::shared_ptr<Runtime> rt, const std::vecto
             DeviceGBuffer g = upload(*rt, nv.gbuffer);
             OffsetPass exact_pass(rt, "exact");
             OffsetResult exact = run_offset(*rt, exact_pass, g, field, o.settings, 1);
-            auto exact_rgb = run_shade(*rt, shade, exact, g, field, nullptr, o.settings, ShadeSettings{});
+            auto exact_rgb =
+                run_shade(*rt, shade, exact, g, field, nullptr, o.settings, ShadeSettings{});
             for (const auto* m : chosen) {
                 std::vector<std::map<std::string, std::string>> grid = m->sweep;
                 if (o.defaults_only || grid.empty()) grid = {{}};

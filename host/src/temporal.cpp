@@ -36,18 +36,21 @@ std::vector<TemporalRecord> run_temporal(std::shared_ptr<Runtime> rt, const Heig
             if (f > 0) {
                 std::vector<double> e;
                 for (size_t k = 0; k < r.uv.size(); ++k) {
-                    if (!traced(r.flags[k]) || !traced(prev[m].flags[k]) || !traced(exact.flags[k]) ||
-                        !traced(prev_exact.flags[k]))
+                    if (!traced(r.flags[k]) || !traced(prev[m].flags[k]) ||
+                        !traced(exact.flags[k]) || !traced(prev_exact.flags[k]))
                         continue;
-                    double du = (r.uv[k].s[0] - prev[m].uv[k].s[0]) - (exact.uv[k].s[0] - prev_exact.uv[k].s[0]);
-                    double dv = (r.uv[k].s[1] - prev[m].uv[k].s[1]) - (exact.uv[k].s[1] - prev_exact.uv[k].s[1]);
+                    double du = (r.uv[k].s[0] - prev[m].uv[k].s[0]) -
+                                (exact.uv[k].s[0] - prev_exact.uv[k].s[0]);
+                    double dv = (r.uv[k].s[1] - prev[m].uv[k].s[1]) -
+                                (exact.uv[k].s[1] - prev_exact.uv[k].s[1]);
                     e.push_back(std::hypot(du * map.width, dv * map.height));
                 }
                 TemporalRecord rec;
                 rec.method = names[m];
                 rec.frame = f - 1;
                 if (!e.empty()) {
-                    for (double x : e) rec.mean += x / e.size(), rec.pop_share += (x > 1.0) / double(e.size());
+                    for (double x : e)
+                        rec.mean += x / e.size(), rec.pop_share += (x > 1.0) / double(e.size());
                     size_t p = static_cast<size_t>(std::ceil(0.95 * e.size())) - 1;
                     std::nth_element(e.begin(), e.begin() + p, e.end());
                     rec.p95 = e[p];
@@ -57,7 +60,8 @@ std::vector<TemporalRecord> run_temporal(std::shared_ptr<Runtime> rt, const Heig
             prev[m] = std::move(r);
         }
         prev_exact = std::move(exact);
-        if (o.progress) o.progress("temporal: frame " + std::to_string(f + 1) + "/" + std::to_string(o.frames));
+        if (o.progress)
+            o.progress("temporal: frame " + std::to_string(f + 1) + "/" + std::to_string(o.frames));
     }
     return out;
 }
@@ -67,7 +71,8 @@ void write_temporal_csv(const std::string& path, const std::vector<TemporalRecor
     if (!out) throw Error("cannot write '" + path + "'");
     out << "method,frame,mean,p95,pop_share\n";
     for (const auto& r : records)
-        out << r.method << "," << r.frame << "," << r.mean << "," << r.p95 << "," << r.pop_share << "\n";
+        out << r.method << "," << r.frame << "," << r.mean << "," << r.p95 << "," << r.pop_share
+            << "\n";
 }
 
 }  // namespace offsetmap

@@ -19,6 +19,9 @@ typedef std::uint32_t om_uint;
 #endif
 
 #define OM_MAX_METHOD_PARAMS 8
+// A method parameter by name: the host defines OM_SLOT_<name> from the method's registry row
+// (param_slot_defines), so no kernel indexes a parameter by position.
+#define OM_PARAM(P, name) ((P)->p[OM_SLOT_##name])
 
 // Per-pixel flags written by the offset pass (bit set).
 #define OM_FLAG_EMPTY 1u         // u or v is NaN: no surface at this pixel; uv passed through
@@ -38,6 +41,24 @@ enum { OM_ADDRESS_WRAP = 0, OM_ADDRESS_CLAMP = 1 };  // height addressing: tilin
 // max_offset_texels (cap).
 enum { OM_GRAZING_CLAMP = 0, OM_GRAZING_LIMIT = 1, OM_GRAZING_CAP = 2 };
 enum { OM_SHADOW_NONE = 0, OM_SHADOW_HARD = 1, OM_SHADOW_SOFT = 2 };  // the relief's self-shadows
+
+// maxmip's pyramid of maxima (kernels/prep/maxmip.cl, methods/maxmip.cl, its builder): level k
+// holds 2^k x 2^k blocks, levels exist while both sizes stay even (blocks tile the map), under
+// wrap addressing only, and up to this level.
+#define OM_MAXMIP_MAX_LEVEL 15
+static inline int om_maxmip_levels(int width, int height, int address_mode) {
+    int levels = 0;
+    if (address_mode != OM_ADDRESS_WRAP) return 0;
+    while (levels < OM_MAXMIP_MAX_LEVEL && (width & 1) == 0 && (height & 1) == 0) {
+        width >>= 1;
+        height >>= 1;
+        ++levels;
+    }
+    return levels;
+}
+
+// The cone map's build searches rings of OM_CONE_BLOCK x OM_CONE_BLOCK blocks of cells.
+#define OM_CONE_BLOCK 8
 
 #ifndef __OPENCL_VERSION__
 namespace offsetmap {
@@ -70,7 +91,7 @@ typedef struct {
     om_float lod_fade_lo;     // footprint mode: texels crossed at which the effect is gone
     om_float lod_fade_hi;     // footprint mode: texels crossed from which it is whole
     om_int pad3;
-    om_float p[OM_MAX_METHOD_PARAMS];  // method parameters, in registry order
+    om_float p[OM_MAX_METHOD_PARAMS];  // method parameters: read with OM_PARAM(P, name)
 } OmOffsetParams;
 
 // Dimensions of mip level k of a W x H map: each level halves (rounding down, at least 1).

@@ -3,24 +3,12 @@
 // a maximum-height pyramid (kernels/prep/maxmip.cl) instead of every cell: where the ray stays
 // above a block's maximum the whole block is skipped; where it dips below, the walk descends, down
 // to single cells solved exactly (om_patch_hit, shared with `exact`). Inside a block the ray
-// first jumps to where it reaches the block's maximum height. p[0] = the highest level used (0:
-// plain DDA, identical to `exact`). Cost: O(log n) block tests plus the cells near the hit. The
+// first jumps to where it reaches the block's maximum height. `max_level` = the highest level used
+// (0: plain DDA, identical to `exact`). Cost: O(log n) block tests plus the cells near the hit. The
 // hierarchy needs wrap addressing and level 0 of the height pyramid (no LOD level); otherwise the
 // walk stays at level 0 and is `exact`.
 
 // Each lane walks its own levels and blocks; the loop ends when every lane has its answer.
-
-// Levels of the max pyramid for this map: while both sizes stay even (blocks tile the map).
-OM_INLINE int om_maxmip_levels(const OmOffsetParams* P) {
-    if (P->address_mode != OM_ADDRESS_WRAP) return 0;
-    int levels = 0, w = P->hf_width, h = P->hf_height;
-    while (levels < 15 && (w & 1) == 0 && (h & 1) == 0) {
-        w >>= 1;
-        h >>= 1;
-        ++levels;
-    }
-    return levels;
-}
 
 // floor(i / 2^k) for any sign (a right shift of a negative int is implementation-defined in C99).
 OM_INLINE OmI om_block(OmI i, OmI k) { return OM_SEL(-((-i - 1) >> k) - 1, i >> k, i >= 0); }
@@ -33,7 +21,10 @@ OM_INLINE OmI om_cell_at(OmF c0, OmF d, OmF t, OmI lo, OmI hi) {
 OM_INLINE OmF om_trace(const OmRay* r, const OmField* f, const OmOffsetParams* P, OmI active,
                        OmI* fetches, OmI* flags OM_IMG_PARAM) {
     const int W = P->hf_width, H = P->hf_height;
-    OmI top = OM_SEL((OmI)0, (OmI)min(om_maxmip_levels(P), (int)P->p[0]), f->level == 0);
+    OmI top = OM_SEL((OmI)0,
+                     (OmI)min(om_maxmip_levels(P->hf_width, P->hf_height, P->address_mode),
+                              (int)OM_PARAM(P, max_level)),
+                     f->level == 0);
     OmWalk w = om_walk(r, f);
     // Blocks wider than the ray's whole footprint cannot be skipped more cheaply than walked: the
     // walk starts at, and never climbs past, the level of the footprint's length in cells.

@@ -1,10 +1,11 @@
 // pom (Tatarchuk 05/06): a linear search whose step count is lerp(n_max, n_min, V.z) (more samples
-// at grazing views: Tatarchuk's dynamic sampling rate; p[0] = n_min, p[1] = n_max), then the ray
-// intersected with the straight segment joining the last two height samples. Tatarchuk's V.N is
-// V.z here. Cost: at most n_max + 1 fetches.
+// at grazing views: Tatarchuk's dynamic sampling rate; n_min = `min_samples`, n_max =
+// `max_samples`), then the ray intersected with the straight segment joining the last two height
+// samples. Tatarchuk's V.N is V.z here. Cost: at most n_max + 1 fetches.
 OM_INLINE OmF om_trace(const OmRay* r, const OmField* f, const OmOffsetParams* P, OmI active,
                        OmI* fetches, OmI* flags OM_IMG_PARAM) {
-    OmI n = om_step_count(r, mix((OmF)P->p[1], (OmF)P->p[0], r->vz));
+    OmI n =
+        om_step_count(r, mix((OmF)OM_PARAM(P, max_samples), (OmF)OM_PARAM(P, min_samples), r->vz));
     OmSearchHit hit = om_linear_search(r, f, n, active, fetches OM_IMG_ARG);
     // Along the segment, height minus ray height goes from d0 < 0 (above) to d1 >= 0.
     OmF fn = OM_TO_FLOAT(n);

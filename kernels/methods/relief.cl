@@ -1,11 +1,11 @@
-// relief (Policarpo et al. 05; Premecz section 2.3): linear search of n = p[0] steps, then binary
-// search of m = p[1] steps between the last sample above and the first below the relief. Returns
-// the bracket's lower end (a point at or below the surface, as Policarpo's best depth).
+// relief (Policarpo et al. 05; Premecz section 2.3): linear search of n = `linear` steps, then
+// binary search of m = `binary` steps between the last sample above and the first below the relief.
+// Returns the bracket's lower end (a point at or below the surface, as Policarpo's best depth).
 // Cost: at most n + 1 + m fetches.
 OM_INLINE OmF om_trace(const OmRay* r, const OmField* f, const OmOffsetParams* P, OmI active,
                        OmI* fetches, OmI* flags OM_IMG_PARAM) {
-    OmI n = om_step_count(r, (OmF)P->p[0]);
-    int m = (int)P->p[1];
+    OmI n = om_step_count(r, (OmF)OM_PARAM(P, linear));
+    int m = (int)OM_PARAM(P, binary);
     OmSearchHit hit = om_linear_search(r, f, n, active, fetches OM_IMG_ARG);
     OmF fn = OM_TO_FLOAT(n);
     OmF hi = OM_TO_FLOAT(hit.index) / fn;

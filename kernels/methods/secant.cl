@@ -1,8 +1,8 @@
 // secant (Risser, Shah & Pattanaik, "Faster relief mapping using the secant method", JGT 2007):
 // a linear search, then the bracket [last sample above, first sample below] refined by the secant
-// rule on the height gap g(lambda) = H - (1 - lambda), up to m = p[2] iterations or until
-// |g| <= tol = p[3] (height units). The linear search takes pom's dynamic step count
-// lerp(n_max = p[1], n_min = p[0], V.z): the fixed-step search Risser uses steps over thin walls
+// rule on the height gap g(lambda) = H - (1 - lambda), up to m = `refine` iterations or until
+// |g| <= `tol` (height units). The linear search takes pom's dynamic step count
+// lerp(`max_samples`, `min_samples`, V.z): the fixed-step search Risser uses steps over thin walls
 // at grazing views, and that, not the refinement, dominates the error there. Risser's plain secant
 // can leave the bracket; this is regula falsi (the new point replaces the end of the same sign)
 // with the Illinois modification (halve the stale end's gap), so it stays bracketed and converges
@@ -13,9 +13,10 @@
 // fetches.
 OM_INLINE OmF om_trace(const OmRay* r, const OmField* f, const OmOffsetParams* P, OmI active,
                        OmI* fetches, OmI* flags OM_IMG_PARAM) {
-    OmI n = om_step_count(r, mix((OmF)P->p[1], (OmF)P->p[0], r->vz));
-    int m = (int)P->p[2];
-    float tol = P->p[3];
+    OmI n =
+        om_step_count(r, mix((OmF)OM_PARAM(P, max_samples), (OmF)OM_PARAM(P, min_samples), r->vz));
+    int m = (int)OM_PARAM(P, refine);
+    float tol = OM_PARAM(P, tol);
     OmSearchHit hit = om_linear_search(r, f, n, active, fetches OM_IMG_ARG);
     OmF fn = OM_TO_FLOAT(n);
     OmF la = OM_TO_FLOAT(hit.index - 1) / fn, lb = OM_TO_FLOAT(hit.index) / fn;

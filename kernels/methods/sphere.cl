@@ -1,6 +1,6 @@
 // sphere (Donnelly 05; Premecz section 2.4): sphere tracing through a 3D distance map of the
-// relief, precomputed by kernels/prep/distance.cl (p[0] = res voxels per side over the tile,
-// p[1] = layers through the slab, p[2] = steps). From the top plane the ray advances by the
+// relief, precomputed by kernels/prep/distance.cl (`res` voxels per side over the tile,
+// `layers` through the slab; `steps` at most). From the top plane the ray advances by the
 // distance to the relief, so it can never pass through it.
 // Conservative sampling: each voxel stores the distance from its whole box to a proxy that
 // contains the relief, so the value of the voxel holding p is a safe step from anywhere inside it
@@ -24,8 +24,8 @@ OM_INLINE OmF om_sphere_distance(const OmField* f, const OmOffsetParams* P, int 
 
 OM_INLINE OmF om_trace(const OmRay* r, const OmField* f, const OmOffsetParams* P, OmI active,
                        OmI* fetches, OmI* flags OM_IMG_PARAM) {
-    int res = (int)P->p[0], layers = (int)P->p[1];
-    OmI steps = om_step_count(r, (OmF)P->p[2]);
+    int res = (int)OM_PARAM(P, res), layers = (int)OM_PARAM(P, layers);
+    OmI steps = om_step_count(r, (OmF)OM_PARAM(P, steps));
     // The layer coordinate z = w layers / s of the ray at t, w = s (t_exit - t) / (t_exit -
     // t_enter): one multiply per step, where two divisions lay on the step's dependent chain
     // (a point on a voxel face may fall in either voxel: both boxes hold it, so both are safe).

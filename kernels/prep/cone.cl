@@ -16,7 +16,6 @@
 // maxima bound every cell inside; a block is opened only when its bound could beat the best cone so
 // far, and the search stops at the ring where no cell could.
 
-#define OM_CONE_BLOCK 8
 
 // Largest texel of block (I, J): cells [8I, 8I + 8) x [8J, 8J + 8), i.e. texels 8I .. 8I + 8.
 __kernel void om_cone_blocks(const OmOffsetParams P, __global const float* heights, int bw, int bh,

@@ -1,12 +1,20 @@
 #pragma once
+#include <cstddef>
 #include <map>
 #include <string>
 #include <vector>
 
+#include "offsetmap/cl.hpp"
+
 namespace offsetmap {
 
+class Runtime;
+struct DeviceHeightField;
+struct PassSettings;
+struct MethodInfo;
+
 struct ParamSpec {
-    std::string name;
+    std::string name;  // the kernel reads it as OM_PARAM(P, name)
     float default_value;
     float min_value;
     float max_value;
@@ -14,19 +22,45 @@ struct ParamSpec {
     std::string doc;
 };
 
-// Data a method needs beyond the height pyramid, built on the device before its first pass.
-enum class Precompute { None, DistanceMap, MaxMip, ConeMap };
+// A method's parameter values, resolved once (resolve_params): read by name. `values` follow the
+// row's parameter order, which is the slot order the host's defines give the kernel.
+struct MethodParams {
+    const MethodInfo* method = nullptr;
+    std::vector<float> values;
+    // The value of that parameter; throws Error when the method has no such parameter.
+    float operator[](const std::string& name) const;
+};
 
+// A method's precomputed data: built on the device from the height field before its first pass,
+// by a builder that lives beside its prep kernel (host/src/precompute/, kernels/prep/).
+struct PrecomputeSpec {
+    const char* doc;  // what it holds and its memory, for `offsetmap methods`
+    // The bytes the pass keeps for these parameters on a map_w x map_h field.
+    size_t (*bytes)(const MethodParams& params, const PassSettings& settings, int map_w, int map_h);
+    struct Built {
+        cl::Buffer data;
+        double kernel_ms = 0.0;  // from profiling events (0 without a profiling queue)
+    };
+    Built (*build)(Runtime& runtime, const DeviceHeightField& field, const PassSettings& settings,
+                   const MethodParams& params);
+};
+
+// A method's whole contract: everything the host, the tools and the tests know of it. Adding a
+// method is one kernel file (kernels/methods/), one row here (host/src/registry.cpp) and one test
+// row (tests/support.hpp); with precomputed data, also its prep kernel and builder.
 struct MethodInfo {
     std::string name;         // CLI and API name, e.g. "parallax-limited"
     std::string kernel_file;  // under kernels/methods/
     std::string summary;
-    std::string reference;          // the source it follows
-    std::string precomputed;        // precomputed data and its memory, or "none"
-    std::vector<ParamSpec> params;  // order = OmOffsetParams::p
-    Precompute precompute = Precompute::None;
+    std::string reference;                       // the source it follows
+    std::vector<ParamSpec> params;               // by name; resolved by resolve_params
+    const PrecomputeSpec* precompute = nullptr;  // none for most methods
     // Settings the accuracy-vs-cost sweep tries, cheapest first (empty: the defaults only).
     std::vector<std::map<std::string, std::string>> sweep = {};
+    // The most height fetches one pixel may cost: a bound from the method's loop counts for these
+    // parameters, or < 0 for the cell walks, bounded by the cells the ray crosses instead
+    // (tests/support.hpp derives that from the ray).
+    double (*fetch_cap)(const MethodParams& params) = nullptr;
 };
 
 // The named methods in registry order (every method when `names` is empty); throws Error for an
@@ -42,13 +76,23 @@ const std::vector<MethodInfo>& methods();
 // The method of that name; throws Error listing the known names otherwise.
 const MethodInfo& find_method(const std::string& name);
 
-// Method parameter values in registry order: defaults overridden by `overrides` (name -> text).
-// Throws Error for an unknown name, a non-numeric value, a non-integer for an integer parameter, or
-// a value outside the declared range.
-std::vector<float> resolve_params(const MethodInfo& method,
-                                  const std::map<std::string, std::string>& overrides);
+// The method's parameters: defaults overridden by `overrides` (name -> text). Throws Error for an
+// unknown name, a non-numeric value, a non-integer for an integer parameter, or a value outside
+// the declared range.
+MethodParams resolve_params(const MethodInfo& method,
+                            const std::map<std::string, std::string>& overrides);
 
 // Parses "key=value" into the map; throws Error on a malformed item.
 void parse_assignment(const std::string& item, std::map<std::string, std::string>& out);
+
+// Kernel programs, as lists of files under kernels/ (one definition each, for the passes, the
+// bench and the C++ peer): the sampling layer every program that reads heights starts with, and a
+// method's offset program (sampling, ray, patch solve, the method, the entry).
+std::vector<std::string> sampling_files();
+std::vector<std::string> offset_program_files(const MethodInfo& method);
+
+// The defines that hand a method's parameters to its kernel by name: OM_SLOT_<name> is the slot of
+// OmOffsetParams::p holding it, which OM_PARAM(P, name) reads (om_shared.h).
+std::string param_slot_defines(const MethodInfo& method);
 
 }  // namespace offsetmap

@@ -1,0 +1,32 @@
+// Writes each method's program for the C++ peer, from its registry row: the parameter slot
+// defines and the kernel files in program order, exactly what the runtime assembles for the
+// OpenCL build (param_slot_defines, offset_program_files). A file is rewritten only when its text
+// changes, so the peer recompiles only what a row or a file list changed.
+//   offsetmap_peer_gen OUT_DIR STAMP
+#include <fstream>
+#include <iostream>
+#include <sstream>
+
+#include "offsetmap/registry.hpp"
+
+int main(int argc, char** argv) {
+    if (argc != 3) {
+        std::cerr << "usage: offsetmap_peer_gen OUT_DIR STAMP\n";
+        return 2;
+    }
+    const std::string dir = argv[1];
+    for (const auto& m : offsetmap::methods()) {
+        const std::string stem = m.kernel_file.substr(0, m.kernel_file.rfind('.'));
+        std::string text = "// Generated from the registry row of '" + m.name +
+                           "' by offsetmap_peer_gen. Do not edit.\n" +
+                           offsetmap::param_slot_defines(m);
+        for (const auto& f : offsetmap::offset_program_files(m)) text += "#include \"" + f + "\"\n";
+        const std::string path = dir + "/peer_" + stem + "_program.inc";
+        std::ifstream old(path);
+        std::ostringstream current;
+        current << old.rdbuf();
+        if (!old || current.str() != text) std::ofstream(path) << text;
+    }
+    std::ofstream(argv[2]) << "done\n";
+    return 0;
+}

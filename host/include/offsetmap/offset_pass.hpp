@@ -1,0 +1,86 @@
+// The offset pass: one method over a G-buffer, on the runtime's context and queue.
+#pragma once
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "offsetmap/cl.hpp"
+#include "offsetmap/gbuffer.hpp"
+#include "offsetmap/height_field.hpp"
+#include "offsetmap/registry.hpp"
+#include "offsetmap/runtime.hpp"
+#include "offsetmap/settings.hpp"
+
+namespace offsetmap {
+
+// Output buffers of the offset pass. uv (float2 per pixel) is required; depth (float: the ray
+// parameter t of the hit, the distance along the eye ray from the polygon point in uv units),
+// fetches (uint: bilinear height fetches) and flags (uint, OM_FLAG_*) may be null buffers.
+struct OffsetTargets {
+    cl::Buffer uv;
+    cl::Buffer depth;
+    cl::Buffer fetches;
+    cl::Buffer flags;
+};
+
+// One method's offset pass. Enqueues on the runtime's queue (the caller's, when the runtime wraps
+// the caller's objects) after `wait`, and returns the kernel's event.
+class OffsetPass {
+  public:
+    // The method by name with parameter overrides (name -> text), resolved here; or with
+    // parameters already resolved (resolve_params).
+    OffsetPass(std::shared_ptr<Runtime> runtime, const std::string& method,
+               const std::map<std::string, std::string>& params = {});
+    OffsetPass(std::shared_ptr<Runtime> runtime, const MethodParams& params);
+
+    cl::Event enqueue(const DeviceGBuffer& gbuffer, const DeviceHeightField& field,
+                      const PassSettings& settings, const OffsetTargets& targets,
+                      const std::vector<cl::Event>& wait = {});
+
+    const MethodInfo& method() const { return *method_; }
+    const MethodParams& params() const { return params_; }
+    int lanes() const { return lanes_; }  // pixels per work-item
+
+    // The method's precomputed data for the last field it ran on (bytes 0 when it needs none),
+    // and the time its build took (kernel time from profiling events, else wall time).
+    struct Precomputed {
+        size_t bytes = 0;
+        double build_ms = 0.0;
+    };
+    const Precomputed& precomputed() const { return precomputed_; }
+    // The precomputed data itself on the device (layout in the method's prep kernel file).
+    const cl::Buffer& precomputed_buffer() const { return aux_; }
+
+    // Builds the precomputed data for `field` now (enqueue does it on first use). It is cached by
+    // the height buffer, size, scale, address mode and parameters: after rewriting the heights in
+    // the same buffer, use a new OffsetPass.
+    void prepare(const DeviceHeightField& field, const PassSettings& settings);
+
+  private:
+    // Enqueues the footprint pre-pass after `wait`; `deps` becomes its event.
+    cl::Buffer footprint(const DeviceGBuffer& g, const DeviceHeightField& f,
+                         const std::vector<cl::Event>& wait, std::vector<cl::Event>& deps);
+
+    // The entry kernel specialised for LOD on/off and the optional outputs bound.
+    cl::Kernel& kernel(bool lod, bool depth, bool fetches, bool flags, bool images);
+    // An image1d_buffer view of the field's height pyramid (the image path), made once per field;
+    // a null image when the pyramid is larger than the device's image buffers allow.
+    const cl::Image1DBuffer& heights_image(const DeviceHeightField& f);
+
+    std::shared_ptr<Runtime> runtime_;
+    const MethodInfo* method_;
+    MethodParams params_;
+    std::map<std::string, cl::Kernel> kernels_;
+    int lanes_ = 1;  // pixels per work-item (the runtime's)
+    cl::Image1DBuffer heights_image_;
+    cl_mem image_of_ = nullptr;  // the height buffer heights_image_ views
+    cl::Buffer aux_;
+    std::string aux_key_;          // what aux_ was built for
+    cl::Buffer footprint_;         // per-pixel mip levels when the G-buffer brings none
+    cl::Kernel footprint_kernel_;  // created on first use, reused every frame
+    size_t footprint_pixels_ = 0;
+    Precomputed precomputed_;
+};
+
+}  // namespace offsetmap

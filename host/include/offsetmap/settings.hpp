@@ -1,0 +1,65 @@
+// A pass's settings (the relief's placement, the grazing rule, LOD) and what they give the kernels.
+#pragma once
+#include "om_shared.h"
+
+namespace offsetmap {
+
+// Tatarchuk's level-of-detail system (off by default). The per-pixel mip level m comes from the
+// G-buffer's lod buffer, or from the uv footprint between neighbouring pixels when it has none.
+// Heights are read at level floor(m), step counts scale by mix(1, min_detail, m / threshold), and
+// the offset fades to plain normal mapping over `fade` levels below `threshold`.
+// Footprint mode (footprint = true) keeps the per-pixel level and the height reads but caps each
+// method's step count at the texels of that level the ray's footprint crosses (plus one) and fades
+// to normal mapping as that count falls from fade_texels_hi to fade_texels_lo.
+struct LodSettings {
+    bool enabled = false;
+    float threshold = 4.0f;    // mip level at and past which uv' = uv, [0.5, 16]
+    float fade = 1.0f;         // (0, threshold]
+    float min_detail = 0.25f;  // (0, 1]
+    bool footprint = false;
+    float fade_texels_lo = 0.5f;  // [0, fade_texels_hi)
+    float fade_texels_hi = 2.0f;
+};
+
+// The relief's placement (DESIGN.md): surface z = scale * (H - reference_plane), in uv units.
+struct PassSettings {
+    float scale = 0.05f;             // depth scale s, in uv units, [0, 1]
+    float reference_plane = 1.0f;    // r in [0,1]: the polygon's height
+    float min_elevation_deg = 1.0f;  // grazing rule: views lower than this are raised to it
+    AddressMode address = AddressMode::Wrap;
+    LodSettings lod;
+    // What happens at grazing views (GrazingPolicy, om_shared.h; bounded loops, finite outputs):
+    //  Clamp: views below min_elevation_deg are traced at that elevation (the default).
+    //  Limit: Welsh's offset limiting for every method: rays along normalize(V.x, V.y, 1), so an
+    //         offset never exceeds the depth it crosses (biased at every view but straight down).
+    //  Cap:   a march-length cap: the ray's footprint through the whole slab is at most
+    //         max_offset_texels, i.e. views are raised to atan(s max(W, H) / max_offset_texels).
+    GrazingPolicy grazing = GrazingPolicy::Clamp;
+    float max_offset_texels = 32.0f;  // Cap policy: longest footprint of a ray, [1, 1e6]
+    // Flag pixels whose uv' leaves [0,1]^2 (OM_FLAG_OUT_OF_TILE), for silhouettes on non-tiling
+    // (clamped) surfaces; the shade pass draws them as background.
+    bool out_of_tile_mask = false;
+};
+
+// Throws Error naming the setting that is out of range.
+void validate(const PassSettings& settings);
+
+// The grazing rule and the march cap, derived once (host/src/grazing.cpp) for the offset pass, the
+// shade pass (the light obeys the view's rule), the oracle and the tests.
+struct GrazingRule {
+    // Views with a lower V.z are flagged GRAZING and, but under Limit, raised to it (same
+    // azimuth). sin(min_elevation_deg), raised by the Cap policy so that a footprint through the
+    // whole slab spans at most max_offset_texels. A float, as the kernels compare it.
+    float min_vz = 0.0f;
+    bool limit = false;  // Limit policy: rays along normalize(V.x, V.y, 1)
+    // The most cells a ray's footprint crosses between the top and bottom planes (it spans at
+    // most s / min_vz in uv), plus the start cell and rounding: every cell walk's hard cap.
+    int max_cells = 0;
+};
+GrazingRule grazing_rule(const PassSettings& settings, int map_w, int map_h);
+
+// The kernel parameters a pass with these settings uses over a hf_w x hf_h height map (grazing
+// rule, march cap, LOD); method parameters and mip levels are the caller's to fill in.
+OmOffsetParams offset_params(const PassSettings& settings, int pixels, int hf_w, int hf_h);
+
+}  // namespace offsetmap

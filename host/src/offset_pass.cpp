@@ -1,0 +1,151 @@
+// The offset pass: one method's program over the G-buffer, its precomputed data built on first use
+// (through the method's registry row), the LOD footprint pre-pass.
+#include "offsetmap/offset_pass.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <sstream>
+
+#include "launch.hpp"
+
+namespace offsetmap {
+
+OffsetPass::OffsetPass(std::shared_ptr<Runtime> runtime, const std::string& method,
+                       const std::map<std::string, std::string>& params)
+    : OffsetPass(std::move(runtime), resolve_params(find_method(method), params)) {}
+
+OffsetPass::OffsetPass(std::shared_ptr<Runtime> runtime, const MethodParams& params)
+    : runtime_(std::move(runtime)), method_(params.method), params_(params) {
+    if (!method_ || params_.values.size() != method_->params.size())
+        throw Error("the offset pass needs resolved method parameters (resolve_params)");
+    lanes_ = runtime_->lanes();
+    // Compile now (the tools' usual outputs), so a method's build errors surface here.
+    kernel(false, true, true, true, runtime_->images());
+}
+
+cl::Kernel& OffsetPass::kernel(bool lod, bool depth, bool fetches, bool flags, bool images) {
+    // One program per combination actually used: each drops the branches it does not need.
+    std::string defines = lanes_ > 1 ? "#define OM_LANES " + std::to_string(lanes_) + "\n" : "";
+    if (images) defines += "#define OM_IMAGES\n";
+    if (lod) defines += "#define OM_LOD\n";
+    if (depth) defines += "#define OM_OUT_DEPTH\n";
+    if (fetches) defines += "#define OM_OUT_FETCHES\n";
+    if (flags) defines += "#define OM_OUT_FLAGS\n";
+    defines += param_slot_defines(*method_);
+    auto it = kernels_.find(defines);
+    if (it == kernels_.end())
+        it = kernels_
+                 .emplace(defines,
+                          cl::Kernel(runtime_->program(offset_program_files(*method_), defines),
+                                     "om_offset"))
+                 .first;
+    return it->second;
+}
+
+void OffsetPass::prepare(const DeviceHeightField& f, const PassSettings& settings) {
+    const PrecomputeSpec* spec = method_->precompute;
+    if (!spec) return;
+    check_field(f);
+    std::ostringstream key;
+    key << f.heights() << ' ' << f.width << 'x' << f.height << ' ' << settings.scale << ' '
+        << static_cast<int>(settings.address);
+    for (float p : params_.values) key << ' ' << p;
+    if (key.str() == aux_key_) return;
+    aux_key_.clear();
+    precomputed_.bytes = spec->bytes(params_, settings, f.width, f.height);
+    auto start = std::chrono::steady_clock::now();
+    PrecomputeSpec::Built built;
+    try {
+        built = spec->build(*runtime_, f, settings, params_);
+    } catch (const cl::Error& e) {
+        throw Error("cannot build the precomputed data of '" + method_->name + "' (" +
+                    std::to_string(precomputed_.bytes) + " bytes): " + describe_cl_error(e.err()));
+    }
+    aux_ = built.data;
+    precomputed_.build_ms =
+        runtime_->profiling()
+            ? built.kernel_ms
+            : std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
+                  .count();
+    aux_key_ = key.str();
+}
+
+const cl::Image1DBuffer& OffsetPass::heights_image(const DeviceHeightField& f) {
+    if (image_of_ != f.heights()) {
+        const size_t floats = f.heights.getInfo<CL_MEM_SIZE>() / sizeof(float);
+        heights_image_ = floats <= runtime_->device().getInfo<CL_DEVICE_IMAGE_MAX_BUFFER_SIZE>()
+                             ? cl::Image1DBuffer(runtime_->context(), CL_MEM_READ_ONLY,
+                                                 cl::ImageFormat(CL_R, CL_FLOAT), floats, f.heights)
+                             : cl::Image1DBuffer();
+        image_of_ = f.heights();
+    }
+    return heights_image_;
+}
+
+cl::Buffer OffsetPass::footprint(const DeviceGBuffer& g, const DeviceHeightField& f,
+                                 const std::vector<cl::Event>& wait, std::vector<cl::Event>& deps) {
+    auto& rt = *runtime_;
+    if (footprint_pixels_ != g.pixels()) {
+        footprint_ = cl::Buffer(rt.context(), CL_MEM_READ_WRITE, g.pixels() * sizeof(float));
+        footprint_pixels_ = g.pixels();
+    }
+    if (!footprint_kernel_())
+        footprint_kernel_ = cl::Kernel(rt.program({"prep/footprint.cl"}), "om_footprint_lod");
+    cl::Kernel& k = footprint_kernel_;
+    k.setArg(0, g.uv);
+    k.setArg(1, g.width);
+    k.setArg(2, g.height);
+    k.setArg(3, static_cast<float>(f.width));
+    k.setArg(4, static_cast<float>(f.height));
+    k.setArg(5, footprint_);
+    cl::Event e;
+    rt.queue().enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(g.width, g.height), cl::NullRange,
+                                    &wait, &e);
+    deps = {e};
+    return footprint_;
+}
+
+cl::Event OffsetPass::enqueue(const DeviceGBuffer& g, const DeviceHeightField& f,
+                              const PassSettings& settings, const OffsetTargets& t,
+                              const std::vector<cl::Event>& wait) {
+    validate(settings);
+    check_gbuffer(g);
+    check_field(f);
+    if (!t.uv()) throw Error("the offset pass needs a uv output buffer");
+    prepare(f, settings);
+    OmOffsetParams p = offset_params(settings, static_cast<int>(g.pixels()), f.width, f.height);
+    p.mip_levels = f.mip_levels;
+    std::copy(params_.values.begin(), params_.values.end(), p.p);
+    // The image path where the runtime wants it and the pyramid fits an image1d_buffer.
+    const bool images = runtime_->images() && heights_image(f)() != nullptr;
+    cl::Kernel& k = kernel(settings.lod.enabled, t.depth() != nullptr, t.fetches() != nullptr,
+                           t.flags() != nullptr, images);
+    k.setArg(0, p);
+    k.setArg(1, g.uv);
+    k.setArg(2, g.view);
+    k.setArg(3, f.heights);
+    set_optional(k, 4, aux_);
+    k.setArg(6, t.uv);
+    set_optional(k, 7, t.depth);
+    set_optional(k, 8, t.fetches);
+    set_optional(k, 9, t.flags);
+    if (images) k.setArg(10, heights_image(f));
+    cl::Event event;
+    try {
+        std::vector<cl::Event> deps = wait;
+        cl::Buffer lod;
+        if (settings.lod.enabled) {
+            lod = g.lod() ? g.lod : footprint(g, f, wait, deps);
+        }
+        set_optional(k, 5, lod);
+        runtime_->queue().enqueueNDRangeKernel(k, cl::NullRange,
+                                               padded((g.pixels() + lanes_ - 1) / lanes_),
+                                               cl::NDRange(kLocalSize), &deps, &event);
+    } catch (const cl::Error& e) {
+        throw Error("cannot run the '" + method_->name +
+                    "' offset pass: " + describe_cl_error(e.err()));
+    }
+    return event;
+}
+
+}  // namespace offsetmap

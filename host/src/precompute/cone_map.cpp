@@ -1,0 +1,61 @@
+// cone's cone map (kernels/prep/cone.cl): per cell its maximum height and the widest cone above it
+// that holds no relief, searched over rings of OM_CONE_BLOCK^2 blocks whose maxima prune it.
+#include <algorithm>
+#include <cstddef>
+
+#include "launch.hpp"
+#include "offsetmap/passes.hpp"
+#include "offsetmap/runtime.hpp"
+#include "precompute/precompute.hpp"
+
+namespace offsetmap {
+namespace {
+
+size_t bytes(const MethodParams&, const PassSettings&, int w, int h) {
+    return 2 * static_cast<size_t>(w) * h * sizeof(float);
+}
+
+PrecomputeSpec::Built build(Runtime& rt, const DeviceHeightField& f, const PassSettings& settings,
+                            const MethodParams& params) {
+    const int B = OM_CONE_BLOCK;
+    const int bw = (f.width + B - 1) / B, bh = (f.height + B - 1) / B;
+    std::vector<std::string> files = sampling_files();
+    files.push_back("prep/cone.cl");
+    cl::Program program = rt.program(files);
+    OmOffsetParams p = offset_params(settings, 0, f.width, f.height);
+    cl::Buffer blocks(rt.context(), CL_MEM_READ_WRITE,
+                      static_cast<size_t>(bw) * bh * sizeof(float));
+    PrecomputeSpec::Built out;
+    out.data =
+        cl::Buffer(rt.context(), CL_MEM_READ_WRITE, bytes(params, settings, f.width, f.height));
+    cl::Kernel kb(program, "om_cone_blocks");
+    set_args(kb, p, f.heights, bw, bh, blocks);
+    cl::Event e1, e2;
+    rt.queue().enqueueNDRangeKernel(kb, cl::NullRange, cl::NDRange(bw, bh), cl::NullRange, nullptr,
+                                    &e1);
+    std::vector<float> block_max(static_cast<size_t>(bw) * bh);
+    std::vector<cl::Event> after_blocks = {e1};
+    rt.queue().enqueueReadBuffer(blocks, CL_TRUE, 0, block_max.size() * sizeof(float),
+                                 block_max.data(), &after_blocks);
+    const float global_max = *std::max_element(block_max.begin(), block_max.end());
+    // Wrapped block indices name the same cells only when blocks tile the map.
+    const int blocks_valid =
+        settings.address == AddressMode::Clamp || (f.width % B == 0 && f.height % B == 0);
+    cl::Kernel kc(program, "om_cone_map");
+    set_args(kc, p, f.heights, blocks, bw, bh, blocks_valid, global_max, params["max_ratio"],
+             out.data);
+    rt.queue().enqueueNDRangeKernel(kc, cl::NullRange, cl::NDRange(f.width, f.height),
+                                    cl::NullRange, nullptr, &e2);
+    e2.wait();
+    out.kernel_ms = rt.profiling() ? event_ms(e1) + event_ms(e2) : 0.0;
+    return out;
+}
+
+}  // namespace
+
+const PrecomputeSpec kConeMap = {
+    "cone map: 2 floats per cell (cell maximum, cone ratio), 8 W H bytes, built by a kernel per "
+    "height map with 8 x 8 block maxima to prune the search",
+    bytes, build};
+
+}  // namespace offsetmap

@@ -1,0 +1,70 @@
+// maxmip's pyramid of maxima (kernels/prep/maxmip.cl): level k (from 1) holds, per 2^k x 2^k
+// block of cells, the largest texel its patches touch; level 0 is the height map itself.
+#include <algorithm>
+#include <cstddef>
+
+#include "launch.hpp"
+#include "offsetmap/passes.hpp"
+#include "offsetmap/runtime.hpp"
+#include "precompute/precompute.hpp"
+
+namespace offsetmap {
+namespace {
+
+int levels(const PassSettings& s, int w, int h) {
+    return om_maxmip_levels(w, h, static_cast<om_int>(s.address));
+}
+
+size_t floats(const PassSettings& s, int w, int h) {
+    size_t n = 0;
+    for (int k = 1; k <= levels(s, w, h); ++k) n += static_cast<size_t>(w >> k) * (h >> k);
+    return n;
+}
+
+size_t bytes(const MethodParams&, const PassSettings& s, int w, int h) {
+    return floats(s, w, h) * sizeof(float);
+}
+
+PrecomputeSpec::Built build(Runtime& rt, const DeviceHeightField& f, const PassSettings& settings,
+                            const MethodParams&) {
+    PrecomputeSpec::Built out;
+    const int top = levels(settings, f.width, f.height);
+    out.data = cl::Buffer(rt.context(), CL_MEM_READ_WRITE,
+                          std::max<size_t>(floats(settings, f.width, f.height), 1) * sizeof(float));
+    if (top == 0) return out;  // no hierarchy: the walk is exact's
+    std::vector<std::string> files = sampling_files();
+    files.push_back("prep/maxmip.cl");
+    cl::Program program = rt.program(files);
+    OmOffsetParams p = offset_params(settings, 0, f.width, f.height);
+    cl::Kernel first(program, "om_maxmip_first");
+    set_args(first, p, f.heights, out.data, f.width >> 1, f.height >> 1);
+    std::vector<cl::Event> events(1);
+    rt.queue().enqueueNDRangeKernel(first, cl::NullRange, cl::NDRange(f.width >> 1, f.height >> 1),
+                                    cl::NullRange, nullptr, &events[0]);
+    cl::Kernel next(program, "om_maxmip_next");
+    int offset = 0;
+    for (int k = 2; k <= top; ++k) {
+        const int pw = f.width >> (k - 1), ph = f.height >> (k - 1), cw = f.width >> k,
+                  ch = f.height >> k;
+        set_args(next, out.data, offset, pw, offset + pw * ph, cw, ch);
+        // Each level reads the one before: wait for it (the queue may be out of order).
+        std::vector<cl::Event> after = {events.back()};
+        events.emplace_back();
+        rt.queue().enqueueNDRangeKernel(next, cl::NullRange, cl::NDRange(cw, ch), cl::NullRange,
+                                        &after, &events.back());
+        offset += pw * ph;
+    }
+    events.back().wait();
+    if (rt.profiling())
+        for (const auto& e : events) out.kernel_ms += event_ms(e);
+    return out;
+}
+
+}  // namespace
+
+const PrecomputeSpec kMaxPyramid = {
+    "max pyramid from level 1: about W H / 3 floats (4 W H / 3 bytes), built by a kernel per "
+    "height map; wrap addressing and even sizes (levels while both sizes are even)",
+    bytes, build};
+
+}  // namespace offsetmap

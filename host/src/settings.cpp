@@ -1,0 +1,59 @@
+// A pass's settings: their ranges, and the kernel parameters they give.
+#include "offsetmap/settings.hpp"
+
+#include <sstream>
+
+#include "offsetmap/error.hpp"
+
+namespace offsetmap {
+
+OmOffsetParams offset_params(const PassSettings& s, int pixels, int hf_w, int hf_h) {
+    OmOffsetParams p{};
+    p.pixel_count = pixels;
+    p.hf_width = hf_w;
+    p.hf_height = hf_h;
+    p.address_mode = static_cast<om_int>(s.address);
+    p.scale = s.scale;
+    p.ref_plane = s.reference_plane;
+    const GrazingRule g = grazing_rule(s, hf_w, hf_h);
+    p.min_vz = g.min_vz;
+    p.grazing = static_cast<om_int>(s.grazing);
+    p.max_cells = g.max_cells;
+    p.tile_mask = s.out_of_tile_mask ? 1 : 0;
+    p.mip_levels = 1;
+    p.lod_threshold = s.lod.threshold;
+    p.lod_fade = s.lod.fade;
+    p.lod_min_detail = s.lod.min_detail;
+    p.lod_footprint = s.lod.footprint ? 1 : 0;
+    p.lod_fade_lo = s.lod.fade_texels_lo;
+    p.lod_fade_hi = s.lod.fade_texels_hi;
+    return p;
+}
+
+void validate(const PassSettings& s) {
+    auto range = [](const char* name, float v, float lo, float hi) {
+        if (!(v >= lo && v <= hi)) {
+            std::ostringstream m;
+            m << name << " must be in [" << lo << ", " << hi << "], got " << v;
+            throw Error(m.str());
+        }
+    };
+    range("scale", s.scale, 0.0f, 1.0f);
+    range("reference plane", s.reference_plane, 0.0f, 1.0f);
+    range("minimum elevation (degrees)", s.min_elevation_deg, 0.1f, 89.0f);
+    range("maximum offset (texels)", s.max_offset_texels, 1.0f, 1.0e6f);
+    if (s.lod.enabled) {
+        range("LOD threshold", s.lod.threshold, 0.5f, 16.0f);
+        if (!(s.lod.fade > 0.0f && s.lod.fade <= s.lod.threshold))
+            throw Error("LOD fade must be in (0, threshold], got " + std::to_string(s.lod.fade));
+        if (!(s.lod.fade_texels_lo >= 0.0f && s.lod.fade_texels_hi > s.lod.fade_texels_lo))
+            throw Error("LOD fade texel range must satisfy 0 <= low < high, got [" +
+                        std::to_string(s.lod.fade_texels_lo) + ", " +
+                        std::to_string(s.lod.fade_texels_hi) + "]");
+        if (!(s.lod.min_detail > 0.0f && s.lod.min_detail <= 1.0f))
+            throw Error("LOD minimum detail must be in (0, 1], got " +
+                        std::to_string(s.lod.min_detail));
+    }
+}
+
+}  // namespace offsetmap

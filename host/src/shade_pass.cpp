@@ -1,0 +1,85 @@
+// The shade pass: Blinn-Phong with the relief's normals and self-shadows at uv'.
+#include "offsetmap/shade_pass.hpp"
+
+#include <cmath>
+
+#include "launch.hpp"
+#include "offsetmap/registry.hpp"
+
+namespace offsetmap {
+
+DeviceImage upload(Runtime& rt, const Image4& image) {
+    if (image.width <= 0 || image.height <= 0 ||
+        image.texels.size() != static_cast<size_t>(image.width) * image.height)
+        throw Error("image is empty or its texels do not match its size");
+    DeviceImage d;
+    d.width = image.width;
+    d.height = image.height;
+    d.texels = cl::Buffer(rt.context(), CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR,
+                          image.texels.size() * sizeof(cl_float4),
+                          const_cast<cl_float4*>(image.texels.data()));
+    return d;
+}
+
+ShadePass::ShadePass(std::shared_ptr<Runtime> runtime) : runtime_(std::move(runtime)) {
+    std::vector<std::string> files = sampling_files();
+    files.push_back("shade.cl");
+    kernel_ = cl::Kernel(runtime_->program(files), "om_shade");
+}
+
+cl::Event ShadePass::enqueue(const cl::Buffer& uv, const cl::Buffer& flags, const DeviceGBuffer& g,
+                             const DeviceHeightField& f, const DeviceImage* albedo,
+                             const PassSettings& settings, const ShadeSettings& s,
+                             const cl::Buffer& out_rgba, const std::vector<cl::Event>& wait) {
+    check_gbuffer(g);
+    check_field(f);
+    if (!f.normals()) throw Error("the height field has no normals");
+    OmShadeParams p{};
+    p.pixel_count = static_cast<int>(g.pixels());
+    p.hf_width = f.width;
+    p.hf_height = f.height;
+    p.address_mode = static_cast<om_int>(settings.address);
+    p.light_x = s.light[0];
+    p.light_y = s.light[1];
+    p.light_z = s.light[2];
+    p.has_light = g.light() ? 1 : 0;
+    p.ambient = s.ambient;
+    p.diffuse = s.diffuse;
+    p.specular = s.specular;
+    p.shininess = s.shininess;
+    if (s.shadow_steps < 1 || s.shadow_steps > 256)
+        throw Error("shadow steps must be in [1, 256], got " + std::to_string(s.shadow_steps));
+    if (!(s.light_size_deg > 0.0f && s.light_size_deg <= 90.0f))
+        throw Error("light size must be in (0, 90] degrees, got " +
+                    std::to_string(s.light_size_deg));
+    p.shadow_mode = static_cast<om_int>(s.shadow);
+    p.shadow_steps = s.shadow_steps;
+    p.light_size = static_cast<float>(s.light_size_deg * M_PI / 180.0);
+    p.scale = settings.scale;
+    p.ref_plane = settings.reference_plane;
+    const GrazingRule rule = grazing_rule(settings, f.width, f.height);
+    p.min_vz = rule.min_vz;
+    p.grazing = static_cast<om_int>(settings.grazing);
+    p.has_albedo = albedo ? 1 : 0;
+    p.albedo_width = albedo ? albedo->width : 0;
+    p.albedo_height = albedo ? albedo->height : 0;
+    kernel_.setArg(0, p);
+    kernel_.setArg(1, uv);
+    set_optional(kernel_, 2, flags);
+    kernel_.setArg(3, g.view);
+    set_optional(kernel_, 4, g.light);
+    kernel_.setArg(5, f.normals);
+    kernel_.setArg(6, f.heights);
+    set_optional(kernel_, 7, albedo ? albedo->texels : cl::Buffer());
+    kernel_.setArg(8, out_rgba);
+    cl::Event event;
+    try {
+        runtime_->queue().enqueueNDRangeKernel(kernel_, cl::NullRange, padded(g.pixels()),
+                                               cl::NDRange(kLocalSize), &wait, &event);
+    } catch (const cl::Error& e) {
+        throw Error(std::string("cannot run the shading pass: ") + describe_cl_error(e.err()));
+    }
+    return event;
+}
+
+}  // namespace offsetmap
