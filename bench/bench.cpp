@@ -269,7 +269,7 @@ struct Bench {
     }
 
     // `none` against the host memcpy of its traffic (G-buffer 24 B in, uv' 8 B and depth 4 B
-    // out per pixel), timed in turns: the bandwidth target for the pass that only moves
+    // out per pixel), timed in turns: the bandwidth target for the pass that only moves
     // bytes.
     json none_vs_memcpy(const DeviceGBuffer& g, const DeviceHeightField& f, const PassSettings& s) {
         OffsetPass pass(rt, "none", {});
@@ -332,7 +332,7 @@ struct Bench {
         // Two roofs at the method's fetch count per pixel (rounded up), each less the same
         // kernel making none (its own loads and stores): fetches along a line (independent, as a
         // linear search makes them: the faster, strict roof) and a chain of fetches each placed
-        // by the last height (the roofline: dependent fetches). A fetch's cost depends on
+        // by the last height (the dependent-fetch roofline). A fetch's cost depends on
         // how many a work-item makes (one exposes its latency, a row of them overlaps), so both
         // are taken at the method's count.
         const int roof_fetches = std::max(1, static_cast<int>(std::ceil(fetches - 1e-9)));

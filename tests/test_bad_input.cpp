@@ -1,4 +1,4 @@
-// Bad input never crashes and never poisons a frame (DESIGN.md "Bad input").
+// Bad input never crashes and never poisons a frame (docs/design.md, "Bad input and grazing views").
 #include <filesystem>
 #include <fstream>
 #include <limits>

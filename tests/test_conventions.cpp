@@ -1,4 +1,4 @@
-// The binding conventions of DESIGN.md, pinned through the kernels themselves.
+// The binding conventions of docs/design.md, pinned through the kernels themselves.
 #include <OpenImageIO/imageio.h>
 
 #include <filesystem>

@@ -13,7 +13,7 @@ namespace {
 constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
 constexpr float kInf = std::numeric_limits<float>::infinity();
 
-// The height maps the issue names: constant 0 and 1, 1x1, non-square, non-power-of-two, a 16-bit
+// Adversarial height maps: constant 0 and 1, 1x1, non-square, non-power-of-two, a 16-bit
 // file, and a float file with values outside [0,1] (clamped on load).
 std::vector<std::pair<std::string, HeightMap>> fuzz_maps() {
     namespace fs = std::filesystem;

@@ -1,5 +1,5 @@
 // Height sampling, for OM_LANES pixels at once (lanes.h; the prep kernels and the shade pass use it
-// with one). Conventions (DESIGN.md): texel (i, j) has its centre at uv = ((i + 0.5) / W,
+// with one). Conventions (docs/design.md): texel (i, j) has its centre at uv = ((i + 0.5) / W,
 // (j + 0.5) / H); bilinear between texel centres; wrap (tiling) or clamp. Each lane may read its
 // own mip level (LOD), so the level's offset and size are per lane.
 
