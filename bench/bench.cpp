@@ -23,7 +23,7 @@
 #include <thread>
 
 #include "cpu_peer.hpp"
-#include "offsetmap/offsetmap.hpp"
+#include "offsetmap/evaluation.hpp"
 #include "om_shared.h"
 
 using namespace offsetmap;

@@ -13,7 +13,7 @@
 #include <memory>
 #include <random>
 
-#include "offsetmap/offsetmap.hpp"
+#include "offsetmap/evaluation.hpp"
 #include "om_shared.h"
 
 namespace omtest {

@@ -4,7 +4,7 @@
 #include <string>
 #include <vector>
 
-#include "offsetmap/offsetmap.hpp"
+#include "offsetmap/evaluation.hpp"
 
 namespace offsetmap::cli {
 

@@ -25,13 +25,6 @@ struct GBuffer {
     void resize(int w, int h, bool with_light, bool with_lod);
 };
 
-// Reads an OpenEXR G-buffer with channels u v Vx Vy Vz and optionally Lx Ly Lz (all three) and lod.
-// Throws Error naming the file and the missing or unexpected channels.
-GBuffer load_gbuffer(const std::string& path);
-
-// Writes the G-buffer as float OpenEXR with the channel names above.
-void save_gbuffer(const std::string& path, const GBuffer& gbuffer);
-
 // A G-buffer in device buffers: the caller may create these on its own context and fill them.
 struct DeviceGBuffer {
     int width = 0;

@@ -19,16 +19,6 @@ struct HeightMap {
     float at(int i, int j) const { return h[static_cast<size_t>(j) * width + i]; }
 };
 
-struct HeightLoadOptions {
-    int channel = 0;         // which channel of the image holds the heights
-    bool depth_map = false;  // the file stores depth (white = deep): H = 1 - value
-};
-
-// Loads any image OpenImageIO reads (8/16-bit PNG, JPEG, TIFF, float EXR...). Integer formats map
-// to [0,1]; float values outside [0,1] are clamped (counted in `clamped`). Throws Error naming the
-// file for a missing, unreadable or empty image, a missing channel, or non-finite heights.
-HeightMap load_height_map(const std::string& path, const HeightLoadOptions& options = {});
-
 // Checks the map (non-empty, sizes agree, finite, in [0,1]); throws Error naming `what`.
 void validate_height_map(const HeightMap& map, const std::string& what);
 
@@ -38,13 +28,6 @@ struct Image4 {
     int height = 0;
     std::vector<cl_float4> texels;
 };
-
-// Loads an image as float4 (missing channels: 0, alpha 1). Throws Error naming the file.
-Image4 load_image4(const std::string& path);
-
-// Tangent-space normals from a normal-map file: rgb in [0,1] -> [-1,1], optional green flip
-// (DirectX-authored maps store -y), renormalised.
-Image4 load_normal_map(const std::string& path, bool flip_green);
 
 // A height map and its derived data on one device.
 struct DeviceHeightField {

@@ -5,8 +5,38 @@
 
 #include "offsetmap/cl.hpp"
 #include "offsetmap/evaluate.hpp"
+#include "offsetmap/gbuffer.hpp"
+#include "offsetmap/heightmap.hpp"
 
 namespace offsetmap {
+
+// Reading (OpenImageIO): height maps, albedo and normal maps, G-buffer files.
+
+struct HeightLoadOptions {
+    int channel = 0;         // which channel of the image holds the heights
+    bool depth_map = false;  // the file stores depth (white = deep): H = 1 - value
+};
+
+// Loads any image OpenImageIO reads (8/16-bit PNG, JPEG, TIFF, float EXR...). Integer formats map
+// to [0,1]; float values outside [0,1] are clamped (counted in `clamped`). Throws Error naming the
+// file for a missing, unreadable or empty image, a missing channel, or non-finite heights.
+HeightMap load_height_map(const std::string& path, const HeightLoadOptions& options = {});
+
+// Loads an image as float4 (missing channels: 0, alpha 1). Throws Error naming the file.
+Image4 load_image4(const std::string& path);
+
+// Tangent-space normals from a normal-map file: rgb in [0,1] -> [-1,1], optional green flip
+// (DirectX-authored maps store -y), renormalised.
+Image4 load_normal_map(const std::string& path, bool flip_green);
+
+// Reads an OpenEXR G-buffer with channels u v Vx Vy Vz and optionally Lx Ly Lz (all three) and lod.
+// Throws Error naming the file and the missing or unexpected channels.
+GBuffer load_gbuffer(const std::string& path);
+
+// Writes the G-buffer as float OpenEXR with the channel names above.
+void save_gbuffer(const std::string& path, const GBuffer& gbuffer);
+
+// Writing.
 
 // 8-bit sRGB RGB image, row 0 at the top.
 struct Rgb8 {

@@ -1,0 +1,12 @@
+// offsetmap's evaluation tools (target offsetmap::evaluation): the exact hit in double precision,
+// G-buffer sources, error statistics, the sweep, failure maps and temporal stability, and image
+// and G-buffer files (OpenImageIO). Includes the library itself.
+#pragma once
+#include "offsetmap/evaluate.hpp"
+#include "offsetmap/failure_map.hpp"
+#include "offsetmap/image_io.hpp"
+#include "offsetmap/offsetmap.hpp"
+#include "offsetmap/oracle.hpp"
+#include "offsetmap/scenes.hpp"
+#include "offsetmap/sweep.hpp"
+#include "offsetmap/temporal.hpp"
