@@ -318,9 +318,7 @@ struct Bench {
         bind_fetches(roof_chain, g, f, sink);
         // Fetch counts from one run with the fetch output on (not timed).
         OffsetResult counted = run_offset(*rt, pass, g, f, s, 1);
-        double fetches = 0;
-        for (auto c : counted.fetches) fetches += c;
-        fetches /= static_cast<double>(n);
+        const double fetches = mean_fetches(counted);
         // Lanes busy: a work-item's steps last as long as its slowest lane's; the fraction of
         // lane-steps that fetch for an active lane, for the work-item's row of `lanes` pixels and,
         // from the same counts, for the tiles of as many pixels it could hold instead.
@@ -648,10 +646,10 @@ int main(int argc, char** argv) {
                 double pyramid = mip_pyramid_floats(size, size, mip_level_count(size, size)) * 4.0;
                 for (const auto& m : methods()) {
                     // What the pass keeps, from the method's row (wrap addressing, defaults).
-                    const double pre =
-                        m.precompute ? static_cast<double>(m.precompute->bytes(
-                                           resolve_params(m, {}), PassSettings{}, size, size))
-                                     : 0.0;
+                    const double pre = m.precompute
+                                           ? static_cast<double>(m.precompute->bytes(
+                                                 resolve_params(m, {}), PassSettings{}, size, size))
+                                           : 0.0;
                     json row = {{"resolution", res.name},   {"map_size", size},
                                 {"method", m.name},         {"gbuffer_bytes", 24 * px},
                                 {"output_bytes", 12 * px},  {"debug_output_bytes", 8 * px},

@@ -47,11 +47,13 @@ bool run_chart_script(const std::string& script, const std::vector<std::string>&
     std::string path = std::string(env ? env : OFFSETMAP_SCRIPT_DIR) + "/" + script;
     if (!std::filesystem::exists(path)) {
         std::cerr << "offsetmap: warning: chart script '" << path
-                  << "' not found (set OFFSETMAP_SCRIPT_DIR to the repository's bench/); charts skipped\n";
+                  << "' not found (set OFFSETMAP_SCRIPT_DIR to the repository's bench/); charts "
+                     "skipped\n";
         return false;
     }
     // Debian's python3-matplotlib lives in the system interpreter, which may not be first on PATH.
-    std::string python = std::filesystem::exists("/usr/bin/python3") ? "/usr/bin/python3" : "python3";
+    std::string python =
+        std::filesystem::exists("/usr/bin/python3") ? "/usr/bin/python3" : "python3";
     std::string cmd = python + " " + shell_quote(path);
     for (const auto& a : args) cmd += " " + shell_quote(a);
     std::fflush(stdout);  // our lines first, then the script's
@@ -115,11 +117,13 @@ int run_failure_command(const FailureCommand& cmd, const ReliefOptions& relief) 
     auto cells = run_failure_map(rt, map, o);
     std::fprintf(stderr, "\n");
     write_failure_csv(cmd.out_dir + "/failure.csv", cells);
-    std::printf("failure map: %zu cells, wrote %s/failure.csv\n", cells.size(), cmd.out_dir.c_str());
+    std::printf("failure map: %zu cells, wrote %s/failure.csv\n", cells.size(),
+                cmd.out_dir.c_str());
     if (cmd.charts)
-        run_chart_script("plot_failure.py", {cmd.out_dir + "/failure.csv", cmd.out_dir + "/failure-map.png",
-                                             "Failure maps on " + stem(relief.height_map) +
-                                                 " (grazing policy: " + relief.grazing + ")"});
+        run_chart_script("plot_failure.py",
+                         {cmd.out_dir + "/failure.csv", cmd.out_dir + "/failure-map.png",
+                          "Failure maps on " + stem(relief.height_map) +
+                              " (grazing policy: " + relief.grazing + ")"});
     return 0;
 }
 
@@ -140,16 +144,19 @@ int run_temporal_command(const TemporalCommand& cmd, const ReliefOptions& relief
     std::printf("temporal stability over %d frames (texels, mean of frame pairs):\n", cmd.frames);
     std::vector<std::string> order;
     for (const auto& r : records)
-        if (std::find(order.begin(), order.end(), r.method) == order.end()) order.push_back(r.method);
+        if (std::find(order.begin(), order.end(), r.method) == order.end())
+            order.push_back(r.method);
     for (const auto& m : order) {
         double mean = 0, pop = 0;
         int n = 0;
         for (const auto& r : records)
             if (r.method == m) mean += r.mean, pop += r.pop_share, ++n;
-        std::printf("  %-18s %10.4f   %6.2f%% of pixels pop\n", m.c_str(), mean / n, 100.0 * pop / n);
+        std::printf("  %-18s %10.4f   %6.2f%% of pixels pop\n", m.c_str(), mean / n,
+                    100.0 * pop / n);
     }
     if (cmd.charts)
-        run_chart_script("plot_temporal.py", {cmd.out_dir + "/temporal.csv", cmd.out_dir + "/temporal.png"});
+        run_chart_script("plot_temporal.py",
+                         {cmd.out_dir + "/temporal.csv", cmd.out_dir + "/temporal.png"});
     return 0;
 }
 

@@ -32,8 +32,8 @@ int run_compare(const std::string& out_dir, const ReliefOptions& relief, const S
     std::printf("offsetmap compare: %s (%dx%d, s = %g, r = %g) on %s, %dx%d plane scene\n",
                 relief.height_map.c_str(), map.width, map.height, settings.scale,
                 settings.reference_plane, rt->device_name().c_str(), gb.width, gb.height);
-    std::printf("%-18s %10s %10s %10s %14s %10s %16s\n", "method", "mean err", "p95 err", ">1 texel",
-                "fetches/pixel", "ns/pixel", "precomputed");
+    std::printf("%-18s %10s %10s %10s %14s %10s %16s\n", "method", "mean err", "p95 err",
+                ">1 texel", "fetches/pixel", "ns/pixel", "precomputed");
     std::vector<std::pair<std::string, Rgb8>> tiles;
     nlohmann::json table = nlohmann::json::array();
     for (const auto& m : methods()) {
@@ -42,17 +42,13 @@ int run_compare(const std::string& out_dir, const ReliefOptions& relief, const S
         r.kernel_ms.erase(r.kernel_ms.begin());  // the first launch includes PoCL's kernel JIT
         std::vector<float> err;
         ErrorStats st = uv_error(r, exact, map.width, map.height, &err);
-        size_t traced_n = 0;
-        double fetch_sum = 0;
-        for (size_t k = 0; k < r.flags.size(); ++k)
-            if (traced(r.flags[k])) ++traced_n, fetch_sum += r.fetches[k];
-        double fetches = traced_n ? fetch_sum / traced_n : 0.0;
+        const double fetches = mean_fetches(r);
         double ns = r.median_kernel_ms() * 1e6 / static_cast<double>(gb.pixels());
         const auto& pre = pass.precomputed();
         char precomputed[64] = "-";
         if (pre.bytes)
-            std::snprintf(precomputed, sizeof precomputed, "%.1f MB, %.0f ms", pre.bytes / 1048576.0,
-                          pre.build_ms);
+            std::snprintf(precomputed, sizeof precomputed, "%.1f MB, %.0f ms",
+                          pre.bytes / 1048576.0, pre.build_ms);
         std::printf("%-18s %10.4f %10.4f %9.2f%% %14.2f %10.2f %16s\n", m.name.c_str(), st.mean,
                     st.p95, 100.0 * st.wrong_share, fetches, ns, precomputed);
 
@@ -95,9 +91,10 @@ int run_compare(const std::string& out_dir, const ReliefOptions& relief, const S
                               {"height", gb.height},
                               {"methods", table}};
     std::ofstream(out_dir + "/summary.json") << summary.dump(2) << "\n";
-    std::printf("wrote %s/{<method>.png, <method>-error.png, <method>-fetches.png, contact-sheet.png, "
-                "summary.json}\n",
-                out_dir.c_str());
+    std::printf(
+        "wrote %s/{<method>.png, <method>-error.png, <method>-fetches.png, contact-sheet.png, "
+        "summary.json}\n",
+        out_dir.c_str());
     return 0;
 }
 

@@ -13,8 +13,10 @@ void ReliefOptions::add_to(CLI::App& app, bool required) {
     auto* hm = app.add_option("--height-map", height_map, "height map image (PNG, TIFF, EXR, ...)");
     if (required) hm->required();
     app.add_flag("--depth-map", depth_map, "the file stores depth (white = deep)");
-    app.add_option("--channel", channel, "channel of the height map to use")->check(CLI::NonNegativeNumber);
-    app.add_option("--normal-map", normal_map, "tangent-space normal map (default: derived from heights)");
+    app.add_option("--channel", channel, "channel of the height map to use")
+        ->check(CLI::NonNegativeNumber);
+    app.add_option("--normal-map", normal_map,
+                   "tangent-space normal map (default: derived from heights)");
     app.add_flag("--flip-green", flip_green, "normal map authored DirectX-style (green = -y)");
     app.add_option("--albedo", albedo, "albedo image (default: a neutral checker)");
     app.add_option("--scale", pass.scale, "depth scale s in uv units")->capture_default_str();
@@ -29,26 +31,31 @@ void ReliefOptions::add_to(CLI::App& app, bool required) {
         ->each([this](const std::string&) { pass.lod.enabled = true; });
     app.add_option("--lod-fade", pass.lod.fade, "LOD: levels over which the effect fades out")
         ->capture_default_str();
-    app.add_option("--lod-min-detail", pass.lod.min_detail, "LOD: step-count factor at the threshold")
+    app.add_option("--lod-min-detail", pass.lod.min_detail,
+                   "LOD: step-count factor at the threshold")
         ->capture_default_str();
     app.add_flag("--lod-footprint", pass.lod.footprint,
                  "LOD on, footprint mode: steps = texels the ray crosses at the pixel's level")
         ->each([this](const std::string&) { pass.lod.enabled = true; });
-    app.add_option("--lod-fade-texels", lod_fade_texels, "footprint LOD: fade over [low high] texels")
+    app.add_option("--lod-fade-texels", lod_fade_texels,
+                   "footprint LOD: fade over [low high] texels")
         ->expected(2);
     app.add_option("--grazing", grazing,
                    "grazing policy: clamp (raise to --grazing-min-deg), limit (Welsh's offset "
                    "limiting for every method), cap (footprint <= --max-offset texels)")
         ->check(CLI::IsMember({"clamp", "limit", "cap"}))
         ->capture_default_str();
-    app.add_option("--max-offset", pass.max_offset_texels, "cap policy: longest ray footprint (texels)")
+    app.add_option("--max-offset", pass.max_offset_texels,
+                   "cap policy: longest ray footprint (texels)")
         ->capture_default_str();
-    app.add_flag("--tile-mask", pass.out_of_tile_mask,
-                 "flag and discard pixels whose uv' leaves [0,1] (silhouettes on non-tiling surfaces)");
+    app.add_flag(
+        "--tile-mask", pass.out_of_tile_mask,
+        "flag and discard pixels whose uv' leaves [0,1] (silhouettes on non-tiling surfaces)");
     app.add_option("--address", address, "height addressing")
         ->check(CLI::IsMember({"wrap", "clamp"}))
         ->capture_default_str();
-    app.add_option("--light", light, "tangent-space light direction x y z (replaces the G-buffer's L)")
+    app.add_option("--light", light,
+                   "tangent-space light direction x y z (replaces the G-buffer's L)")
         ->expected(3);
     app.add_option("--device", device, "OpenCL platform/device name substring ($OFFSETMAP_DEVICE)");
     app.add_option("--shadows", shadows, "relief self-shadows in the shaded image")
@@ -65,7 +72,9 @@ void ReliefOptions::add_to(CLI::App& app, bool required) {
 ShadeSettings ReliefOptions::shade_settings() const {
     ShadeSettings s = shade;
     if (light.size() == 3) std::copy(light.begin(), light.end(), s.light);
-    s.shadow = shadows == "hard" ? ShadowMode::Hard : shadows == "soft" ? ShadowMode::Soft : ShadowMode::None;
+    s.shadow = shadows == "hard"   ? ShadowMode::Hard
+               : shadows == "soft" ? ShadowMode::Soft
+                                   : ShadowMode::None;
     return s;
 }
 
@@ -96,7 +105,8 @@ void SceneOptions::add_to(CLI::App& app) {
     app.add_option("--yaw", plane.yaw_deg, "plane: heading in degrees")->capture_default_str();
     app.add_option("--fov", plane.fov_deg, "plane: vertical field of view in degrees")
         ->capture_default_str();
-    app.add_option("--elevations", sweep.elevations, "sweep: elevation rows")->capture_default_str();
+    app.add_option("--elevations", sweep.elevations, "sweep: elevation rows")
+        ->capture_default_str();
     app.add_option("--azimuths", sweep.azimuths, "sweep: azimuth columns")->capture_default_str();
     app.add_option("--patch", sweep.patch, "sweep: pixels per patch side")->capture_default_str();
     app.add_option("--seed", random.seed, "random: seed")->capture_default_str();
@@ -184,18 +194,17 @@ int render(const ReliefOptions& relief, const SceneOptions& scene_opts, const st
     if (!relief.albedo.empty()) albedo = load_image4(relief.albedo);
 
     auto rt = Runtime::create(relief.device);
-    DeviceHeightField field = upload(*rt, map, settings, relief.normal_map.empty() ? nullptr : &normals);
+    DeviceHeightField field =
+        upload(*rt, map, settings, relief.normal_map.empty() ? nullptr : &normals);
     DeviceGBuffer dg = upload(*rt, gb);
     OffsetPass pass(rt, params);
     OffsetResult result = run_offset(*rt, pass, dg, field, settings, 1);
 
     size_t traced_n = 0;
-    double fetch_sum = 0;
-    for (size_t k = 0; k < result.flags.size(); ++k)
-        if (traced(result.flags[k])) ++traced_n, fetch_sum += result.fetches[k];
+    for (auto f : result.flags) traced_n += traced(f);
     std::printf("%s on %s: %dx%d pixels, %zu traced, %.2f fetches/pixel, kernel %.3f ms\n",
                 method.c_str(), rt->device_name().c_str(), gb.width, gb.height, traced_n,
-                traced_n ? fetch_sum / traced_n : 0.0, result.median_kernel_ms());
+                mean_fetches(result), result.median_kernel_ms());
 
     if (!uv_out.empty()) write_uv_exr(uv_out, result);
     if (!color_out.empty()) {
@@ -203,8 +212,8 @@ int render(const ReliefOptions& relief, const SceneOptions& scene_opts, const st
         ShadeSettings ss = relief.shade_settings();
         DeviceImage dalbedo;
         if (!relief.albedo.empty()) dalbedo = upload(*rt, albedo);
-        auto rgba = run_shade(*rt, shade, result, dg, field, relief.albedo.empty() ? nullptr : &dalbedo,
-                              settings, ss);
+        auto rgba = run_shade(*rt, shade, result, dg, field,
+                              relief.albedo.empty() ? nullptr : &dalbedo, settings, ss);
         write_image(color_out, to_srgb8(gb.width, gb.height, rgba));
     }
     if (!error_out.empty()) {
@@ -250,7 +259,8 @@ int main(int argc, char** argv) {
     cmd_render->add_option("--error-out", error_out,
                            "heat map of uv error in texels against exact (PNG; log scale to 16)");
 
-    auto* cmd_compare = app.add_subcommand("compare", "every method on one scene: contact sheet + table");
+    auto* cmd_compare =
+        app.add_subcommand("compare", "every method on one scene: contact sheet + table");
     ReliefOptions cmp_relief;
     SceneOptions cmp_scene;
     std::string cmp_out = "out/compare";
@@ -265,18 +275,23 @@ int main(int argc, char** argv) {
         ->check(CLI::Range(1, 100))
         ->capture_default_str();
 
-    auto* cmd_sweep = app.add_subcommand("sweep", "accuracy against cost over every method's settings");
+    auto* cmd_sweep =
+        app.add_subcommand("sweep", "accuracy against cost over every method's settings");
     ReliefOptions sweep_relief;
     SweepCommand sweep;
     sweep_relief.add_to(*cmd_sweep, false);
     sweep.add_to(*cmd_sweep);
     cmd_sweep->add_option("--maps", sweep.maps, "height maps (default: the sweep maps in --data)");
-    cmd_sweep->add_option("--data", sweep.data_dir, "folder of the default maps")->capture_default_str();
-    cmd_sweep->add_flag("--quick", sweep.quick, "3 maps, smaller views, 3 timed runs (about a minute)");
-    cmd_sweep->add_option("--repeats", sweep.repeats, "timed runs per point")->check(CLI::Range(1, 100))
+    cmd_sweep->add_option("--data", sweep.data_dir, "folder of the default maps")
+        ->capture_default_str();
+    cmd_sweep->add_flag("--quick", sweep.quick,
+                        "3 maps, smaller views, 3 timed runs (about a minute)");
+    cmd_sweep->add_option("--repeats", sweep.repeats, "timed runs per point")
+        ->check(CLI::Range(1, 100))
         ->capture_default_str();
 
-    auto* cmd_failure = app.add_subcommand("failure-map", "error over view elevation x depth scale");
+    auto* cmd_failure =
+        app.add_subcommand("failure-map", "error over view elevation x depth scale");
     ReliefOptions failure_relief;
     FailureCommand failure;
     failure_relief.add_to(*cmd_failure, true);
@@ -285,7 +300,8 @@ int main(int argc, char** argv) {
         ->check(CLI::Range(1, 65536))
         ->capture_default_str();
 
-    auto* cmd_temporal = app.add_subcommand("temporal", "frame-to-frame stability along a camera path");
+    auto* cmd_temporal =
+        app.add_subcommand("temporal", "frame-to-frame stability along a camera path");
     ReliefOptions temporal_relief;
     TemporalCommand temporal;
     temporal_relief.add_to(*cmd_temporal, true);
@@ -341,8 +357,8 @@ int main(int argc, char** argv) {
         std::cerr << "offsetmap: error: " << e.what() << "\n";
         return 1;
     } catch (const cl::Error& e) {
-        std::cerr << "offsetmap: error: OpenCL call " << e.what() << " failed: "
-                  << describe_cl_error(e.err()) << "\n";
+        std::cerr << "offsetmap: error: OpenCL call " << e.what()
+                  << " failed: " << describe_cl_error(e.err()) << "\n";
         return 1;
     } catch (const std::exception& e) {
         std::cerr << "offsetmap: error: " << e.what() << "\n";

@@ -19,6 +19,21 @@ bool traced(std::uint32_t flags) {
     return (flags & (OM_FLAG_EMPTY | OM_FLAG_INVALID | OM_FLAG_BACKFACING)) == 0u;
 }
 
+double mean_fetches(const OffsetResult& r) {
+    double sum = 0;
+    size_t n = 0;
+    for (size_t k = 0; k < r.fetches.size() && k < r.flags.size(); ++k)
+        if (traced(r.flags[k])) sum += r.fetches[k], ++n;
+    return n ? sum / static_cast<double>(n) : 0.0;
+}
+
+double max_fetches(const OffsetResult& r) {
+    std::uint32_t most = 0;
+    for (size_t k = 0; k < r.fetches.size() && k < r.flags.size(); ++k)
+        if (traced(r.flags[k])) most = std::max(most, r.fetches[k]);
+    return most;
+}
+
 OffsetResult run_offset(Runtime& rt, OffsetPass& pass, const DeviceGBuffer& g,
                         const DeviceHeightField& f, const PassSettings& settings, int repeats) {
     const size_t n = g.pixels();

@@ -30,10 +30,10 @@ SweepRecord measure(Runtime& rt, OffsetPass& pass, ShadePass& shade, const Devic
         if (!traced(r.flags[k]) || !traced(exact.flags[k])) continue;
         ++n;
         rec.depth_error += std::fabs(static_cast<double>(r.depth[k]) - exact.depth[k]) * map.width;
-        rec.fetches_mean += r.fetches[k];
-        rec.fetches_max = std::max(rec.fetches_max, static_cast<double>(r.fetches[k]));
     }
-    if (n) rec.depth_error /= n, rec.fetches_mean /= n;
+    if (n) rec.depth_error /= n;
+    rec.fetches_mean = mean_fetches(r);
+    rec.fetches_max = max_fetches(r);
     rec.kernel_ms = r.median_kernel_ms();
     rec.ns_per_pixel = rec.kernel_ms * 1e6 / static_cast<double>(g.pixels());
     rec.psnr_db =

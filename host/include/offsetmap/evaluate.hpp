@@ -45,4 +45,8 @@ ErrorStats uv_error(const OffsetResult& result, const OffsetResult& reference, i
 // True when the pixel was traced (not empty, invalid or back-facing).
 bool traced(std::uint32_t flags);
 
+// Height fetches per traced pixel (the cost measure every tool reports), and the most one made.
+double mean_fetches(const OffsetResult& result);
+double max_fetches(const OffsetResult& result);
+
 }  // namespace offsetmap

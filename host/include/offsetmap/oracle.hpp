@@ -6,7 +6,8 @@
 
 namespace offsetmap {
 
-// A G-buffer pixel after the pass's input rules (docs/design.md, "Bad input and grazing views"), in double precision.
+// A G-buffer pixel after the pass's input rules (docs/design.md, "Bad input and grazing views"), in
+// double precision.
 struct PreparedRay {
     std::uint32_t flags = 0;  // OM_FLAG_* as the kernels set them
     bool traced = false;      // false: uv passes through unchanged

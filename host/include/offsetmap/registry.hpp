@@ -34,7 +34,8 @@ struct MethodParams {
 // A method's precomputed data: built on the device from the height field before its first pass,
 // by a builder that lives beside its prep kernel (host/src/precompute/, kernels/prep/).
 struct PrecomputeSpec {
-    const char* doc;  // what it holds and its memory, for `offsetmap methods`
+    const char* doc;        // what it holds and its memory, for `offsetmap methods`
+    const char* prep_file;  // its kernels, under kernels/ (after the sampling layer)
     // The bytes the pass keeps for these parameters on a map_w x map_h field.
     size_t (*bytes)(const MethodParams& params, const PassSettings& settings, int map_w, int map_h);
     struct Built {

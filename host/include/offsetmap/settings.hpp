@@ -21,7 +21,8 @@ struct LodSettings {
     float fade_texels_hi = 2.0f;
 };
 
-// The relief's placement (docs/design.md, conventions): surface z = scale * (H - reference_plane), in uv units.
+// The relief's placement (docs/design.md, conventions): surface z = scale * (H - reference_plane),
+// in uv units.
 struct PassSettings {
     float scale = 0.05f;             // depth scale s, in uv units, [0, 1]
     float reference_plane = 1.0f;    // r in [0,1]: the polygon's height

@@ -20,7 +20,7 @@ PrecomputeSpec::Built build(Runtime& rt, const DeviceHeightField& f, const PassS
     const int B = OM_CONE_BLOCK;
     const int bw = (f.width + B - 1) / B, bh = (f.height + B - 1) / B;
     std::vector<std::string> files = sampling_files();
-    files.push_back("prep/cone.cl");
+    files.push_back(kConeMap.prep_file);
     cl::Program program = rt.program(files);
     OmOffsetParams p = offset_params(settings, 0, f.width, f.height);
     cl::Buffer blocks(rt.context(), CL_MEM_READ_WRITE,
@@ -56,6 +56,6 @@ PrecomputeSpec::Built build(Runtime& rt, const DeviceHeightField& f, const PassS
 const PrecomputeSpec kConeMap = {
     "cone map: 2 floats per cell (cell maximum, cone ratio), 8 W H bytes, built by a kernel per "
     "height map with 8 x 8 block maxima to prune the search",
-    bytes, build};
+    "prep/cone.cl", bytes, build};
 
 }  // namespace offsetmap

@@ -24,7 +24,7 @@ PrecomputeSpec::Built build(Runtime& rt, const DeviceHeightField& f, const PassS
     const int res = static_cast<int>(params["res"]), layers = static_cast<int>(params["layers"]);
     OmOffsetParams p = offset_params(settings, 0, f.width, f.height);
     std::vector<std::string> files = sampling_files();
-    files.push_back("prep/distance.cl");
+    files.push_back(kDistanceMap.prep_file);
     cl::Program program = rt.program(files);
     // The column maxima are a step of the build, freed with it.
     cl::Buffer colmax(rt.context(), CL_MEM_READ_WRITE,
@@ -51,6 +51,6 @@ PrecomputeSpec::Built build(Runtime& rt, const DeviceHeightField& f, const PassS
 const PrecomputeSpec kDistanceMap = {
     "distance map: res x res x layers floats (4 res^2 layers bytes), built by a kernel per height "
     "map, scale and address mode",
-    bytes, build};
+    "prep/distance.cl", bytes, build};
 
 }  // namespace offsetmap

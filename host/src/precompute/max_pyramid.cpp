@@ -33,7 +33,7 @@ PrecomputeSpec::Built build(Runtime& rt, const DeviceHeightField& f, const PassS
                           std::max<size_t>(floats(settings, f.width, f.height), 1) * sizeof(float));
     if (top == 0) return out;  // no hierarchy: the walk is exact's
     std::vector<std::string> files = sampling_files();
-    files.push_back("prep/maxmip.cl");
+    files.push_back(kMaxPyramid.prep_file);
     cl::Program program = rt.program(files);
     OmOffsetParams p = offset_params(settings, 0, f.width, f.height);
     cl::Kernel first(program, "om_maxmip_first");
@@ -65,6 +65,6 @@ PrecomputeSpec::Built build(Runtime& rt, const DeviceHeightField& f, const PassS
 const PrecomputeSpec kMaxPyramid = {
     "max pyramid from level 1: about W H / 3 floats (4 W H / 3 bytes), built by a kernel per "
     "height map; wrap addressing and even sizes (levels while both sizes are even)",
-    bytes, build};
+    "prep/maxmip.cl", bytes, build};
 
 }  // namespace offsetmap
