@@ -123,26 +123,6 @@ inline std::vector<std::string> method_names() {
     return names;
 }
 
-// One test row per method: how far from the exact hit its answer may be on a constant height
-// field, in lambda (the slab from top plane, 0, to bottom plane, 1), at its default parameters,
-// for a view with this V.z. Layered methods quantise the depth; every other method meets a plane
-// exactly (float rounding).
-inline double constant_field_lambda_tolerance(const std::string& method, double vz) {
-    const MethodInfo& m = find_method(method);
-    auto param = [&](const char* name) {
-        for (const auto& p : m.params)
-            if (p.name == name) return static_cast<double>(p.default_value);
-        throw Error(std::string("no parameter ") + name);
-    };
-    if (method == "steep") return 1.0 / param("layers");  // the first layer at or below
-    if (method == "relief") return 1.0 / (param("linear") * std::pow(2.0, param("binary")));
-    // sphere stops once its voxel meets the plane (one layer), unless its steps run out first:
-    // each step covers the box distance, at least the vertical gap less one layer, along the
-    // ray, which lowers the gap by V.z of it: the gap left after n steps is <= (1 - V.z)^n.
-    if (method == "sphere") return 1.0 / param("layers") + std::pow(1.0 - vz, param("steps"));
-    return 0.0;
-}
-
 // Cell boundaries (lines through texel centres of a w x h grid whose cells are `block` cells
 // wide) that the ray's footprint crosses for t in [ta, tb], plus one: the cells it visits. In the
 // kernels' frame: wrap traces from the fractional uv, clamp clamps the start cell position to
@@ -166,58 +146,102 @@ inline double cells_crossed(const PreparedRay& pr, const PassSettings& s, int w,
     return axis(pr.u, pr.V[0], w) + axis(pr.v, pr.V[1], h) + 1.0;
 }
 
-// Test row, part two: the most height fetches a method may make for one ray (prepare_ray's), up
-// to ray parameter t_end (its hit, or the bottom plane when the hit is not known), at its
-// defaults (or `params`).
-// - The marching methods: the registry row's cap, from their documented loop bounds (steps,
-//   samples, iterations).
-// - The cell walks, from the ray's geometry rather than the kernels' loop caps. `exact` reads
-//   one patch per cell it enters: the cells crossed, with float rounding's slack (above), and +2
-//   more under LOD (a coarser level's cell lines are at most one more per axis than level 0's
-//   over the same stretch). `cone`: each step leaves at least one cell or ends, and costs a cone
-//   fetch and at most one patch. `maxmip`: each step tests one block (or patch) and then descends
-//   a level or leaves the block; a climb follows only a leave, so descents <= top + leaves, and
-//   leaves at level k <= the level-k blocks crossed: at most top + 1 + 2 sum_k (blocks_k + 2),
-//   top <= the map's pyramid levels.
+// The test rows: one per method, in one table (a method without a row fails
+// Analytic.EveryMethodHasATestRow).
+//  - plane: how far from the exact hit its answer may be on a constant height field, in lambda
+//    (the slab from top plane, 0, to bottom plane, 1), for its parameters and a view with this
+//    V.z; nullptr: it meets a plane exactly (float rounding).
+//  - walk_cap: for the cell walks, the most height fetches a ray may cost, from the ray's
+//    geometry rather than the kernels' loop caps (the marching methods' caps are their registry
+//    rows', from their documented loop bounds). `exact` reads one patch per cell it enters: the
+//    cells crossed, with float rounding's slack (cells_crossed), and +2 more under LOD (a coarser
+//    level's cell lines are at most one more per axis than level 0's over the same stretch).
+//    `cone`: each step leaves at least one cell or ends, and costs a cone fetch and at most one
+//    patch. `maxmip`: each step tests one block (or patch) and then descends a level or leaves the
+//    block; a climb follows only a leave, so descents <= top + leaves, and leaves at level k <=
+//    the level-k blocks crossed: at most top + 1 + 2 sum_k (blocks_k + 2).
+struct WalkRay {
+    const PassSettings& s;
+    const HeightMap& map;
+    const PreparedRay& pr;
+    double t_end;  // its hit, or the bottom plane when the hit is not known
+
+    double cells(int block = 1) const {
+        const double t_enter = -s.scale * (1.0 - s.reference_plane) / pr.V[2];
+        return cells_crossed(pr, s, map.width, map.height, t_enter, t_end, block, true) +
+               (s.lod.enabled ? 2.0 : 0.0);
+    }
+};
+
+struct TestRow {
+    const char* method;
+    double (*plane)(const MethodParams& p, double vz) = nullptr;
+    double (*walk_cap)(const WalkRay& ray) = nullptr;
+};
+
+inline const std::vector<TestRow>& test_rows() {
+    static const std::vector<TestRow> rows = {
+        {"none"},
+        {"parallax"},
+        {"parallax-limited"},
+        {"parallax-slope"},
+        {"parallax-iterative"},
+        // The first layer at or below the plane.
+        {"steep", [](const MethodParams& p, double) { return 1.0 / p["layers"]; }},
+        {"relief", [](const MethodParams& p,
+                      double) { return 1.0 / (p["linear"] * std::pow(2.0, p["binary"])); }},
+        {"pom"},
+        // sphere stops once its voxel meets the plane (one layer), unless its steps run out
+        // first: each step covers the box distance, at least the vertical gap less one layer,
+        // along the ray, which lowers the gap by V.z of it: the gap left after n steps is
+        // <= (1 - V.z)^n.
+        {"sphere", [](const MethodParams& p,
+                      double vz) { return 1.0 / p["layers"] + std::pow(1.0 - vz, p["steps"]); }},
+        {"secant"},
+        {"maxmip", nullptr,
+         [](const WalkRay& r) {
+             const int top =
+                 om_maxmip_levels(r.map.width, r.map.height, static_cast<om_int>(r.s.address));
+             double sum = 0;
+             for (int k = 0; k <= top; ++k) sum += r.cells(1 << k);
+             return top + 1 + 2 * sum;
+         }},
+        {"cone", nullptr, [](const WalkRay& r) { return 2 * r.cells(); }},
+        {"exact", nullptr, [](const WalkRay& r) { return r.cells(); }},
+    };
+    return rows;
+}
+
+inline const TestRow& test_row(const std::string& method) {
+    for (const auto& row : test_rows())
+        if (method == row.method) return row;
+    throw Error("no test row for method " + method);
+}
+
+// The test row's plane tolerance at the method's defaults.
+inline double constant_field_lambda_tolerance(const std::string& method, double vz) {
+    const TestRow& row = test_row(method);
+    return row.plane ? row.plane(resolve_params(find_method(method), {}), vz) : 0.0;
+}
+
+// The most height fetches one ray (prepare_ray's) may cost up to t_end, at the method's defaults
+// (or `params`): the registry row's cap, or the test row's for the cell walks.
 inline double ray_fetch_cap(const std::string& method, const PassSettings& s, const HeightMap& map,
                             const PreparedRay& pr, double t_end,
                             const std::map<std::string, std::string>& params = {}) {
     const MethodInfo& m = find_method(method);
     const double cap = m.fetch_cap(resolve_params(m, params));
     if (cap >= 0) return cap;
-    const double t_enter = -s.scale * (1.0 - s.reference_plane) / pr.V[2];
-    const double slack = s.lod.enabled ? 2.0 : 0.0;
-    const double cells =
-        cells_crossed(pr, s, map.width, map.height, t_enter, t_end, 1, true) + slack;
-    if (method == "exact") return cells;
-    if (method == "cone") return 2 * cells;
-    if (method == "maxmip") {
-        const int top = om_maxmip_levels(map.width, map.height, static_cast<om_int>(s.address));
-        double sum = 0;
-        for (int k = 0; k <= top; ++k)
-            sum +=
-                cells_crossed(pr, s, map.width, map.height, t_enter, t_end, 1 << k, true) + slack;
-        return top + 1 + 2 * sum;
-    }
-    throw Error("no cell-walk fetch cap in the test rows for method " + method);
+    const TestRow& row = test_row(method);
+    if (!row.walk_cap) throw Error("no cell-walk fetch cap in the test row of " + method);
+    return row.walk_cap(WalkRay{s, map, pr, t_end});
 }
 
-// The methods a test row must exist for: fails loudly when a method is added without one.
-inline const std::vector<std::string>& methods_with_rows() {
-    static const std::vector<std::string> rows = {"none",
-                                                  "parallax",
-                                                  "parallax-limited",
-                                                  "parallax-slope",
-                                                  "parallax-iterative",
-                                                  "steep",
-                                                  "relief",
-                                                  "pom",
-                                                  "sphere",
-                                                  "secant",
-                                                  "maxmip",
-                                                  "cone",
-                                                  "exact"};
-    return rows;
+// The methods that have a test row, in the table's order.
+inline std::vector<std::string> methods_with_rows() {
+    std::vector<std::string> names;
+    for (const auto& row : test_rows()) names.push_back(row.method);
+    return names;
 }
 
 }  // namespace omtest
