@@ -165,8 +165,7 @@ struct Bench {
 
     // The roofline microkernels at `lanes` pixels per work-item (1: the file's default).
     cl::Program roof_program(int lanes) {
-        std::vector<std::string> files = sampling_files();
-        files.push_back("bench/roofline.cl");
+        const std::vector<std::string> files = sampling_program_files("bench/roofline.cl");
         return lanes == 1 ? rt->program(files)
                           : rt->program(files, "#define OM_LANES " + std::to_string(lanes) + "\n");
     }

@@ -3,6 +3,7 @@
 
 #include <map>
 
+#include "exr.hpp"
 #include "offsetmap/error.hpp"
 #include "offsetmap/image_io.hpp"
 
@@ -58,14 +59,7 @@ void save_gbuffer(const std::string& path, const GBuffer& gb) {
             for (int a = 0; a < 3; ++a) px[c++] = gb.light[k].s[a];
         if (gb.has_lod()) px[c++] = gb.lod[k];
     }
-    OIIO::ImageSpec spec(gb.width, gb.height, nc, OIIO::TypeDesc::FLOAT);
-    spec.channelnames = names;
-    spec.attribute("compression", "zip");
-    auto out = OIIO::ImageOutput::create(path);
-    if (!out || !out->open(path, spec) || !out->write_image(OIIO::TypeDesc::FLOAT, data.data()) ||
-        !out->close())
-        throw Error("cannot write G-buffer '" + path +
-                    "': " + (out ? out->geterror() : OIIO::geterror()));
+    write_float_exr(path, "G-buffer", gb.width, gb.height, names, data);
 }
 
 }  // namespace offsetmap

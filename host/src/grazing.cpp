@@ -14,7 +14,6 @@ GrazingRule grazing_rule(const PassSettings& s, int map_w, int map_h) {
         const double k = s.scale * std::max(map_w, map_h) / s.max_offset_texels;
         g.min_vz = std::max(g.min_vz, static_cast<float>(k / std::sqrt(1.0 + k * k)));
     }
-    g.limit = s.grazing == GrazingPolicy::Limit;
     // A ray spans at most s / min_vz in uv between the top and bottom planes, so it crosses at
     // most that many cell rows plus columns, plus the start cell and rounding.
     const double cells = std::ceil(s.scale / g.min_vz * (map_w + map_h)) + 4.0;

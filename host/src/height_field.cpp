@@ -75,9 +75,7 @@ DeviceHeightField upload(Runtime& rt, const HeightMap& map, const PassSettings& 
         return f;
     }
     f.normals = cl::Buffer(rt.context(), CL_MEM_READ_WRITE, n * sizeof(cl_float4));
-    std::vector<std::string> files = sampling_files();
-    files.push_back("prep/normals.cl");
-    cl::Kernel k(rt.program(files), "om_normals");
+    cl::Kernel k(rt.program(sampling_program_files("prep/normals.cl")), "om_normals");
     set_args(k, offset_params(settings, 0, map.width, map.height), f.heights, f.normals);
     rt.queue().enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(map.width, map.height));
     rt.queue().finish();

@@ -8,6 +8,7 @@
 #include <array>
 #include <cmath>
 
+#include "exr.hpp"
 #include "offsetmap/error.hpp"
 
 namespace offsetmap {
@@ -105,13 +106,19 @@ void write_uv_exr(const std::string& path, const OffsetResult& r) {
         data[k * 5 + 3] = r.fetches.empty() ? 0.0f : static_cast<float>(r.fetches[k]);
         data[k * 5 + 4] = r.flags.empty() ? 0.0f : static_cast<float>(r.flags[k]);
     }
-    OIIO::ImageSpec spec(r.width, r.height, 5, OIIO::TypeDesc::FLOAT);
-    spec.channelnames = {"u", "v", "depth", "fetches", "flags"};
+    write_float_exr(path, "uv output", r.width, r.height, {"u", "v", "depth", "fetches", "flags"},
+                    data);
+}
+
+void write_float_exr(const std::string& path, const std::string& what, int width, int height,
+                     const std::vector<std::string>& channels, const std::vector<float>& data) {
+    OIIO::ImageSpec spec(width, height, static_cast<int>(channels.size()), OIIO::TypeDesc::FLOAT);
+    spec.channelnames = channels;
     spec.attribute("compression", "zip");
     auto out = OIIO::ImageOutput::create(path);
     if (!out || !out->open(path, spec) || !out->write_image(OIIO::TypeDesc::FLOAT, data.data()) ||
         !out->close())
-        throw Error("cannot write uv output '" + path +
+        throw Error("cannot write " + what + " '" + path +
                     "': " + (out ? out->geterror() : OIIO::geterror()));
 }
 

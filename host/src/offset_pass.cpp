@@ -92,12 +92,8 @@ cl::Buffer OffsetPass::footprint(const DeviceGBuffer& g, const DeviceHeightField
     if (!footprint_kernel_())
         footprint_kernel_ = cl::Kernel(rt.program({"prep/footprint.cl"}), "om_footprint_lod");
     cl::Kernel& k = footprint_kernel_;
-    k.setArg(0, g.uv);
-    k.setArg(1, g.width);
-    k.setArg(2, g.height);
-    k.setArg(3, static_cast<float>(f.width));
-    k.setArg(4, static_cast<float>(f.height));
-    k.setArg(5, footprint_);
+    set_args(k, g.uv, g.width, g.height, static_cast<float>(f.width), static_cast<float>(f.height),
+             footprint_);
     cl::Event e;
     rt.queue().enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(g.width, g.height), cl::NullRange,
                                     &wait, &e);

@@ -26,7 +26,7 @@ PreparedRay prepare_ray(double u, double v, const double view[3], const PassSett
     const double min_vz = rule.min_vz;
     // Flagged under every policy, as the kernels do: below the (cap-raised) minimum.
     if (r.V[2] < min_vz) r.flags |= OM_FLAG_GRAZING;
-    if (rule.limit) {
+    if (s.grazing == GrazingPolicy::Limit) {
         double n = std::sqrt(r.V[0] * r.V[0] + r.V[1] * r.V[1] + 1.0);
         r.V[0] /= n;
         r.V[1] /= n;

@@ -258,14 +258,13 @@ void parse_assignment(const std::string& item, std::map<std::string, std::string
     out[item.substr(0, eq)] = item.substr(eq + 1);
 }
 
-std::vector<std::string> sampling_files() { return {"common/lanes.h", "common/sampling.cl"}; }
+std::vector<std::string> sampling_program_files(const std::string& file) {
+    return {"common/lanes.h", "common/sampling.cl", file};
+}
 
 std::vector<std::string> offset_program_files(const MethodInfo& m) {
-    std::vector<std::string> files = sampling_files();
-    for (const char* f : {"common/ray.cl", "common/patch.cl"}) files.push_back(f);
-    files.push_back("methods/" + m.kernel_file);
-    files.push_back("offset.cl");
-    return files;
+    return {"common/lanes.h",  "common/sampling.cl",       "common/ray.cl",
+            "common/patch.cl", "methods/" + m.kernel_file, "offset.cl"};
 }
 
 std::string param_slot_defines(const MethodInfo& m) {

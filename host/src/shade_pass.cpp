@@ -22,9 +22,7 @@ DeviceImage upload(Runtime& rt, const Image4& image) {
 }
 
 ShadePass::ShadePass(std::shared_ptr<Runtime> runtime) : runtime_(std::move(runtime)) {
-    std::vector<std::string> files = sampling_files();
-    files.push_back("shade.cl");
-    kernel_ = cl::Kernel(runtime_->program(files), "om_shade");
+    kernel_ = cl::Kernel(runtime_->program(sampling_program_files("shade.cl")), "om_shade");
 }
 
 cl::Event ShadePass::enqueue(const cl::Buffer& uv, const cl::Buffer& flags, const DeviceGBuffer& g,

@@ -87,9 +87,10 @@ MethodParams resolve_params(const MethodInfo& method,
 void parse_assignment(const std::string& item, std::map<std::string, std::string>& out);
 
 // Kernel programs, as lists of files under kernels/ (one definition each, for the passes, the
-// bench and the C++ peer): the sampling layer every program that reads heights starts with, and a
-// method's offset program (sampling, ray, patch solve, the method, the entry).
-std::vector<std::string> sampling_files();
+// bench and the C++ peer): a program that reads heights, the sampling layer then `file` (a prep
+// kernel, the shade pass, the roofline); and a method's offset program (sampling, ray, patch
+// solve, the method, the entry).
+std::vector<std::string> sampling_program_files(const std::string& file);
 std::vector<std::string> offset_program_files(const MethodInfo& method);
 
 // The defines that hand a method's parameters to its kernel by name: OM_SLOT_<name> is the slot of

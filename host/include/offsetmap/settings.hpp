@@ -52,7 +52,6 @@ struct GrazingRule {
     // azimuth). sin(min_elevation_deg), raised by the Cap policy so that a footprint through the
     // whole slab spans at most max_offset_texels. A float, as the kernels compare it.
     float min_vz = 0.0f;
-    bool limit = false;  // Limit policy: rays along normalize(V.x, V.y, 1)
     // The most cells a ray's footprint crosses between the top and bottom planes (it spans at
     // most s / min_vz in uv), plus the start cell and rounding: every cell walk's hard cap.
     int max_cells = 0;

@@ -19,9 +19,7 @@ PrecomputeSpec::Built build(Runtime& rt, const DeviceHeightField& f, const PassS
                             const MethodParams& params) {
     const int B = OM_CONE_BLOCK;
     const int bw = (f.width + B - 1) / B, bh = (f.height + B - 1) / B;
-    std::vector<std::string> files = sampling_files();
-    files.push_back(kConeMap.prep_file);
-    cl::Program program = rt.program(files);
+    cl::Program program = rt.program(sampling_program_files(kConeMap.prep_file));
     OmOffsetParams p = offset_params(settings, 0, f.width, f.height);
     cl::Buffer blocks(rt.context(), CL_MEM_READ_WRITE,
                       static_cast<size_t>(bw) * bh * sizeof(float));

@@ -23,9 +23,7 @@ PrecomputeSpec::Built build(Runtime& rt, const DeviceHeightField& f, const PassS
                             const MethodParams& params) {
     const int res = static_cast<int>(params["res"]), layers = static_cast<int>(params["layers"]);
     OmOffsetParams p = offset_params(settings, 0, f.width, f.height);
-    std::vector<std::string> files = sampling_files();
-    files.push_back(kDistanceMap.prep_file);
-    cl::Program program = rt.program(files);
+    cl::Program program = rt.program(sampling_program_files(kDistanceMap.prep_file));
     // The column maxima are a step of the build, freed with it.
     cl::Buffer colmax(rt.context(), CL_MEM_READ_WRITE,
                       static_cast<size_t>(res) * res * sizeof(float));

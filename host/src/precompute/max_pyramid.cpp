@@ -32,9 +32,7 @@ PrecomputeSpec::Built build(Runtime& rt, const DeviceHeightField& f, const PassS
     out.data = cl::Buffer(rt.context(), CL_MEM_READ_WRITE,
                           std::max<size_t>(floats(settings, f.width, f.height), 1) * sizeof(float));
     if (top == 0) return out;  // no hierarchy: the walk is exact's
-    std::vector<std::string> files = sampling_files();
-    files.push_back(kMaxPyramid.prep_file);
-    cl::Program program = rt.program(files);
+    cl::Program program = rt.program(sampling_program_files(kMaxPyramid.prep_file));
     OmOffsetParams p = offset_params(settings, 0, f.width, f.height);
     cl::Kernel first(program, "om_maxmip_first");
     set_args(first, p, f.heights, out.data, f.width >> 1, f.height >> 1);
