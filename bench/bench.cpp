@@ -496,7 +496,7 @@ int main(int argc, char** argv) {
         b.out["driver"] = d.getInfo<CL_DRIVER_VERSION>();
         b.out["opencl"] = d.getInfo<CL_DEVICE_VERSION>();
         b.out["compute_units"] = d.getInfo<CL_DEVICE_MAX_COMPUTE_UNITS>();
-        b.out["build_options"] = "-cl-std=CL1.2";
+        b.out["build_options"] = b.rt->build_options();
         b.out["local_size"] = 64;
         b.out["lanes"] = b.rt->lanes();
         b.out["heights_path"] = b.rt->images() ? "images" : "buffers";

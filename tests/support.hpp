@@ -19,6 +19,22 @@
 namespace omtest {
 using namespace offsetmap;
 
+// The message of the Error `f` throws ("" when it throws none).
+template <typename F>
+std::string error_of(F&& f) {
+    try {
+        f();
+    } catch (const Error& e) {
+        return e.what();
+    }
+    return "";
+}
+
+inline ::testing::AssertionResult contains(const std::string& text, const std::string& part) {
+    if (text.find(part) != std::string::npos) return ::testing::AssertionSuccess();
+    return ::testing::AssertionFailure() << "'" << text << "' does not contain '" << part << "'";
+}
+
 // The PoCL (or chosen) runtime, created once: program builds are cached in it.
 inline std::shared_ptr<Runtime> runtime() {
     static std::shared_ptr<Runtime> rt = Runtime::create();

@@ -8,10 +8,6 @@
 
 #include "cli.hpp"
 
-#ifndef OFFSETMAP_SCRIPT_DIR
-#define OFFSETMAP_SCRIPT_DIR "bench"
-#endif
-
 namespace offsetmap::cli {
 namespace {
 
@@ -21,9 +17,9 @@ std::string shell_quote(const std::string& s) {
     return q + "'";
 }
 
-void progress_line(const std::string& line) {
-    std::fprintf(stderr, "\r\033[K%s", line.c_str());
-    std::fflush(stderr);
+// Unknown method names are usage errors, found before any file is read.
+void select_methods_checked(const std::vector<std::string>& names) {
+    as_usage([&] { return select_methods(names); });
 }
 
 std::string stem(const std::string& path) { return std::filesystem::path(path).stem().string(); }
@@ -43,12 +39,11 @@ void AnalysisOptions::add_to(CLI::App& app) {
 }
 
 bool run_chart_script(const std::string& script, const std::vector<std::string>& args) {
-    const char* env = std::getenv("OFFSETMAP_SCRIPT_DIR");
-    std::string path = std::string(env ? env : OFFSETMAP_SCRIPT_DIR) + "/" + script;
-    if (!std::filesystem::exists(path)) {
-        std::cerr << "offsetmap: warning: chart script '" << path
-                  << "' not found (set OFFSETMAP_SCRIPT_DIR to the repository's bench/); charts "
-                     "skipped\n";
+    std::string path;
+    try {
+        path = find_beside_program("bench", script, "OFFSETMAP_SCRIPT_DIR") + "/" + script;
+    } catch (const Error& e) {
+        std::cerr << "offsetmap: warning: charts skipped: " << e.what() << "\n";
         return false;
     }
     // Debian's python3-matplotlib lives in the system interpreter, which may not be first on PATH.
@@ -67,27 +62,41 @@ bool run_chart_script(const std::string& script, const std::vector<std::string>&
 
 int run_sweep_command(const SweepCommand& cmd, const ReliefOptions& relief) {
     PassSettings settings = relief.settings();
+    select_methods_checked(cmd.methods);
+    if (!cmd.maps.empty() && !cmd.data_dir.empty())
+        throw UsageError(
+            "--data names the folder of the default maps; it cannot be used with "
+            "--maps, which names the maps");
+    if (!cmd.gbuffer.empty() && cmd.quick)
+        throw UsageError("--quick shrinks the built-in views; it cannot be used with --gbuffer");
     std::vector<std::string> files = cmd.maps;
     if (files.empty()) {
+        const std::string data = cmd.data_dir.empty() ? default_data_dir() : cmd.data_dir;
         const char* sweep_maps[] = {"bumps", "sines", "rocks", "noise", "spikes", "text", "stairs"};
         const char* quick_maps[] = {"bumps", "rocks", "spikes"};
         if (cmd.quick)
-            for (const char* m : quick_maps) files.push_back(cmd.data_dir + "/" + m + ".png");
+            for (const char* m : quick_maps) files.push_back(data + "/" + m + ".png");
         else
-            for (const char* m : sweep_maps) files.push_back(cmd.data_dir + "/" + m + ".png");
+            for (const char* m : sweep_maps) files.push_back(data + "/" + m + ".png");
     }
     std::vector<NamedMap> maps;
     for (const auto& f : files)
-        maps.push_back({stem(f), load_height_map(f, {relief.channel, relief.depth_map})});
-    PlaneScene plane;
-    plane.width = cmd.quick ? 320 : 640;
-    plane.height = cmd.quick ? 180 : 360;
-    RandomScene random;
-    random.width = random.height = cmd.quick ? 96 : 256;
-    std::vector<NamedViews> views = {{"camera", make_scene(plane)}, {"random", make_scene(random)}};
+        maps.push_back({stem(f), load_height_map(f, relief.load_options())});
+    std::vector<NamedViews> views;
+    if (!cmd.gbuffer.empty()) {
+        views.push_back({stem(cmd.gbuffer), load_gbuffer(cmd.gbuffer)});
+    } else {
+        PlaneScene plane;
+        plane.width = cmd.quick ? 320 : 640;
+        plane.height = cmd.quick ? 180 : 360;
+        RandomScene random;
+        random.width = random.height = cmd.quick ? 96 : 256;
+        views = {{"camera", make_scene(plane)}, {"random", make_scene(random)}};
+    }
     make_dir(cmd.out_dir);
 
     auto rt = Runtime::create(relief.device);
+    show_progress(*rt);
     SweepOptions o;
     o.settings = settings;
     o.repeats = cmd.quick ? std::min(cmd.repeats, 3) : cmd.repeats;
@@ -109,11 +118,13 @@ int run_failure_command(const FailureCommand& cmd, const ReliefOptions& relief) 
     o.samples = cmd.samples;
     o.methods = cmd.methods;
     o.progress = progress_line;
+    select_methods_checked(cmd.methods);
     if (o.settings.min_elevation_deg > 1.0f)
-        throw Error("the failure map goes down to 1 degree: --grazing-min-deg must be <= 1");
-    HeightMap map = load_height_map(relief.height_map, {relief.channel, relief.depth_map});
+        throw UsageError("the failure map goes down to 1 degree: --grazing-min-deg must be <= 1");
+    HeightMap map = load_height_map(relief.height_map, relief.load_options());
     make_dir(cmd.out_dir);
     auto rt = Runtime::create(relief.device);
+    show_progress(*rt);
     auto cells = run_failure_map(rt, map, o);
     std::fprintf(stderr, "\n");
     write_failure_csv(cmd.out_dir + "/failure.csv", cells);
@@ -135,9 +146,11 @@ int run_temporal_command(const TemporalCommand& cmd, const ReliefOptions& relief
     o.start.width = 480;
     o.start.height = 270;
     o.progress = progress_line;
-    HeightMap map = load_height_map(relief.height_map, {relief.channel, relief.depth_map});
+    select_methods_checked(cmd.methods);
+    HeightMap map = load_height_map(relief.height_map, relief.load_options());
     make_dir(cmd.out_dir);
     auto rt = Runtime::create(relief.device);
+    show_progress(*rt);
     auto records = run_temporal(rt, map, o);
     std::fprintf(stderr, "\n");
     write_temporal_csv(cmd.out_dir + "/temporal.csv", records);

@@ -8,43 +8,110 @@
 
 namespace offsetmap::cli {
 
-// Options that describe the relief and its material, shared by render and demo.
+// Exit codes: 0 done, 1 an input or runtime error (a file, the device, memory), 2 a usage error.
+inline constexpr int kExitError = 1;
+inline constexpr int kExitUsage = 2;
+
+// A bad, unknown, conflicting or ignored option (exit 2). Every other Error exits 1.
+class UsageError : public Error {
+  public:
+    using Error::Error;
+};
+
+// Runs `f`, turning the library's Errors (its checks of settings and method parameters) into
+// UsageErrors: what it rejects came from the command line.
+template <typename F>
+auto as_usage(F&& f) -> decltype(f()) {
+    try {
+        return f();
+    } catch (const UsageError&) {
+        throw;
+    } catch (const Error& e) {
+        throw UsageError(e.what());
+    }
+}
+
+enum class MapOption { Required, Optional, None };
+
+// Options that describe the relief and how the pass runs over it.
 struct ReliefOptions {
     std::string height_map;
     bool depth_map = false;
     int channel = 0;
-    std::string normal_map;
-    bool flip_green = false;
-    std::string albedo;
     PassSettings pass;
     std::string address = "wrap";
     std::string grazing = "clamp";
     std::vector<float> lod_fade_texels;  // footprint LOD: low high
-    std::vector<float> light;  // x y z, tangent space, when the G-buffer has none
     std::string device;
+
+    // `scale`: false for a command that sweeps the depth scale itself (--scale is then refused).
+    void add_to(CLI::App& app, MapOption map, bool scale = true);
+    // The pass settings the options give; throws UsageError for a bad combination.
+    PassSettings settings() const;
+    HeightLoadOptions load_options() const { return {channel, depth_map}; }
+
+  private:
+    CLI::Option* scale_ = nullptr;
+    bool scale_swept_ = false;
+};
+
+// Options of the shaded image: normals, albedo, light and shadows.
+struct ShadingOptions {
+    std::string normal_map;
+    bool flip_green = false;
+    std::string albedo;
+    std::vector<float> light;  // x y z, tangent space, replaces the G-buffer's L
     std::string shadows = "none";
     ShadeSettings shade;
 
-    void add_to(CLI::App& app, bool height_map_required);
-    PassSettings settings() const;         // pass with the address mode applied
-    ShadeSettings shade_settings() const;  // shading with light and shadow options applied
+    void add_to(CLI::App& app);
+    ShadeSettings shade_settings() const;
+    // The first shading option given on the command line ("" when none).
+    std::string first_given() const;
+
+  private:
+    std::vector<CLI::Option*> options_;
 };
 
-// Scene source options, shared by gbuffer, render and demo.
+// Where the G-buffer comes from: a built-in scene, or (with `file`) a G-buffer EXR.
 struct SceneOptions {
     std::string scene = "plane";
     PlaneScene plane;
     SweepScene sweep;
     RandomScene random;
     int width = 0, height = 0;  // 0: the scene's default
+    std::string gbuffer;        // a G-buffer file instead of a scene
 
-    void add_to(CLI::App& app);
-    GBuffer make() const;
+    void add_to(CLI::App& app, bool file = false);
+    // Throws UsageError for a scene option beside --gbuffer, or an option of another scene.
+    void check() const;
+    GBuffer make() const;          // the scene, or the file read
+    std::string describe() const;  // "plane scene 640x360" or "G-buffer 'file'"
+
+  private:
+    struct Known {
+        CLI::Option* option;
+        std::vector<std::string> scenes;  // the scenes it applies to
+    };
+    std::vector<Known> options_;
 };
 
+// A folder of the repository (data, bench) found from the program, not the working directory:
+// $env, then beside the build folder or the installed binary, then the checkout it was built from;
+// it must hold `marker`. Throws Error naming where it looked.
+std::string find_beside_program(const std::string& folder, const std::string& marker,
+                                const char* env);
+// The default maps (data/).
+std::string default_data_dir();
+
+// Shows a slow step's progress on stderr (a carriage-return line, cleared when done).
+void progress_line(const std::string& line);
+// Runtime progress (precomputes) on stderr, shown once a step has run for half a second.
+void show_progress(Runtime& runtime);
+
 // Every method on one scene: shaded, uv-error and fetch-count images, contact sheet, table.
-int run_compare(const std::string& out_dir, const ReliefOptions& relief, const SceneOptions& scene,
-                int repeats);
+int run_compare(const std::string& out_dir, const ReliefOptions& relief,
+                const ShadingOptions& shading, const SceneOptions& scene, int repeats);
 
 // What every analysis command takes: where to write, which methods, whether to draw charts.
 struct AnalysisOptions {
@@ -57,7 +124,8 @@ struct AnalysisOptions {
 
 struct SweepCommand : AnalysisOptions {
     std::vector<std::string> maps;  // image files; default: the sweep maps in data_dir
-    std::string data_dir = "data";
+    std::string data_dir;           // default: default_data_dir()
+    std::string gbuffer;  // a G-buffer file as the only view set (default: camera, random)
     bool quick = false;
     int repeats = 5;
     SweepCommand() { out_dir = "out/sweep"; }

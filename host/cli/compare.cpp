@@ -10,28 +10,45 @@
 
 namespace offsetmap::cli {
 
-int run_compare(const std::string& out_dir, const ReliefOptions& relief, const SceneOptions& scene,
-                int repeats) {
+int run_compare(const std::string& out_dir, const ReliefOptions& relief,
+                const ShadingOptions& shading, const SceneOptions& scene, int repeats) {
+    scene.check();
     PassSettings settings = relief.settings();
-    HeightMap map = load_height_map(relief.height_map, {relief.channel, relief.depth_map});
+    HeightMap map = load_height_map(relief.height_map, relief.load_options());
     GBuffer gb = scene.make();
-    if (relief.light.size() == 3) gb.light.clear();  // an explicit light wins
+    if (shading.light.size() == 3) gb.light.clear();  // an explicit light wins
+    Image4 normals, albedo;
+    if (!shading.normal_map.empty())
+        normals = load_normal_map(shading.normal_map, shading.flip_green);
+    if (!shading.albedo.empty()) albedo = load_image4(shading.albedo);
     std::error_code ec;
     std::filesystem::create_directories(out_dir, ec);
     if (ec) throw Error("cannot create output folder '" + out_dir + "': " + ec.message());
 
     auto rt = Runtime::create(relief.device);
-    DeviceHeightField field = upload(*rt, map, settings);
+    show_progress(*rt);
+    DeviceHeightField field =
+        upload(*rt, map, settings, shading.normal_map.empty() ? nullptr : &normals);
     DeviceGBuffer dg = upload(*rt, gb);
+    DeviceImage dalbedo;
+    if (!shading.albedo.empty()) dalbedo = upload(*rt, albedo);
+    const DeviceImage* albedo_in = shading.albedo.empty() ? nullptr : &dalbedo;
     ShadePass shade(rt);
-    ShadeSettings ss = relief.shade_settings();
+    ShadeSettings ss = shading.shade_settings();
 
     OffsetPass exact_pass(rt, "exact");
     OffsetResult exact = run_offset(*rt, exact_pass, dg, field, settings, 1);
 
-    std::printf("offsetmap compare: %s (%dx%d, s = %g, r = %g) on %s, %dx%d plane scene\n",
+    size_t traced_n = 0;
+    for (auto f : exact.flags) traced_n += traced(f);
+    std::printf("offsetmap compare: %s (%dx%d, s = %g, r = %g) on %s, %s (%dx%d, %zu traced)\n",
                 relief.height_map.c_str(), map.width, map.height, settings.scale,
-                settings.reference_plane, rt->device_name().c_str(), gb.width, gb.height);
+                settings.reference_plane, rt->device_name().c_str(), scene.describe().c_str(),
+                gb.width, gb.height, traced_n);
+    if (traced_n == 0)
+        std::printf(
+            "no pixel is traced (every pixel is empty, back-facing or invalid): the "
+            "errors and fetch counts below are not defined\n");
     std::printf("%-18s %10s %10s %10s %14s %10s %16s\n", "method", "mean err", "p95 err",
                 ">1 texel", "fetches/pixel", "ns/pixel", "precomputed");
     std::vector<std::pair<std::string, Rgb8>> tiles;
@@ -49,11 +66,15 @@ int run_compare(const std::string& out_dir, const ReliefOptions& relief, const S
         if (pre.bytes)
             std::snprintf(precomputed, sizeof precomputed, "%.1f MB, %.0f ms",
                           pre.bytes / 1048576.0, pre.build_ms);
-        std::printf("%-18s %10.4f %10.4f %9.2f%% %14.2f %10.2f %16s\n", m.name.c_str(), st.mean,
-                    st.p95, 100.0 * st.wrong_share, fetches, ns, precomputed);
+        if (st.count)
+            std::printf("%-18s %10.4f %10.4f %9.2f%% %14.2f %10.2f %16s\n", m.name.c_str(), st.mean,
+                        st.p95, 100.0 * st.wrong_share, fetches, ns, precomputed);
+        else
+            std::printf("%-18s %10s %10s %10s %14s %10.2f %16s\n", m.name.c_str(), "-", "-", "-",
+                        "-", ns, precomputed);
 
         Rgb8 color = to_srgb8(gb.width, gb.height,
-                              run_shade(*rt, shade, r, dg, field, nullptr, settings, ss));
+                              run_shade(*rt, shade, r, dg, field, albedo_in, settings, ss));
         Rgb8 heat = heat_map(gb.width, gb.height, err, 16.0f);
         std::vector<float> fetch_map(r.fetches.size());
         for (size_t k = 0; k < r.fetches.size(); ++k)
@@ -85,6 +106,8 @@ int run_compare(const std::string& out_dir, const ReliefOptions& relief, const S
     write_image(out_dir + "/contact-sheet.png", contact_sheet(tiles, 6));  // two methods a row
     nlohmann::json summary = {{"device", rt->device_name()},
                               {"height_map", relief.height_map},
+                              {"gbuffer_source", scene.describe()},
+                              {"traced_pixels", traced_n},
                               {"scale", settings.scale},
                               {"reference_plane", settings.reference_plane},
                               {"width", gb.width},

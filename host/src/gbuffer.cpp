@@ -1,20 +1,39 @@
 #include "offsetmap/gbuffer.hpp"
 
+#include <new>
+
 #include "offsetmap/error.hpp"
 #include "offsetmap/runtime.hpp"
 
 namespace offsetmap {
 
+void check_gbuffer_size(int w, int h, const std::string& what) {
+    const std::string size = std::to_string(w) + "x" + std::to_string(h);
+    if (w <= 0 || h <= 0) throw Error(what + " size must be positive, got " + size);
+    if (w > kMaxGBufferSide || h > kMaxGBufferSide ||
+        static_cast<size_t>(w) * h > kMaxGBufferPixels)
+        throw Error(what + " is " + size + ", above the G-buffer limit of " +
+                    std::to_string(kMaxGBufferPixels) + " pixels (" +
+                    std::to_string(kMaxGBufferSide) + " per side)");
+}
+
 void GBuffer::resize(int w, int h, bool with_light, bool with_lod) {
-    if (w <= 0 || h <= 0)
-        throw Error("G-buffer size must be positive, got " + std::to_string(w) + "x" +
-                    std::to_string(h));
+    check_gbuffer_size(w, h, "the G-buffer");
+    const size_t n = static_cast<size_t>(w) * h;
+    try {
+        uv.assign(n, {{0.0f, 0.0f}});
+        view.assign(n, {{0.0f, 0.0f, 1.0f, 0.0f}});
+        light.assign(with_light ? n : 0, {{0.0f, 0.0f, 1.0f, 0.0f}});
+        lod.assign(with_lod ? n : 0, 0.0f);
+    } catch (const std::bad_alloc&) {
+        *this = GBuffer();
+        const size_t bytes = n * (sizeof(cl_float2) + sizeof(cl_float4) * (1 + with_light) +
+                                  sizeof(float) * with_lod);
+        throw Error("out of memory allocating a " + std::to_string(w) + "x" + std::to_string(h) +
+                    " G-buffer (" + std::to_string(bytes >> 20) + " MiB)");
+    }
     width = w;
     height = h;
-    uv.assign(pixels(), {{0.0f, 0.0f}});
-    view.assign(pixels(), {{0.0f, 0.0f, 1.0f, 0.0f}});
-    light.assign(with_light ? pixels() : 0, {{0.0f, 0.0f, 1.0f, 0.0f}});
-    lod.assign(with_lod ? pixels() : 0, 0.0f);
 }
 
 DeviceGBuffer upload(Runtime& rt, const GBuffer& gb) {

@@ -1,19 +1,18 @@
 // G-buffer files: the OpenEXR contract (channels found by name) read and written.
-#include <OpenImageIO/imageio.h>
-
 #include <map>
 
 #include "exr.hpp"
+#include "image_read.hpp"
 #include "offsetmap/error.hpp"
 #include "offsetmap/image_io.hpp"
 
 namespace offsetmap {
 
-GBuffer load_gbuffer(const std::string& path) {
-    auto in = OIIO::ImageInput::open(path);
-    if (!in) throw Error("cannot read G-buffer '" + path + "': " + OIIO::geterror());
+GBuffer load_gbuffer(const std::string& path, size_t max_bytes) {
+    const std::string what = "G-buffer";
+    auto in = open_image(path, what);
     const OIIO::ImageSpec& spec = in->spec();
-    if (spec.width <= 0 || spec.height <= 0) throw Error("G-buffer '" + path + "' is empty");
+    const std::string file = describe_file(what, path);
     std::map<std::string, int> index;
     for (int c = 0; c < spec.nchannels; ++c) index[spec.channelnames[c]] = c;
     std::string present;
@@ -22,14 +21,26 @@ GBuffer load_gbuffer(const std::string& path) {
     for (const char* n : {"u", "v", "Vx", "Vy", "Vz"})
         if (!index.count(n)) missing += std::string(missing.empty() ? "" : " ") + n;
     if (!missing.empty())
-        throw Error("G-buffer '" + path + "' lacks channel(s) " + missing +
+        throw Error(file + " lacks channel(s) " + missing +
                     " (needs u v Vx Vy Vz, optionally Lx Ly Lz lod; it has: " + present + ")");
     int nl = static_cast<int>(index.count("Lx") + index.count("Ly") + index.count("Lz"));
     if (nl != 0 && nl != 3)
-        throw Error("G-buffer '" + path + "' has only some of Lx Ly Lz (it has: " + present + ")");
-    std::vector<float> data(static_cast<size_t>(spec.width) * spec.height * spec.nchannels);
-    if (!in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, data.data()))
-        throw Error("cannot decode G-buffer '" + path + "': " + in->geterror());
+        throw Error(file + " has only some of Lx Ly Lz (it has: " + present + ")");
+    // Integer channels would be scaled to [0,1] on read: vectors and uv must be stored as numbers.
+    for (const char* n : {"u", "v", "Vx", "Vy", "Vz", "Lx", "Ly", "Lz", "lod"}) {
+        if (!index.count(n)) continue;
+        const OIIO::TypeDesc t = spec.channelformat(index[n]);
+        if (t.basetype != OIIO::TypeDesc::HALF && t.basetype != OIIO::TypeDesc::FLOAT)
+            throw Error(file + " stores channel '" + n + "' as " + t.c_str() +
+                        "; G-buffer channels must be half or float");
+    }
+    check_gbuffer_size(spec.width, spec.height, file);
+    // What is read (every channel as float) and what is kept (uv, view, light, lod).
+    check_decode_size(
+        spec, path, what,
+        spec.nchannels * sizeof(float) + sizeof(cl_float2) + 2 * sizeof(cl_float4) + sizeof(float),
+        max_bytes);
+    std::vector<float> data = read_float_pixels(*in, path, what, 0, spec.nchannels);
     GBuffer gb;
     gb.resize(spec.width, spec.height, nl == 3, index.count("lod") != 0);
     const int nc = spec.nchannels;

@@ -1,59 +1,46 @@
 // Height maps, albedo and normal maps read from image files (OpenImageIO).
-#include <OpenImageIO/imageio.h>
-
 #include <cmath>
 
+#include "image_read.hpp"
 #include "offsetmap/error.hpp"
 #include "offsetmap/image_io.hpp"
 
 namespace offsetmap {
 namespace {
 
-struct Pixels {
-    int width, height, channels;
-    std::vector<float> data;
-};
+// The kernels index a field's texels with 32-bit ints, its mip pyramid included (4/3 of level 0).
+constexpr long long kMaxTexels = 1ll << 28;
 
-Pixels read_pixels(const std::string& path, const std::string& what) {
-    auto in = OIIO::ImageInput::open(path);
-    if (!in) {
-        std::string why = OIIO::geterror();
-        throw Error("cannot read " + what + " '" + path +
-                    "': " + (why.empty() ? std::string("unknown image format") : why));
-    }
-    const OIIO::ImageSpec& spec = in->spec();
-    if (spec.width <= 0 || spec.height <= 0 || spec.nchannels <= 0)
-        throw Error(what + " '" + path + "' is empty (" + std::to_string(spec.width) + "x" +
-                    std::to_string(spec.height) + ")");
-    if (static_cast<long long>(spec.width) * spec.height > (1ll << 28))
-        throw Error(what + " '" + path + "' is too large (" + std::to_string(spec.width) + "x" +
-                    std::to_string(spec.height) + ")");
-    Pixels p{spec.width, spec.height, spec.nchannels, {}};
-    p.data.resize(static_cast<size_t>(p.width) * p.height * p.channels);
-    if (!in->read_image(0, 0, 0, p.channels, OIIO::TypeDesc::FLOAT, p.data.data())) {
-        std::string why = in->geterror();
-        throw Error("cannot decode " + what + " '" + path +
-                    "': " + (why.empty() ? std::string("corrupt or truncated data") : why));
-    }
-    return p;
+void check_texels(const OIIO::ImageSpec& spec, const std::string& path, const std::string& what) {
+    if (static_cast<long long>(spec.width) * spec.height > kMaxTexels)
+        throw Error(describe_file(what, path) + " is too large (" + std::to_string(spec.width) +
+                    "x" + std::to_string(spec.height) + "; at most " + std::to_string(kMaxTexels) +
+                    " texels)");
 }
 
 }  // namespace
 
 HeightMap load_height_map(const std::string& path, const HeightLoadOptions& options) {
-    Pixels p = read_pixels(path, "height map");
-    if (options.channel < 0 || options.channel >= p.channels)
-        throw Error("height map '" + path + "' has " + std::to_string(p.channels) +
+    const std::string what = "height map";
+    auto in = open_image(path, what);
+    const OIIO::ImageSpec& spec = in->spec();
+    check_texels(spec, path, what);
+    if (options.channel < 0 || options.channel >= spec.nchannels)
+        throw Error(describe_file(what, path) + " has " + std::to_string(spec.nchannels) +
                     " channel(s); channel " + std::to_string(options.channel) + " does not exist");
+    // One float read and one float kept per texel.
+    check_decode_size(spec, path, what, 2 * sizeof(float), options.max_bytes);
+    std::vector<float> data =
+        read_float_pixels(*in, path, what, options.channel, options.channel + 1);
     HeightMap map;
-    map.width = p.width;
-    map.height = p.height;
-    map.h.resize(static_cast<size_t>(p.width) * p.height);
+    map.width = spec.width;
+    map.height = spec.height;
+    map.h = allocate<float>(data.size(), "the heights of " + describe_file(what, path));
     for (size_t k = 0; k < map.h.size(); ++k) {
-        float v = p.data[k * p.channels + options.channel];
+        float v = data[k];
         if (!std::isfinite(v))
-            throw Error("height map '" + path + "' holds a non-finite value at texel (" +
-                        std::to_string(k % p.width) + ", " + std::to_string(k / p.width) + ")");
+            throw Error(describe_file(what, path) + " holds a non-finite value at texel (" +
+                        std::to_string(k % map.width) + ", " + std::to_string(k / map.width) + ")");
         if (v < 0.0f || v > 1.0f) {
             ++map.clamped;
             v = std::fmin(std::fmax(v, 0.0f), 1.0f);
@@ -63,16 +50,23 @@ HeightMap load_height_map(const std::string& path, const HeightLoadOptions& opti
     return map;
 }
 
-Image4 load_image4(const std::string& path) {
-    Pixels p = read_pixels(path, "image");
+Image4 load_image4(const std::string& path, size_t max_bytes) {
+    const std::string what = "image";
+    auto in = open_image(path, what);
+    const OIIO::ImageSpec& spec = in->spec();
+    check_texels(spec, path, what);
+    check_decode_size(spec, path, what, spec.nchannels * sizeof(float) + sizeof(cl_float4),
+                      max_bytes);
+    const int nc = spec.nchannels;
+    std::vector<float> data = read_float_pixels(*in, path, what, 0, nc);
     Image4 img;
-    img.width = p.width;
-    img.height = p.height;
-    img.texels.resize(static_cast<size_t>(p.width) * p.height);
+    img.width = spec.width;
+    img.height = spec.height;
+    img.texels.resize(static_cast<size_t>(img.width) * img.height);
     for (size_t k = 0; k < img.texels.size(); ++k) {
         float c[4] = {0.0f, 0.0f, 0.0f, 1.0f};
-        for (int ch = 0; ch < std::min(p.channels, 4); ++ch) c[ch] = p.data[k * p.channels + ch];
-        if (p.channels == 1) c[1] = c[2] = c[0];
+        for (int ch = 0; ch < std::min(nc, 4); ++ch) c[ch] = data[k * nc + ch];
+        if (nc == 1) c[1] = c[2] = c[0];
         for (float& v : c)
             if (!std::isfinite(v)) v = 0.0f;
         img.texels[k] = {{c[0], c[1], c[2], c[3]}};
@@ -80,8 +74,8 @@ Image4 load_image4(const std::string& path) {
     return img;
 }
 
-Image4 load_normal_map(const std::string& path, bool flip_green) {
-    Image4 img = load_image4(path);
+Image4 load_normal_map(const std::string& path, bool flip_green, size_t max_bytes) {
+    Image4 img = load_image4(path, max_bytes);
     for (auto& t : img.texels) {
         float x = 2.0f * t.s[0] - 1.0f, y = 2.0f * t.s[1] - 1.0f, z = 2.0f * t.s[2] - 1.0f;
         if (flip_green) y = -y;

@@ -3,6 +3,7 @@
 #include <climits>
 #include <string>
 
+#include "offsetmap/cl.hpp"
 #include "offsetmap/error.hpp"
 #include "offsetmap/gbuffer.hpp"
 #include "offsetmap/heightmap.hpp"
@@ -30,16 +31,76 @@ inline void set_optional(cl::Kernel& k, cl_uint index, const cl::Buffer& b) {
         k.setArg(index, sizeof(cl_mem), nullptr);  // a NULL global pointer in the kernel
 }
 
-inline void check_field(const DeviceHeightField& f) {
-    if (f.width <= 0 || f.height <= 0 || !f.heights())
-        throw Error("the height field has not been uploaded");
+// What a pass is handed, checked before anything is enqueued: a buffer (not an image) of this
+// runtime's context, large enough for `count` elements of `element` (e.g. "float2", 8 bytes), and
+// readable or writable as the pass uses it. A null buffer passes when `optional`.
+struct BufferUse {
+    const char* name;     // "the G-buffer's uv buffer"
+    const char* element;  // "float2"
+    size_t element_bytes;
+    size_t count;
+    bool written = false;
+    bool optional = false;
+};
+
+inline void check_buffer(const cl::Context& context, const cl::Buffer& b, const BufferUse& use) {
+    const std::string name = use.name;
+    if (!b()) {
+        if (use.optional) return;
+        throw Error(name + " is a null buffer");
+    }
+    cl_mem_object_type type = 0;
+    cl_context owner = nullptr;
+    cl_mem_flags flags = 0;
+    size_t bytes = 0;
+    if (clGetMemObjectInfo(b(), CL_MEM_TYPE, sizeof type, &type, nullptr) != CL_SUCCESS ||
+        clGetMemObjectInfo(b(), CL_MEM_CONTEXT, sizeof owner, &owner, nullptr) != CL_SUCCESS ||
+        clGetMemObjectInfo(b(), CL_MEM_FLAGS, sizeof flags, &flags, nullptr) != CL_SUCCESS ||
+        clGetMemObjectInfo(b(), CL_MEM_SIZE, sizeof bytes, &bytes, nullptr) != CL_SUCCESS)
+        throw Error(name + " is not a valid OpenCL memory object");
+    if (type != CL_MEM_OBJECT_BUFFER) throw Error(name + " is an image, not a buffer");
+    if (owner != context()) throw Error(name + " belongs to another OpenCL context");
+    const size_t need = use.count * use.element_bytes;
+    if (bytes < need)
+        throw Error(name + " holds " + std::to_string(bytes) + " bytes; it needs " +
+                    std::to_string(need) + " (" + std::to_string(use.count) + " " + use.element +
+                    ", " + std::to_string(use.element_bytes) + " bytes each)");
+    if (use.written && (flags & CL_MEM_READ_ONLY))
+        throw Error(name + " is read-only (CL_MEM_READ_ONLY), but the pass writes it");
+    if (!use.written && (flags & CL_MEM_WRITE_ONLY))
+        throw Error(name + " is write-only (CL_MEM_WRITE_ONLY), but the pass reads it");
 }
 
-inline void check_gbuffer(const DeviceGBuffer& g) {
-    if (g.width <= 0 || g.height <= 0 || !g.uv() || !g.view())
-        throw Error("the G-buffer has no uv or view buffer");
+inline void check_field(const cl::Context& context, const DeviceHeightField& f,
+                        bool needs_normals = false) {
+    if (f.width <= 0 || f.height <= 0 || !f.heights())
+        throw Error("the height field has not been uploaded");
+    if (f.mip_levels < 1 || f.mip_levels > mip_level_count(f.width, f.height))
+        throw Error("the height field's mip_levels is " + std::to_string(f.mip_levels) + "; a " +
+                    std::to_string(f.width) + "x" + std::to_string(f.height) + " field has 1 to " +
+                    std::to_string(mip_level_count(f.width, f.height)));
+    check_buffer(context, f.heights,
+                 {"the height field's heights buffer", "float", sizeof(float),
+                  mip_pyramid_floats(f.width, f.height, f.mip_levels)});
+    const size_t texels = static_cast<size_t>(f.width) * f.height;
+    check_buffer(context, f.normals,
+                 {"the height field's normals buffer", "float4", sizeof(cl_float4), texels, false,
+                  !needs_normals});
+}
+
+inline void check_gbuffer(const cl::Context& context, const DeviceGBuffer& g) {
+    if (g.width <= 0 || g.height <= 0)
+        throw Error("the G-buffer's size is " + std::to_string(g.width) + "x" +
+                    std::to_string(g.height));
     if (g.pixels() > static_cast<size_t>(INT_MAX))
         throw Error("the G-buffer is too large (" + std::to_string(g.pixels()) + " pixels)");
+    const size_t n = g.pixels();
+    check_buffer(context, g.uv, {"the G-buffer's uv buffer", "float2", sizeof(cl_float2), n});
+    check_buffer(context, g.view, {"the G-buffer's view buffer", "float4", sizeof(cl_float4), n});
+    check_buffer(context, g.light,
+                 {"the G-buffer's light buffer", "float4", sizeof(cl_float4), n, false, true});
+    check_buffer(context, g.lod,
+                 {"the G-buffer's lod buffer", "float", sizeof(float), n, false, true});
 }
 
 }  // namespace offsetmap

@@ -45,7 +45,7 @@ cl::Kernel& OffsetPass::kernel(bool lod, bool depth, bool fetches, bool flags, b
 void OffsetPass::prepare(const DeviceHeightField& f, const PassSettings& settings) {
     const PrecomputeSpec* spec = method_->precompute;
     if (!spec) return;
-    check_field(f);
+    check_field(runtime_->context(), f);
     std::ostringstream key;
     key << f.heights() << ' ' << f.width << 'x' << f.height << ' ' << settings.scale << ' '
         << static_cast<int>(settings.address);
@@ -105,9 +105,18 @@ cl::Event OffsetPass::enqueue(const DeviceGBuffer& g, const DeviceHeightField& f
                               const PassSettings& settings, const OffsetTargets& t,
                               const std::vector<cl::Event>& wait) {
     validate(settings);
-    check_gbuffer(g);
-    check_field(f);
-    if (!t.uv()) throw Error("the offset pass needs a uv output buffer");
+    const cl::Context& context = runtime_->context();
+    check_gbuffer(context, g);
+    check_field(context, f);
+    const size_t n = g.pixels();
+    check_buffer(context, t.uv,
+                 {"the offset pass's uv output", "float2", sizeof(cl_float2), n, true});
+    check_buffer(context, t.depth,
+                 {"the offset pass's depth output", "float", sizeof(float), n, true, true});
+    check_buffer(context, t.fetches,
+                 {"the offset pass's fetches output", "uint", sizeof(cl_uint), n, true, true});
+    check_buffer(context, t.flags,
+                 {"the offset pass's flags output", "uint", sizeof(cl_uint), n, true, true});
     prepare(f, settings);
     OmOffsetParams p = offset_params(settings, static_cast<int>(g.pixels()), f.width, f.height);
     p.mip_levels = f.mip_levels;

@@ -107,7 +107,7 @@ const std::vector<MethodInfo>& methods() {
          "linear search with lerp(n_max, n_min, V.z) steps, then the ray cut with the segment "
          "between the last two samples",
          "Tatarchuk 2006, practical parallax occlusion mapping",
-         {{"min_samples", 8, 1, 256, true, "steps when looking straight down"},
+         {{"min_samples", 8, 1, 256, true, "steps when looking straight down", "max_samples"},
           {"max_samples", 32, 1, 256, true, "steps at grazing views"}},
          nullptr,
          {{{"min_samples", "4"}, {"max_samples", "16"}},
@@ -133,7 +133,8 @@ const std::vector<MethodInfo>& methods() {
          "secant.cl",
          "pom's linear search, then secant refinement (regula falsi, Illinois) to a tolerance",
          "Risser, Shah & Pattanaik 2007, faster relief mapping using the secant method",
-         {{"min_samples", 8, 1, 256, true, "linear steps when looking straight down"},
+         {{"min_samples", 8, 1, 256, true, "linear steps when looking straight down",
+           "max_samples"},
           {"max_samples", 32, 1, 256, true, "linear steps at grazing views"},
           {"refine", 4, 0, 32, true, "secant iterations at most (0: pom)"},
           {"tol", 1e-4f, 0.0f, 0.1f, false, "stop when the height gap is below this (H units)"}},
@@ -225,6 +226,17 @@ MethodParams resolve_params(const MethodInfo& method,
             throw Error(msg.str());
         }
         values[idx] = static_cast<float>(v);
+    }
+    for (size_t i = 0; i < method.params.size(); ++i) {
+        const ParamSpec& p = method.params[i];
+        if (p.at_most.empty()) continue;
+        const float bound = out[p.at_most];
+        if (values[i] > bound) {
+            std::ostringstream msg;
+            msg << "parameter '" << p.name << "' of method '" << method.name << "' (" << values[i]
+                << ") must not exceed '" << p.at_most << "' (" << bound << ")";
+            throw Error(msg.str());
+        }
     }
     return out;
 }

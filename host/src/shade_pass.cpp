@@ -29,9 +29,23 @@ cl::Event ShadePass::enqueue(const cl::Buffer& uv, const cl::Buffer& flags, cons
                              const DeviceHeightField& f, const DeviceImage* albedo,
                              const PassSettings& settings, const ShadeSettings& s,
                              const cl::Buffer& out_rgba, const std::vector<cl::Event>& wait) {
-    check_gbuffer(g);
-    check_field(f);
-    if (!f.normals()) throw Error("the height field has no normals");
+    const cl::Context& context = runtime_->context();
+    check_gbuffer(context, g);
+    check_field(context, f, true);
+    const size_t n = g.pixels();
+    check_buffer(context, uv, {"the shade pass's uv input", "float2", sizeof(cl_float2), n});
+    check_buffer(context, flags,
+                 {"the shade pass's flags input", "uint", sizeof(cl_uint), n, false, true});
+    check_buffer(context, out_rgba,
+                 {"the shade pass's colour output", "float4", sizeof(cl_float4), n, true});
+    if (albedo) {
+        if (albedo->width <= 0 || albedo->height <= 0)
+            throw Error("the albedo image's size is " + std::to_string(albedo->width) + "x" +
+                        std::to_string(albedo->height));
+        check_buffer(context, albedo->texels,
+                     {"the albedo image's texels", "float4", sizeof(cl_float4),
+                      static_cast<size_t>(albedo->width) * albedo->height});
+    }
     OmShadeParams p{};
     p.pixel_count = static_cast<int>(g.pixels());
     p.hf_width = f.width;

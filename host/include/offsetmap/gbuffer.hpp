@@ -8,6 +8,10 @@ namespace offsetmap {
 
 class Runtime;
 
+// The largest G-buffer the host side allocates: 2^27 pixels (16384 x 8192), at most 16384 a side.
+inline constexpr size_t kMaxGBufferPixels = size_t(1) << 27;
+inline constexpr int kMaxGBufferSide = 16384;
+
 // A deferred G-buffer as the offset pass reads it. Pixel k = y * width + x.
 // uv: float2 (a NaN u or v marks an empty pixel); view: tangent-space V toward the eye in xyz
 // (w unused); light: optional tangent-space L toward the light; lod: optional mip level.
@@ -22,8 +26,13 @@ struct GBuffer {
     size_t pixels() const { return static_cast<size_t>(width) * height; }
     bool has_light() const { return !light.empty(); }
     bool has_lod() const { return !lod.empty(); }
+    // Throws Error for a size check_gbuffer_size rejects, or when memory runs out.
     void resize(int w, int h, bool with_light, bool with_lod);
 };
+
+// Throws Error naming `what` for a side outside [1, kMaxGBufferSide] or more than
+// kMaxGBufferPixels pixels.
+void check_gbuffer_size(int width, int height, const std::string& what);
 
 // A G-buffer in device buffers: the caller may create these on its own context and fill them.
 struct DeviceGBuffer {

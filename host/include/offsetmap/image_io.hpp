@@ -12,26 +12,42 @@ namespace offsetmap {
 
 // Reading (OpenImageIO): height maps, albedo and normal maps, G-buffer files.
 
+// Every reader checks, from the file's header and before allocating any pixel, that decoding it
+// (the decoder's copy of every stored channel at its stored size, plus what the reader keeps)
+// stays within this many bytes, and throws Error naming the file and the limit otherwise.
+inline constexpr size_t kDefaultReadLimitBytes = size_t(2) << 30;
+
 struct HeightLoadOptions {
     int channel = 0;         // which channel of the image holds the heights
     bool depth_map = false;  // the file stores depth (white = deep): H = 1 - value
+    size_t max_bytes = kDefaultReadLimitBytes;
 };
 
-// Loads any image OpenImageIO reads (8/16-bit PNG, JPEG, TIFF, float EXR...). Integer formats map
-// to [0,1]; float values outside [0,1] are clamped (counted in `clamped`). Throws Error naming the
-// file for a missing, unreadable or empty image, a missing channel, or non-finite heights.
+// Loads any image OpenImageIO reads (8/16-bit PNG, JPEG, TIFF, float EXR...) as stored: alpha is
+// never multiplied in (a grey+alpha PNG gives its grey values). Integer formats map to [0,1];
+// float values outside [0,1] are clamped (counted in `clamped`). Throws Error naming the file for
+// a missing, unreadable, truncated, empty or too large image, a missing channel, or non-finite
+// heights.
 HeightMap load_height_map(const std::string& path, const HeightLoadOptions& options = {});
 
-// Loads an image as float4 (missing channels: 0, alpha 1). Throws Error naming the file.
-Image4 load_image4(const std::string& path);
+// Loads an image as float4 (missing channels: 0, alpha 1; colour as stored, alpha not multiplied
+// in). Throws Error naming the file.
+Image4 load_image4(const std::string& path, size_t max_bytes = kDefaultReadLimitBytes);
 
 // Tangent-space normals from a normal-map file: rgb in [0,1] -> [-1,1], optional green flip
 // (DirectX-authored maps store -y), renormalised.
-Image4 load_normal_map(const std::string& path, bool flip_green);
+Image4 load_normal_map(const std::string& path, bool flip_green,
+                       size_t max_bytes = kDefaultReadLimitBytes);
 
-// Reads an OpenEXR G-buffer with channels u v Vx Vy Vz and optionally Lx Ly Lz (all three) and lod.
-// Throws Error naming the file and the missing or unexpected channels.
-GBuffer load_gbuffer(const std::string& path);
+// Reads an OpenEXR G-buffer with channels u v Vx Vy Vz and optionally Lx Ly Lz (all three) and lod,
+// each stored as half or float. Throws Error naming the file and the missing or mistyped channels,
+// or the size limit (kMaxGBufferPixels, `max_bytes`) it exceeds.
+GBuffer load_gbuffer(const std::string& path, size_t max_bytes = kDefaultReadLimitBytes);
+
+// While on, the readers send what image decoders write straight to the process's stderr (libpng
+// prints its errors before OpenImageIO reports them) to /dev/null for the duration of each read, so
+// that a bad file gives one message, the Error's. Off by default; the CLI turns it on.
+void quiet_decoders(bool quiet);
 
 // Writes the G-buffer as float OpenEXR with the channel names above.
 void save_gbuffer(const std::string& path, const GBuffer& gbuffer);

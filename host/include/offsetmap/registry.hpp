@@ -20,6 +20,7 @@ struct ParamSpec {
     float max_value;
     bool integer;
     std::string doc;
+    std::string at_most = {};  // another parameter this one may not exceed ("" for none)
 };
 
 // A method's parameter values, resolved once (resolve_params): read by name. `values` follow the
@@ -79,7 +80,7 @@ const MethodInfo& find_method(const std::string& name);
 
 // The method's parameters: defaults overridden by `overrides` (name -> text). Throws Error for an
 // unknown name, a non-numeric value, a non-integer for an integer parameter, or a value outside
-// the declared range.
+// the declared range or above the parameter it may not exceed (at_most).
 MethodParams resolve_params(const MethodInfo& method,
                             const std::map<std::string, std::string>& overrides);
 

@@ -1,4 +1,5 @@
 #pragma once
+#include <functional>
 #include <map>
 #include <memory>
 #include <mutex>
@@ -42,13 +43,26 @@ class Runtime {
     // The program assembled from the shared header, then `files` (paths under kernels/) in order,
     // after `defines` ("-D" style lines are not used: `defines` is OpenCL C text). Built once.
     cl::Program program(const std::vector<std::string>& files, const std::string& defines = "");
+    // The options every program is built with.
+    std::string build_options() const;
+    // The compiler's warnings for the programs built so far ("files:\nlog" each); empty when
+    // every one built clean. A driver that loads a program from its cache may log nothing.
+    std::vector<std::string> build_warnings() const;
 
     // Programs built after this call read kernel files from `dir` (a copy of kernels/) instead
     // of the embedded text or $OFFSETMAP_KERNEL_DIR; empty restores those. For timing two
     // versions of a kernel in one process, in turns (offsetmap_bench --ab).
     void set_kernel_dir(const std::string& dir);
 
+    // Progress of long steps (precomputed data): called with fraction 0 when a step starts, then
+    // as it advances, and with 1 when it ends. While set, those steps run in slices and wait for
+    // each one to report it; unset (the default), they are enqueued whole.
+    using Progress = std::function<void(const std::string& what, double fraction)>;
+    void set_progress(Progress progress) { progress_ = std::move(progress); }
+    const Progress& progress() const { return progress_; }
+
   private:
+    Progress progress_;
     cl::Context context_;
     cl::Device device_;
     cl::CommandQueue queue_;
@@ -56,8 +70,9 @@ class Runtime {
     bool is_pocl_ = false;
     int lanes_ = 1;
     bool images_ = false;
-    std::mutex mutex_;
+    mutable std::mutex mutex_;
     std::map<std::string, cl::Program> programs_;
+    std::vector<std::string> warnings_;
     std::string kernel_dir_;
 };
 

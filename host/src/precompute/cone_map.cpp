@@ -28,7 +28,7 @@ PrecomputeSpec::Built build(Runtime& rt, const DeviceHeightField& f, const PassS
         cl::Buffer(rt.context(), CL_MEM_READ_WRITE, bytes(params, settings, f.width, f.height));
     cl::Kernel kb(program, "om_cone_blocks");
     set_args(kb, p, f.heights, bw, bh, blocks);
-    cl::Event e1, e2;
+    cl::Event e1;
     rt.queue().enqueueNDRangeKernel(kb, cl::NullRange, cl::NDRange(bw, bh), cl::NullRange, nullptr,
                                     &e1);
     std::vector<float> block_max(static_cast<size_t>(bw) * bh);
@@ -42,10 +42,12 @@ PrecomputeSpec::Built build(Runtime& rt, const DeviceHeightField& f, const PassS
     cl::Kernel kc(program, "om_cone_map");
     set_args(kc, p, f.heights, blocks, bw, bh, blocks_valid, global_max, params["max_ratio"],
              out.data);
-    rt.queue().enqueueNDRangeKernel(kc, cl::NullRange, cl::NDRange(f.width, f.height),
-                                    cl::NullRange, nullptr, &e2);
-    e2.wait();
-    out.kernel_ms = rt.profiling() ? event_ms(e1) + event_ms(e2) : 0.0;
+    std::vector<cl::Event> events = enqueue_with_progress(
+        rt, kc, cl::NDRange(f.width, f.height),
+        "cone: cone map " + std::to_string(f.width) + "x" + std::to_string(f.height));
+    events.back().wait();
+    events.push_back(e1);
+    out.kernel_ms = events_ms(rt, events);
     return out;
 }
 

@@ -33,14 +33,15 @@ PrecomputeSpec::Built build(Runtime& rt, const DeviceHeightField& f, const PassS
     set_args(kc, p, f.heights, res, colmax);
     cl::Kernel kd(program, "om_distance_map");
     set_args(kd, p, colmax, res, layers, out.data);
-    cl::Event e1, e2;
+    cl::Event e1;
     rt.queue().enqueueNDRangeKernel(kc, cl::NullRange, cl::NDRange(res, res), cl::NullRange,
                                     nullptr, &e1);
-    std::vector<cl::Event> after_columns = {e1};
-    rt.queue().enqueueNDRangeKernel(kd, cl::NullRange, cl::NDRange(res, res, layers), cl::NullRange,
-                                    &after_columns, &e2);
-    e2.wait();
-    out.kernel_ms = rt.profiling() ? event_ms(e1) + event_ms(e2) : 0.0;
+    std::vector<cl::Event> events = enqueue_with_progress(
+        rt, kd, cl::NDRange(res, res, layers),
+        "sphere: distance map " + std::to_string(res) + "^2 x " + std::to_string(layers), {e1});
+    events.back().wait();
+    events.push_back(e1);
+    out.kernel_ms = events_ms(rt, events);
     return out;
 }
 

@@ -1,0 +1,145 @@
+#include "image_read.hpp"
+
+#include <fcntl.h>
+#include <unistd.h>
+
+#include <cstdio>
+#include <mutex>
+#include <new>
+#include <sstream>
+
+#include "offsetmap/error.hpp"
+#include "offsetmap/image_io.hpp"
+
+namespace offsetmap {
+namespace {
+
+bool g_quiet_decoders = false;
+
+// libpng writes "libpng error: ..." to the process's stderr before OpenImageIO reports the same
+// text as an error; while quiet, the decoders' direct writes go to /dev/null for the call.
+class QuietStderr {
+  public:
+    QuietStderr() {
+        if (!g_quiet_decoders) return;
+        lock_ = std::unique_lock<std::mutex>(mutex());
+        std::fflush(stderr);
+        saved_ = dup(2);
+        int null = open("/dev/null", O_WRONLY);
+        if (saved_ >= 0 && null >= 0) dup2(null, 2);
+        if (null >= 0) close(null);
+    }
+    ~QuietStderr() {
+        if (saved_ < 0) return;
+        std::fflush(stderr);
+        dup2(saved_, 2);
+        close(saved_);
+    }
+
+  private:
+    static std::mutex& mutex() {
+        static std::mutex m;
+        return m;
+    }
+    std::unique_lock<std::mutex> lock_;
+    int saved_ = -1;
+};
+
+std::string mib(double bytes) {
+    std::ostringstream s;
+    s.precision(bytes >= 10.0 * 1048576.0 ? 0 : 1);
+    s << std::fixed << bytes / 1048576.0 << " MiB";
+    return s.str();
+}
+
+}  // namespace
+
+void quiet_decoders(bool quiet) { g_quiet_decoders = quiet; }
+
+std::string describe_file(const std::string& what, const std::string& path) {
+    return what + " '" + path + "'";
+}
+
+std::string one_line(const std::string& text) {
+    std::istringstream in(text);
+    std::string line, out, last;
+    while (std::getline(in, line)) {
+        while (!line.empty() && (line.back() == ' ' || line.back() == '\r')) line.pop_back();
+        if (line.empty() || line == last) continue;
+        out += (out.empty() ? "" : "; ") + line;
+        last = line;
+    }
+    return out;
+}
+
+std::unique_ptr<OIIO::ImageInput> open_image(const std::string& path, const std::string& what) {
+    OIIO::ImageSpec config;
+    // The stored values: OpenImageIO would otherwise multiply colour (and a grey height) by alpha.
+    config.attribute("oiio:UnassociatedAlpha", 1);
+    std::unique_ptr<OIIO::ImageInput> in;
+    {
+        QuietStderr quiet;
+        in = OIIO::ImageInput::open(path, &config);
+    }
+    if (!in) {
+        std::string why = one_line(OIIO::geterror());
+        throw Error("cannot read " + describe_file(what, path) + ": " +
+                    (why.empty() ? std::string("unknown image format") : why));
+    }
+    const OIIO::ImageSpec& spec = in->spec();
+    if (spec.width <= 0 || spec.height <= 0 || spec.nchannels <= 0)
+        throw Error(describe_file(what, path) + " is empty (" + std::to_string(spec.width) + "x" +
+                    std::to_string(spec.height) + ", " + std::to_string(spec.nchannels) +
+                    " channels)");
+    return in;
+}
+
+void check_decode_size(const OIIO::ImageSpec& spec, const std::string& path,
+                       const std::string& what, size_t kept_bytes_per_pixel, size_t max_bytes) {
+    const double pixels = static_cast<double>(spec.width) * spec.height;
+    const double stored = static_cast<double>(spec.image_bytes(true));
+    const double bytes = stored + pixels * static_cast<double>(kept_bytes_per_pixel);
+    if (bytes > static_cast<double>(max_bytes))
+        throw Error(describe_file(what, path) + " is " + std::to_string(spec.width) + "x" +
+                    std::to_string(spec.height) + " with " + std::to_string(spec.nchannels) +
+                    " channel(s) of " + std::to_string(spec.format.size()) +
+                    " byte(s): reading it needs " + mib(bytes) + ", above the limit of " +
+                    mib(static_cast<double>(max_bytes)));
+}
+
+std::vector<float> read_float_pixels(OIIO::ImageInput& in, const std::string& path,
+                                     const std::string& what, int chbegin, int chend) {
+    const OIIO::ImageSpec& spec = in.spec();
+    auto data = allocate<float>(static_cast<size_t>(spec.width) * spec.height * (chend - chbegin),
+                                "the pixels of " + describe_file(what, path));
+    bool ok;
+    {
+        QuietStderr quiet;
+        ok = in.read_image(0, 0, chbegin, chend, OIIO::TypeDesc::FLOAT, data.data());
+    }
+    // libjpeg fills a truncated file's missing rows with grey and reports success; OpenImageIO
+    // records its "premature end" message as an error all the same.
+    if (!ok || in.has_error()) {
+        std::string why = one_line(in.geterror());
+        throw Error("cannot decode " + describe_file(what, path) + ": " +
+                    (why.empty() ? std::string("corrupt or truncated data") : why));
+    }
+    return data;
+}
+
+template <typename T>
+std::vector<T> allocate(size_t n, const std::string& what) {
+    try {
+        return std::vector<T>(n);
+    } catch (const std::bad_alloc&) {
+        throw Error("out of memory allocating " + mib(static_cast<double>(n) * sizeof(T)) +
+                    " for " + what);
+    } catch (const std::length_error&) {
+        throw Error("out of memory allocating " + mib(static_cast<double>(n) * sizeof(T)) +
+                    " for " + what);
+    }
+}
+
+template std::vector<float> allocate<float>(size_t, const std::string&);
+
+}  // namespace offsetmap
