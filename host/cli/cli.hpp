@@ -106,7 +106,8 @@ std::string default_data_dir();
 
 // Shows a slow step's progress on stderr (a carriage-return line, cleared when done).
 void progress_line(const std::string& line);
-// Runtime progress (precomputes) on stderr, shown once a step has run for half a second.
+// Runtime progress (precomputes) on stderr: on a terminal a line updated in place once a step has
+// run for half a second; otherwise a line every ten seconds once it has run for two.
 void show_progress(Runtime& runtime);
 
 // Every method on one scene: shaded, uv-error and fetch-count images, contact sheet, table.

@@ -60,24 +60,34 @@ void progress_line(const std::string& line) {
 void show_progress(Runtime& runtime) {
     using Clock = std::chrono::steady_clock;
     struct State {
-        Clock::time_point start;
+        Clock::time_point start, last;
         bool shown = false;
     };
     auto state = std::make_shared<State>();
-    runtime.set_progress([state](const std::string& what, double fraction) {
+    // On a terminal, one line rewritten in place after half a second; in a log, a plain line
+    // every ten seconds once a step has run for two.
+    const bool tty = isatty(2);
+    const auto first = tty ? std::chrono::milliseconds(500) : std::chrono::milliseconds(2000);
+    const auto every = tty ? std::chrono::milliseconds(100) : std::chrono::milliseconds(10000);
+    runtime.set_progress([state, tty, first, every](const std::string& what, double fraction) {
+        const auto now = Clock::now();
         if (fraction <= 0.0) {
-            *state = {Clock::now(), false};
+            *state = {now, now - every, false};
             return;
         }
         if (fraction >= 1.0) {
-            if (state->shown) progress_line(""), std::fflush(stderr);
+            if (state->shown && tty) progress_line("");
             state->shown = false;
             return;
         }
-        if (Clock::now() - state->start < std::chrono::milliseconds(500)) return;
+        if (now - state->start < first || now - state->last < every) return;
         char line[256];
         std::snprintf(line, sizeof line, "%s: %3.0f%%", what.c_str(), 100.0 * fraction);
-        progress_line(line);
+        if (tty)
+            progress_line(line);
+        else
+            std::fprintf(stderr, "offsetmap: %s\n", line);
+        state->last = now;
         state->shown = true;
     });
 }

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 
+#include "launch.hpp"
 #include "om_shared.h"
 
 namespace offsetmap {
@@ -38,10 +39,12 @@ OffsetResult run_offset(Runtime& rt, OffsetPass& pass, const DeviceGBuffer& g,
                         const DeviceHeightField& f, const PassSettings& settings, int repeats) {
     const size_t n = g.pixels();
     OffsetTargets t;
-    t.uv = cl::Buffer(rt.context(), CL_MEM_WRITE_ONLY, n * sizeof(cl_float2));
-    t.depth = cl::Buffer(rt.context(), CL_MEM_WRITE_ONLY, n * sizeof(float));
-    t.fetches = cl::Buffer(rt.context(), CL_MEM_WRITE_ONLY, n * sizeof(std::uint32_t));
-    t.flags = cl::Buffer(rt.context(), CL_MEM_WRITE_ONLY, n * sizeof(std::uint32_t));
+    t.uv = device_buffer(rt.context(), CL_MEM_WRITE_ONLY, n * sizeof(cl_float2), "the uv output");
+    t.depth = device_buffer(rt.context(), CL_MEM_WRITE_ONLY, n * sizeof(float), "the depth output");
+    t.fetches = device_buffer(rt.context(), CL_MEM_WRITE_ONLY, n * sizeof(std::uint32_t),
+                              "the fetches output");
+    t.flags = device_buffer(rt.context(), CL_MEM_WRITE_ONLY, n * sizeof(std::uint32_t),
+                            "the flags output");
     OffsetResult r;
     r.width = g.width;
     r.height = g.height;

@@ -2,6 +2,7 @@
 
 #include <new>
 
+#include "launch.hpp"
 #include "offsetmap/error.hpp"
 #include "offsetmap/runtime.hpp"
 
@@ -43,8 +44,10 @@ DeviceGBuffer upload(Runtime& rt, const GBuffer& gb) {
         throw Error("G-buffer arrays do not match its size " + std::to_string(gb.width) + "x" +
                     std::to_string(gb.height));
     auto buffer = [&](const void* data, size_t bytes) {
-        return cl::Buffer(rt.context(), CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, bytes,
-                          const_cast<void*>(data));
+        return device_buffer(
+            rt.context(), CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, bytes,
+            "the " + std::to_string(gb.width) + "x" + std::to_string(gb.height) + " G-buffer",
+            data);
     };
     DeviceGBuffer d;
     d.width = gb.width;

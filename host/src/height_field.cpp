@@ -60,8 +60,11 @@ DeviceHeightField upload(Runtime& rt, const HeightMap& map, const PassSettings& 
     f.height = map.height;
     const size_t n = map.h.size();
     f.mip_levels = mip_level_count(map.width, map.height);
-    f.heights = cl::Buffer(rt.context(), CL_MEM_READ_WRITE,
-                           mip_pyramid_floats(map.width, map.height, f.mip_levels) * sizeof(float));
+    const std::string size = std::to_string(map.width) + "x" + std::to_string(map.height);
+    f.heights =
+        device_buffer(rt.context(), CL_MEM_READ_WRITE,
+                      mip_pyramid_floats(map.width, map.height, f.mip_levels) * sizeof(float),
+                      "the " + size + " height pyramid");
     rt.queue().enqueueWriteBuffer(f.heights, CL_TRUE, 0, n * sizeof(float), map.h.data());
     build_mips(rt, f);
     if (normal_map) {
@@ -69,12 +72,13 @@ DeviceHeightField upload(Runtime& rt, const HeightMap& map, const PassSettings& 
             throw Error("normal map is " + std::to_string(normal_map->width) + "x" +
                         std::to_string(normal_map->height) + " but the height map is " +
                         std::to_string(map.width) + "x" + std::to_string(map.height));
-        f.normals =
-            cl::Buffer(rt.context(), CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, n * sizeof(cl_float4),
-                       const_cast<cl_float4*>(normal_map->texels.data()));
+        f.normals = device_buffer(rt.context(), CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR,
+                                  n * sizeof(cl_float4), "the " + size + " normal map",
+                                  normal_map->texels.data());
         return f;
     }
-    f.normals = cl::Buffer(rt.context(), CL_MEM_READ_WRITE, n * sizeof(cl_float4));
+    f.normals = device_buffer(rt.context(), CL_MEM_READ_WRITE, n * sizeof(cl_float4),
+                              "the " + size + " normals");
     cl::Kernel k(rt.program(sampling_program_files("prep/normals.cl")), "om_normals");
     set_args(k, offset_params(settings, 0, map.width, map.height), f.heights, f.normals);
     rt.queue().enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(map.width, map.height));

@@ -31,6 +31,18 @@ inline void set_optional(cl::Kernel& k, cl_uint index, const cl::Buffer& b) {
         k.setArg(index, sizeof(cl_mem), nullptr);  // a NULL global pointer in the kernel
 }
 
+// A device buffer, or an Error naming what it was for when the device cannot allocate it.
+inline cl::Buffer device_buffer(const cl::Context& context, cl_mem_flags flags, size_t bytes,
+                                const std::string& what, const void* host = nullptr) {
+    try {
+        return cl::Buffer(context, flags, bytes, const_cast<void*>(host));
+    } catch (const cl::Error& e) {
+        throw Error("cannot allocate " + what + " on the device (" +
+                    std::to_string((bytes + (1 << 20) - 1) >> 20) +
+                    " MiB): " + describe_cl_error(e.err()));
+    }
+}
+
 // What a pass is handed, checked before anything is enqueued: a buffer (not an image) of this
 // runtime's context, large enough for `count` elements of `element` (e.g. "float2", 8 bytes), and
 // readable or writable as the pass uses it. A null buffer passes when `optional`.

@@ -86,7 +86,8 @@ cl::Buffer OffsetPass::footprint(const DeviceGBuffer& g, const DeviceHeightField
                                  const std::vector<cl::Event>& wait, std::vector<cl::Event>& deps) {
     auto& rt = *runtime_;
     if (footprint_pixels_ != g.pixels()) {
-        footprint_ = cl::Buffer(rt.context(), CL_MEM_READ_WRITE, g.pixels() * sizeof(float));
+        footprint_ = device_buffer(rt.context(), CL_MEM_READ_WRITE, g.pixels() * sizeof(float),
+                                   "the LOD footprint levels");
         footprint_pixels_ = g.pixels();
     }
     if (!footprint_kernel_())

@@ -15,9 +15,9 @@ DeviceImage upload(Runtime& rt, const Image4& image) {
     DeviceImage d;
     d.width = image.width;
     d.height = image.height;
-    d.texels = cl::Buffer(rt.context(), CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR,
-                          image.texels.size() * sizeof(cl_float4),
-                          const_cast<cl_float4*>(image.texels.data()));
+    d.texels =
+        device_buffer(rt.context(), CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR,
+                      image.texels.size() * sizeof(cl_float4), "the image", image.texels.data());
     return d;
 }
 

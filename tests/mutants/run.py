@@ -64,6 +64,8 @@ def run_tests(build, m, kernel_dir=None):
     out = p.stdout + p.stderr
     if "kernel build failed" in out:
         return "stale", "the mutated kernel does not build"
+    if p.returncode < 0:  # a crash (a signal) is a failing test too
+        return "killed", f"test binary died of signal {-p.returncode}"
     ran = re.search(r"\[==========\] (\d+) tests? from", out)
     if not ran or int(ran.group(1)) == 0:
         return "stale", f"no test matches '{m['tests']}'"
