@@ -1,0 +1,40 @@
+#!/usr/bin/env bash
+# check.sh install SRC : build and install offsetmap (library and evaluation only) into a
+#                        temporary prefix, then build and run tests/package against it with
+#                        find_package(offsetmap CONFIG)
+# check.sh subdir SRC  : build tests/package with add_subdirectory(SRC): the library alone is
+#                        built (no CLI, bench or tests, no OpenImageIO), and runs
+set -euo pipefail
+mode=$1 src=$(cd "$2" && pwd)
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+jobs=$(nproc)
+quiet() { "$@" >"$tmp/log" 2>&1 || { cat "$tmp/log"; exit 1; }; }
+case $mode in
+install)
+    quiet cmake -S "$src" -B "$tmp/lib" -DCMAKE_BUILD_TYPE=Release -DOFFSETMAP_BUILD_CLI=OFF \
+        -DOFFSETMAP_BUILD_BENCH=OFF -DOFFSETMAP_BUILD_TESTS=OFF
+    quiet cmake --build "$tmp/lib" -j "$jobs"
+    quiet cmake --install "$tmp/lib" --prefix "$tmp/prefix"
+    for f in include/offsetmap/offsetmap.hpp include/om_shared.h \
+             lib/cmake/offsetmap/offsetmapConfig.cmake; do
+        [ -f "$tmp/prefix/$f" ] || { echo "not installed: $f"; exit 1; }
+    done
+    quiet cmake -S "$src/tests/package" -B "$tmp/consumer" -DCMAKE_BUILD_TYPE=Release \
+        -DCMAKE_PREFIX_PATH="$tmp/prefix"
+    quiet cmake --build "$tmp/consumer" -j "$jobs"
+    # The installed library needs no source tree: the checkout is out of reach while it runs.
+    (cd / && "$tmp/consumer/consumer" && "$tmp/consumer/consumer_evaluation")
+    ;;
+subdir)
+    quiet cmake -S "$src/tests/package" -B "$tmp/consumer" -DCMAKE_BUILD_TYPE=Release \
+        -DOFFSETMAP_SOURCE="$src"
+    quiet cmake --build "$tmp/consumer" -j "$jobs"
+    [ ! -e "$tmp/consumer/offsetmap/offsetmap" ] || { echo "the CLI was built"; exit 1; }
+    [ ! -e "$tmp/consumer/consumer_evaluation" ] || { echo "the evaluation library was built"; exit 1; }
+    (cd / && "$tmp/consumer/consumer")
+    ;;
+esac
+# Neither binary of the pass links OpenImageIO.
+! ldd "$tmp/consumer/consumer" | grep -qi openimageio || { echo "consumer links OpenImageIO"; exit 1; }
+echo "package ($mode): ok"
