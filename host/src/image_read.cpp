@@ -92,7 +92,7 @@ std::unique_ptr<OIIO::ImageInput> open_image(const std::string& path, const std:
     std::unique_ptr<OIIO::ImageInput> in;
     {
         QuietStderr quiet;
-        ThirdPartyAllocations exempt;
+        [[maybe_unused]] ThirdPartyAllocations exempt;
         in = OIIO::ImageInput::open(path, &config);
     }
     if (!in) {
@@ -129,7 +129,7 @@ std::vector<float> read_float_pixels(OIIO::ImageInput& in, const std::string& pa
     bool ok;
     {
         QuietStderr quiet;
-        ThirdPartyAllocations exempt;
+        [[maybe_unused]] ThirdPartyAllocations exempt;
         ok = in.read_image(0, 0, chbegin, chend, OIIO::TypeDesc::FLOAT, data.data());
     }
     // libjpeg fills a truncated file's missing rows with grey and reports success; OpenImageIO

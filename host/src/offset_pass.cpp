@@ -3,10 +3,10 @@
 #include "offsetmap/offset_pass.hpp"
 
 #include <algorithm>
-#include <chrono>
 #include <sstream>
 
 #include "launch.hpp"
+#include "precompute/precompute.hpp"
 
 namespace offsetmap {
 
@@ -53,21 +53,24 @@ void OffsetPass::prepare(const DeviceHeightField& f, const PassSettings& setting
     if (key.str() == aux_key_) return;
     aux_key_.clear();
     precomputed_.bytes = spec->bytes(params_, settings, f.width, f.height);
-    auto start = std::chrono::steady_clock::now();
-    PrecomputeSpec::Built built;
     try {
-        built = spec->build(*runtime_, f, settings, params_);
+        PrecomputeSpec::Built built = spec->build(*runtime_, f, settings, params_);
+        aux_ = built.data;
+        aux_events_ = built.events;
     } catch (const cl::Error& e) {
         throw Error("cannot build the precomputed data of '" + method_->name + "' (" +
                     std::to_string(precomputed_.bytes) + " bytes): " + describe_cl_error(e.err()));
     }
-    aux_ = built.data;
-    precomputed_.build_ms =
-        runtime_->profiling()
-            ? built.kernel_ms
-            : std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
-                  .count();
+    build_ms_known_ = false;
     aux_key_ = key.str();
+}
+
+const OffsetPass::Precomputed& OffsetPass::precomputed() const {
+    if (!build_ms_known_) {
+        precomputed_.build_ms = events_ms(*runtime_, aux_events_);
+        build_ms_known_ = true;
+    }
+    return precomputed_;
 }
 
 const cl::Image1DBuffer& OffsetPass::heights_image(const DeviceHeightField& f) {
@@ -83,7 +86,7 @@ const cl::Image1DBuffer& OffsetPass::heights_image(const DeviceHeightField& f) {
 }
 
 cl::Buffer OffsetPass::footprint(const DeviceGBuffer& g, const DeviceHeightField& f,
-                                 const std::vector<cl::Event>& wait, std::vector<cl::Event>& deps) {
+                                 const std::vector<cl::Event>& wait, cl::Event& done) {
     auto& rt = *runtime_;
     if (footprint_pixels_ != g.pixels()) {
         footprint_ = device_buffer(rt.context(), CL_MEM_READ_WRITE, g.pixels() * sizeof(float),
@@ -95,10 +98,8 @@ cl::Buffer OffsetPass::footprint(const DeviceGBuffer& g, const DeviceHeightField
     cl::Kernel& k = footprint_kernel_;
     set_args(k, g.uv, g.width, g.height, static_cast<float>(f.width), static_cast<float>(f.height),
              footprint_);
-    cl::Event e;
     rt.queue().enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(g.width, g.height), cl::NullRange,
-                                    &wait, &e);
-    deps = {e};
+                                    &wait, &done);
     return footprint_;
 }
 
@@ -138,10 +139,19 @@ cl::Event OffsetPass::enqueue(const DeviceGBuffer& g, const DeviceHeightField& f
     if (images) k.setArg(10, heights_image(f));
     cl::Event event;
     try {
+        // The caller's events, the field's upload and the precomputed data's build.
         std::vector<cl::Event> deps = wait;
+        if (f.ready()) deps.push_back(f.ready);
+        deps.insert(deps.end(), aux_events_.begin(), aux_events_.end());
         cl::Buffer lod;
         if (settings.lod.enabled) {
-            lod = g.lod() ? g.lod : footprint(g, f, wait, deps);
+            if (g.lod()) {
+                lod = g.lod;
+            } else {
+                cl::Event levels;
+                lod = footprint(g, f, wait, levels);
+                deps.push_back(levels);
+            }
         }
         set_optional(k, 5, lod);
         runtime_->queue().enqueueNDRangeKernel(k, cl::NullRange,

@@ -86,8 +86,10 @@ cl::Event ShadePass::enqueue(const cl::Buffer& uv, const cl::Buffer& flags, cons
     kernel_.setArg(8, out_rgba);
     cl::Event event;
     try {
+        std::vector<cl::Event> deps = wait;  // and the field's upload
+        if (f.ready()) deps.push_back(f.ready);
         runtime_->queue().enqueueNDRangeKernel(kernel_, cl::NullRange, padded(g.pixels()),
-                                               cl::NDRange(kLocalSize), &wait, &event);
+                                               cl::NDRange(kLocalSize), &deps, &event);
     } catch (const cl::Error& e) {
         throw Error(std::string("cannot run the shading pass: ") + describe_cl_error(e.err()));
     }

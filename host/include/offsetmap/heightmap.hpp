@@ -36,6 +36,9 @@ struct DeviceHeightField {
     int mip_levels = 1;  // levels in `heights`: level k is max(1, W >> k) x max(1, H >> k)
     cl::Buffer heights;  // float per texel, level 0 first, then each coarser level
     cl::Buffer normals;  // float4 per texel of level 0 (derived on the device, or from a file)
+    // Complete once heights, mips and normals are on the device; the passes wait for it (a null
+    // event: ready already). A caller filling the buffers itself sets it, or leaves it null.
+    cl::Event ready;
 };
 
 // Number of levels down to 1 x 1 (at most OM_MAX_MIP_LEVELS) and the floats they take in all.

@@ -43,24 +43,26 @@ class OffsetPass {
     int lanes() const { return lanes_; }  // pixels per work-item
 
     // The method's precomputed data for the last field it ran on (bytes 0 when it needs none),
-    // and the time its build took (kernel time from profiling events, else wall time).
+    // and the kernel time its build took (from profiling events: 0 without a profiling queue;
+    // asking waits for the build).
     struct Precomputed {
         size_t bytes = 0;
         double build_ms = 0.0;
     };
-    const Precomputed& precomputed() const { return precomputed_; }
+    const Precomputed& precomputed() const;
     // The precomputed data itself on the device (layout in the method's prep kernel file).
     const cl::Buffer& precomputed_buffer() const { return aux_; }
 
-    // Builds the precomputed data for `field` now (enqueue does it on first use). It is cached by
-    // the height buffer, size, scale, address mode and parameters: after rewriting the heights in
-    // the same buffer, use a new OffsetPass.
+    // Enqueues the precomputed data's build for `field` now (enqueue does it on first use), after
+    // the field's `ready` event; the next enqueue waits for it. It is cached by the height buffer,
+    // size, scale, address mode and parameters: after rewriting the heights in the same buffer,
+    // use a new OffsetPass.
     void prepare(const DeviceHeightField& field, const PassSettings& settings);
 
   private:
-    // Enqueues the footprint pre-pass after `wait`; `deps` becomes its event.
+    // Enqueues the footprint pre-pass after `wait`; `done` becomes its event.
     cl::Buffer footprint(const DeviceGBuffer& g, const DeviceHeightField& f,
-                         const std::vector<cl::Event>& wait, std::vector<cl::Event>& deps);
+                         const std::vector<cl::Event>& wait, cl::Event& done);
 
     // The entry kernel specialised for LOD on/off and the optional outputs bound.
     cl::Kernel& kernel(bool lod, bool depth, bool fetches, bool flags, bool images);
@@ -76,11 +78,13 @@ class OffsetPass {
     cl::Image1DBuffer heights_image_;
     cl_mem image_of_ = nullptr;  // the height buffer heights_image_ views
     cl::Buffer aux_;
-    std::string aux_key_;          // what aux_ was built for
-    cl::Buffer footprint_;         // per-pixel mip levels when the G-buffer brings none
-    cl::Kernel footprint_kernel_;  // created on first use, reused every frame
+    std::vector<cl::Event> aux_events_;  // aux_ is complete when these are
+    std::string aux_key_;                // what aux_ was built for
+    cl::Buffer footprint_;               // per-pixel mip levels when the G-buffer brings none
+    cl::Kernel footprint_kernel_;        // created on first use, reused every frame
     size_t footprint_pixels_ = 0;
-    Precomputed precomputed_;
+    mutable Precomputed precomputed_;
+    mutable bool build_ms_known_ = true;
 };
 
 }  // namespace offsetmap

@@ -39,9 +39,11 @@ struct PrecomputeSpec {
     const char* prep_file;  // its kernels, under kernels/ (after the sampling layer)
     // The bytes the pass keeps for these parameters on a map_w x map_h field.
     size_t (*bytes)(const MethodParams& params, const PassSettings& settings, int map_w, int map_h);
+    // Enqueued after the field's `ready` event, not waited for: the data is complete when every
+    // one of `events` is (its kernels, for the pass to wait on and the build time to sum).
     struct Built {
         cl::Buffer data;
-        double kernel_ms = 0.0;  // from profiling events (0 without a profiling queue)
+        std::vector<cl::Event> events;
     };
     Built (*build)(Runtime& runtime, const DeviceHeightField& field, const PassSettings& settings,
                    const MethodParams& params);

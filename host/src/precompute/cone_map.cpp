@@ -29,8 +29,10 @@ PrecomputeSpec::Built build(Runtime& rt, const DeviceHeightField& f, const PassS
     cl::Kernel kb(program, "om_cone_blocks");
     set_args(kb, p, f.heights, bw, bh, blocks);
     cl::Event e1;
-    rt.queue().enqueueNDRangeKernel(kb, cl::NullRange, cl::NDRange(bw, bh), cl::NullRange, nullptr,
-                                    &e1);
+    std::vector<cl::Event> after_field = field_ready(f);
+    rt.queue().enqueueNDRangeKernel(kb, cl::NullRange, cl::NDRange(bw, bh), cl::NullRange,
+                                    &after_field, &e1);
+    // The one host round trip of a build: the global maximum bounds every cone's search.
     std::vector<float> block_max(static_cast<size_t>(bw) * bh);
     std::vector<cl::Event> after_blocks = {e1};
     rt.queue().enqueueReadBuffer(blocks, CL_TRUE, 0, block_max.size() * sizeof(float),
@@ -42,12 +44,10 @@ PrecomputeSpec::Built build(Runtime& rt, const DeviceHeightField& f, const PassS
     cl::Kernel kc(program, "om_cone_map");
     set_args(kc, p, f.heights, blocks, bw, bh, blocks_valid, global_max, params["max_ratio"],
              out.data);
-    std::vector<cl::Event> events = enqueue_with_progress(
+    out.events = enqueue_with_progress(
         rt, kc, cl::NDRange(f.width, f.height),
         "cone: cone map " + std::to_string(f.width) + "x" + std::to_string(f.height));
-    events.back().wait();
-    events.push_back(e1);
-    out.kernel_ms = events_ms(rt, events);
+    out.events.push_back(e1);
     return out;
 }
 

@@ -34,14 +34,13 @@ PrecomputeSpec::Built build(Runtime& rt, const DeviceHeightField& f, const PassS
     cl::Kernel kd(program, "om_distance_map");
     set_args(kd, p, colmax, res, layers, out.data);
     cl::Event e1;
+    std::vector<cl::Event> after_field = field_ready(f);
     rt.queue().enqueueNDRangeKernel(kc, cl::NullRange, cl::NDRange(res, res), cl::NullRange,
-                                    nullptr, &e1);
-    std::vector<cl::Event> events = enqueue_with_progress(
+                                    &after_field, &e1);
+    out.events = enqueue_with_progress(
         rt, kd, cl::NDRange(res, res, layers),
         "sphere: distance map " + std::to_string(res) + "^2 x " + std::to_string(layers), {e1});
-    events.back().wait();
-    events.push_back(e1);
-    out.kernel_ms = events_ms(rt, events);
+    out.events.push_back(e1);
     return out;
 }
 

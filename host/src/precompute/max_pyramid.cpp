@@ -36,9 +36,11 @@ PrecomputeSpec::Built build(Runtime& rt, const DeviceHeightField& f, const PassS
     OmOffsetParams p = offset_params(settings, 0, f.width, f.height);
     cl::Kernel first(program, "om_maxmip_first");
     set_args(first, p, f.heights, out.data, f.width >> 1, f.height >> 1);
-    std::vector<cl::Event> events(1);
+    std::vector<cl::Event>& events = out.events;
+    events.resize(1);
+    std::vector<cl::Event> after_field = field_ready(f);
     rt.queue().enqueueNDRangeKernel(first, cl::NullRange, cl::NDRange(f.width >> 1, f.height >> 1),
-                                    cl::NullRange, nullptr, &events[0]);
+                                    cl::NullRange, &after_field, &events[0]);
     cl::Kernel next(program, "om_maxmip_next");
     int offset = 0;
     for (int k = 2; k <= top; ++k) {
@@ -52,9 +54,6 @@ PrecomputeSpec::Built build(Runtime& rt, const DeviceHeightField& f, const PassS
                                         &after, &events.back());
         offset += pw * ph;
     }
-    events.back().wait();
-    if (rt.profiling())
-        for (const auto& e : events) out.kernel_ms += event_ms(e);
     return out;
 }
 

@@ -4,6 +4,7 @@
 #include <string>
 #include <vector>
 
+#include "offsetmap/heightmap.hpp"
 #include "offsetmap/registry.hpp"
 #include "offsetmap/runtime.hpp"
 
@@ -20,7 +21,12 @@ std::vector<cl::Event> enqueue_with_progress(Runtime& runtime, cl::Kernel& kerne
                                              const cl::NDRange& range, const std::string& what,
                                              const std::vector<cl::Event>& wait = {});
 
-// Kernel milliseconds of the events (0 without a profiling queue).
+// Kernel milliseconds of the events, once they are complete (0 without a profiling queue).
 double events_ms(const Runtime& runtime, const std::vector<cl::Event>& events);
+
+// What a build waits for: the field's `ready` event, when it has one.
+inline std::vector<cl::Event> field_ready(const DeviceHeightField& f) {
+    return f.ready() ? std::vector<cl::Event>{f.ready} : std::vector<cl::Event>{};
+}
 
 }  // namespace offsetmap

@@ -34,7 +34,10 @@ std::vector<cl::Event> enqueue_with_progress(Runtime& rt, cl::Kernel& kernel,
 double events_ms(const Runtime& rt, const std::vector<cl::Event>& events) {
     double ms = 0.0;
     if (rt.profiling())
-        for (const auto& e : events) ms += event_ms(e);
+        for (const auto& e : events) {
+            e.wait();
+            ms += event_ms(e);
+        }
     return ms;
 }
 
