@@ -151,6 +151,38 @@ TEST(CallerContext, BuffersTooSmallOrMisusedAreRefusedBeforeEnqueue) {
                          "the albedo image's texels holds"));
 }
 
+TEST(CallerContext, PrepareLeavesNothingToCompileForTheFirstFrame) {
+    auto shared = runtime();
+    HeightMap map = smooth_map(64);
+    GBuffer host = make_scene(RandomScene{40, 20, 3, 10.0, 90.0});
+    for (const std::string method : {"pom", "cone"}) {
+        for (bool lod : {false, true}) {
+            // A runtime of its own: nothing built before this pass.
+            auto rt =
+                std::make_shared<Runtime>(shared->context(), shared->device(), shared->queue());
+            PassSettings s;
+            s.scale = 0.06f;
+            s.lod.enabled = s.lod.footprint = lod;
+            DeviceHeightField field = upload(*rt, map, s);
+            DeviceGBuffer g = upload(*rt, host);
+            OffsetTargets t;  // uv alone: not the variant the constructor builds
+            t.uv = cl::Buffer(rt->context(), CL_MEM_READ_WRITE, host.pixels() * sizeof(cl_float2));
+            OffsetPass pass(rt, method);
+            pass.prepare(g, field, s, t);
+            const size_t built = rt->programs_built();
+            pass.enqueue(g, field, s, t).wait();
+            EXPECT_EQ(rt->programs_built(), built) << method << (lod ? " with LOD" : "");
+            // And prepare launched over no pixels: it wrote nothing, the frame is the usual one.
+            std::vector<cl_float2> uv(host.pixels());
+            rt->queue().enqueueReadBuffer(t.uv, CL_TRUE, 0, uv.size() * sizeof(cl_float2),
+                                          uv.data());
+            OffsetResult ref = run(method, map, host, s);
+            EXPECT_EQ(std::memcmp(uv.data(), ref.uv.data(), uv.size() * sizeof(cl_float2)), 0)
+                << method;
+        }
+    }
+}
+
 // The pass's outputs read back on `rt`'s queue after `done`.
 OffsetResult read_back(Runtime& rt, const OffsetTargets& t, size_t n, const cl::Event& done) {
     OffsetResult r;

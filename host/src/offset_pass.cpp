@@ -106,6 +106,17 @@ cl::Buffer OffsetPass::footprint(const DeviceGBuffer& g, const DeviceHeightField
 cl::Event OffsetPass::enqueue(const DeviceGBuffer& g, const DeviceHeightField& f,
                               const PassSettings& settings, const OffsetTargets& t,
                               const std::vector<cl::Event>& wait) {
+    return launch(g, f, settings, t, wait, false);
+}
+
+void OffsetPass::prepare(const DeviceGBuffer& g, const DeviceHeightField& f,
+                         const PassSettings& settings, const OffsetTargets& t) {
+    launch(g, f, settings, t, {}, true).wait();
+}
+
+cl::Event OffsetPass::launch(const DeviceGBuffer& g, const DeviceHeightField& f,
+                             const PassSettings& settings, const OffsetTargets& t,
+                             const std::vector<cl::Event>& wait, bool no_pixels) {
     validate(settings);
     const cl::Context& context = runtime_->context();
     check_gbuffer(context, g);
@@ -120,7 +131,10 @@ cl::Event OffsetPass::enqueue(const DeviceGBuffer& g, const DeviceHeightField& f
     check_buffer(context, t.flags,
                  {"the offset pass's flags output", "uint", sizeof(cl_uint), n, true, true});
     prepare(f, settings);
-    OmOffsetParams p = offset_params(settings, static_cast<int>(g.pixels()), f.width, f.height);
+    // Over no pixels, the launch only makes the driver generate the kernel's code (PoCL does it at
+    // a kernel's first launch): every work-item returns at once and nothing is written.
+    OmOffsetParams p =
+        offset_params(settings, no_pixels ? 0 : static_cast<int>(g.pixels()), f.width, f.height);
     p.mip_levels = f.mip_levels;
     std::copy(params_.values.begin(), params_.values.end(), p.p);
     // The image path where the runtime wants it and the pyramid fits an image1d_buffer.
@@ -154,9 +168,10 @@ cl::Event OffsetPass::enqueue(const DeviceGBuffer& g, const DeviceHeightField& f
             }
         }
         set_optional(k, 5, lod);
-        runtime_->queue().enqueueNDRangeKernel(k, cl::NullRange,
-                                               padded((g.pixels() + lanes_ - 1) / lanes_),
-                                               cl::NDRange(kLocalSize), &deps, &event);
+        const cl::NDRange global =
+            no_pixels ? cl::NDRange(kLocalSize) : padded((g.pixels() + lanes_ - 1) / lanes_);
+        runtime_->queue().enqueueNDRangeKernel(k, cl::NullRange, global, cl::NDRange(kLocalSize),
+                                               &deps, &event);
     } catch (const cl::Error& e) {
         throw Error("cannot run the '" + method_->name +
                     "' offset pass: " + describe_cl_error(e.err()));

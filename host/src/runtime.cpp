@@ -171,6 +171,11 @@ cl::Program Runtime::program(const std::vector<std::string>& files, const std::s
 
 std::string Runtime::build_options() const { return "-cl-std=CL1.2"; }
 
+size_t Runtime::programs_built() const {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return programs_.size();
+}
+
 std::vector<std::string> Runtime::build_warnings() const {
     std::lock_guard<std::mutex> lock(mutex_);
     return warnings_;

@@ -38,6 +38,13 @@ class OffsetPass {
                       const PassSettings& settings, const OffsetTargets& targets,
                       const std::vector<cl::Event>& wait = {});
 
+    // Everything the first enqueue of this shape (settings, which outputs are bound, the field)
+    // would otherwise do itself, done now and waited for: the program variant, the driver's code
+    // for it (a launch over no pixels), the footprint pre-pass and the precomputed data. A frame
+    // enqueued after it compiles nothing (tested).
+    void prepare(const DeviceGBuffer& gbuffer, const DeviceHeightField& field,
+                 const PassSettings& settings, const OffsetTargets& targets);
+
     const MethodInfo& method() const { return *method_; }
     const MethodParams& params() const { return params_; }
     int lanes() const { return lanes_; }  // pixels per work-item
@@ -60,6 +67,9 @@ class OffsetPass {
     void prepare(const DeviceHeightField& field, const PassSettings& settings);
 
   private:
+    cl::Event launch(const DeviceGBuffer& g, const DeviceHeightField& f,
+                     const PassSettings& settings, const OffsetTargets& t,
+                     const std::vector<cl::Event>& wait, bool no_pixels);
     // Enqueues the footprint pre-pass after `wait`; `done` becomes its event.
     cl::Buffer footprint(const DeviceGBuffer& g, const DeviceHeightField& f,
                          const std::vector<cl::Event>& wait, cl::Event& done);

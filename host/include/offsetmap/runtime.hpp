@@ -45,6 +45,8 @@ class Runtime {
     cl::Program program(const std::vector<std::string>& files, const std::string& defines = "");
     // The options every program is built with.
     std::string build_options() const;
+    // Programs built so far (each a compile; a pass's first frame after prepare adds none).
+    size_t programs_built() const;
     // The compiler's warnings for the programs built so far ("files:\nlog" each); empty when
     // every one built clean. A driver that loads a program from its cache may log nothing.
     std::vector<std::string> build_warnings() const;
