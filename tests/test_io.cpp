@@ -107,3 +107,26 @@ TEST(Scenes, SweepAndRandomCoverTheirRanges) {
 
 }  // namespace
 }  // namespace omtest
+
+namespace omtest {
+namespace {
+
+TEST(ContactSheet, SmallFramesAreEnlargedSoTheirLabelsFit) {
+    // A 64 x 32 frame (a small G-buffer): its tile grows by whole texels to at least 560 wide.
+    Rgb8 tile{64, 32, std::vector<std::uint8_t>(64 * 32 * 3)};
+    for (size_t k = 0; k < tile.rgb.size(); ++k) tile.rgb[k] = static_cast<std::uint8_t>(k * 7);
+    Rgb8 sheet = contact_sheet({{"a label as long as the compare command writes", tile}}, 1);
+    const int zoom = 9, pad = 6, label_h = 28;  // ceil(560 / 64)
+    EXPECT_EQ(sheet.width, 64 * zoom + 2 * pad);
+    EXPECT_EQ(sheet.height, 32 * zoom + label_h + 2 * pad);
+    // Nearest texel: every sheet pixel of the tile is its source texel.
+    for (int y = 0; y < 32 * zoom; y += 13)
+        for (int x = 0; x < 64 * zoom; x += 11)
+            for (int c = 0; c < 3; ++c)
+                ASSERT_EQ(sheet.rgb[((pad + label_h + y) * sheet.width + pad + x) * 3 + c],
+                          tile.rgb[((y / zoom) * 64 + x / zoom) * 3 + c])
+                    << x << ", " << y;
+}
+
+}  // namespace
+}  // namespace omtest

@@ -59,6 +59,10 @@ Rgb8 contact_sheet(const std::vector<std::pair<std::string, Rgb8>>& tiles, int c
     int tw = 0, th = 0;
     for (const auto& t : tiles)
         tw = std::max(tw, t.second.width), th = std::max(th, t.second.height);
+    // Small frames are enlarged (whole pixels, no filtering) so that a label fits above its tile.
+    const int min_tile_w = 560, zoom = tw > 0 && tw < min_tile_w ? (min_tile_w + tw - 1) / tw : 1;
+    tw *= zoom;
+    th *= zoom;
     const int cols = std::max(1, std::min(columns, static_cast<int>(tiles.size())));
     const int rows = (static_cast<int>(tiles.size()) + cols - 1) / cols;
     const int cw = tw + pad, ch = th + label_h + pad;
@@ -71,6 +75,12 @@ Rgb8 contact_sheet(const std::vector<std::pair<std::string, Rgb8>>& tiles, int c
         int x0 = pad + static_cast<int>(n % cols) * cw, y0 = pad + static_cast<int>(n / cols) * ch;
         OIIO::ImageBuf tile(OIIO::ImageSpec(img.width, img.height, 3, OIIO::TypeDesc::UINT8),
                             const_cast<std::uint8_t*>(img.rgb.data()));
+        if (zoom > 1) {
+            OIIO::ImageBuf big(
+                OIIO::ImageSpec(img.width * zoom, img.height * zoom, 3, OIIO::TypeDesc::UINT8));
+            OIIO::ImageBufAlgo::resample(big, tile, false);
+            tile.swap(big);
+        }
         OIIO::ImageBufAlgo::paste(sheet, x0, y0 + label_h, 0, 0, tile);
         const float white[3] = {0.92f, 0.92f, 0.92f};
         // A missing font only loses the label, never the sheet.

@@ -68,7 +68,8 @@ Rgb8 to_srgb8(int width, int height, const std::vector<cl_float4>& linear);
 // dark grey (no data). Colours run black - purple - orange - pale yellow.
 Rgb8 heat_map(int width, int height, const std::vector<float>& values, float vmax);
 
-// Labelled images in a grid of `columns`, each tile with its label above it.
+// Labelled images in a grid of `columns`, each tile with its label above it; tiles narrower than
+// 560 pixels are enlarged by a whole factor (nearest texel) so that their labels fit.
 Rgb8 contact_sheet(const std::vector<std::pair<std::string, Rgb8>>& tiles, int columns);
 
 // Writes PNG (or any format by extension); throws Error naming the file.
