@@ -66,6 +66,15 @@ struct ShadingOptions {
 
     void add_to(CLI::App& app);
     ShadeSettings shade_settings() const;
+
+    // The normal map and albedo files given, read (before any device work).
+    struct Files {
+        Image4 normals, albedo;  // 0 x 0 when not given
+        const Image4* normal_map() const { return normals.width ? &normals : nullptr; }
+        // The albedo uploaded into `storage`; null when there is none.
+        const DeviceImage* upload_albedo(Runtime& runtime, DeviceImage& storage) const;
+    };
+    Files read_files() const;
     // The first shading option given on the command line ("" when none).
     std::string first_given() const;
 

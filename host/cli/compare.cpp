@@ -17,30 +17,24 @@ int run_compare(const std::string& out_dir, const ReliefOptions& relief,
     HeightMap map = load_height_map(relief.height_map, relief.load_options());
     GBuffer gb = scene.make();
     if (shading.light.size() == 3) gb.light.clear();  // an explicit light wins
-    Image4 normals, albedo;
-    if (!shading.normal_map.empty())
-        normals = load_normal_map(shading.normal_map, shading.flip_green);
-    if (!shading.albedo.empty()) albedo = load_image4(shading.albedo);
+    const ShadingOptions::Files files = shading.read_files();
     std::error_code ec;
     std::filesystem::create_directories(out_dir, ec);
     if (ec) throw Error("cannot create output folder '" + out_dir + "': " + ec.message());
 
     auto rt = Runtime::create(relief.device);
     show_progress(*rt);
-    DeviceHeightField field =
-        upload(*rt, map, settings, shading.normal_map.empty() ? nullptr : &normals);
+    DeviceHeightField field = upload(*rt, map, settings, files.normal_map());
     DeviceGBuffer dg = upload(*rt, gb);
     DeviceImage dalbedo;
-    if (!shading.albedo.empty()) dalbedo = upload(*rt, albedo);
-    const DeviceImage* albedo_in = shading.albedo.empty() ? nullptr : &dalbedo;
+    const DeviceImage* albedo_in = files.upload_albedo(*rt, dalbedo);
     ShadePass shade(rt);
     ShadeSettings ss = shading.shade_settings();
 
     OffsetPass exact_pass(rt, "exact");
     OffsetResult exact = run_offset(*rt, exact_pass, dg, field, settings, 1);
 
-    size_t traced_n = 0;
-    for (auto f : exact.flags) traced_n += traced(f);
+    const size_t traced_n = traced_pixels(exact);
     std::printf("offsetmap compare: %s (%dx%d, s = %g, r = %g) on %s, %s (%dx%d, %zu traced)\n",
                 relief.height_map.c_str(), map.width, map.height, settings.scale,
                 settings.reference_plane, rt->device_name().c_str(), scene.describe().c_str(),

@@ -72,21 +72,16 @@ int render(const ReliefOptions& relief, const ShadingOptions& shading, const Sce
                   << "' were outside [0,1] and were clamped\n";
     GBuffer gb = scene.make();
     if (shading.light.size() == 3) gb.light.clear();  // an explicit light wins
-    Image4 normals, albedo;
-    if (!shading.normal_map.empty())
-        normals = load_normal_map(shading.normal_map, shading.flip_green);
-    if (!shading.albedo.empty()) albedo = load_image4(shading.albedo);
+    const ShadingOptions::Files files = shading.read_files();
 
     auto rt = Runtime::create(relief.device);
     show_progress(*rt);
-    DeviceHeightField field =
-        upload(*rt, map, settings, shading.normal_map.empty() ? nullptr : &normals);
+    DeviceHeightField field = upload(*rt, map, settings, files.normal_map());
     DeviceGBuffer dg = upload(*rt, gb);
     OffsetPass pass(rt, params);
     OffsetResult result = run_offset(*rt, pass, dg, field, settings, 1);
 
-    size_t traced_n = 0;
-    for (auto f : result.flags) traced_n += traced(f);
+    const size_t traced_n = traced_pixels(result);
     if (traced_n == 0)
         std::printf(
             "%s on %s: %dx%d pixels, none traced (every pixel is empty, back-facing or "
@@ -103,9 +98,8 @@ int render(const ReliefOptions& relief, const ShadingOptions& shading, const Sce
         ShadePass shade(rt);
         ShadeSettings ss = shading.shade_settings();
         DeviceImage dalbedo;
-        if (!shading.albedo.empty()) dalbedo = upload(*rt, albedo);
-        auto rgba = run_shade(*rt, shade, result, dg, field,
-                              shading.albedo.empty() ? nullptr : &dalbedo, settings, ss);
+        auto rgba = run_shade(*rt, shade, result, dg, field, files.upload_albedo(*rt, dalbedo),
+                              settings, ss);
         write_image(req.color_out, to_srgb8(gb.width, gb.height, rgba));
     }
     if (!req.error_out.empty()) {

@@ -101,6 +101,20 @@ ShadeSettings ShadingOptions::shade_settings() const {
     return s;
 }
 
+ShadingOptions::Files ShadingOptions::read_files() const {
+    Files files;
+    if (!normal_map.empty()) files.normals = load_normal_map(normal_map, flip_green);
+    if (!albedo.empty()) files.albedo = load_image4(albedo);
+    return files;
+}
+
+const DeviceImage* ShadingOptions::Files::upload_albedo(Runtime& runtime,
+                                                        DeviceImage& storage) const {
+    if (!albedo.width) return nullptr;
+    storage = upload(runtime, albedo);
+    return &storage;
+}
+
 std::string ShadingOptions::first_given() const {
     for (const auto* o : options_)
         if (o->count()) return o->get_name();

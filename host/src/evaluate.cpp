@@ -20,6 +20,10 @@ bool traced(std::uint32_t flags) {
     return (flags & (OM_FLAG_EMPTY | OM_FLAG_INVALID | OM_FLAG_BACKFACING)) == 0u;
 }
 
+size_t traced_pixels(const OffsetResult& r) {
+    return static_cast<size_t>(std::count_if(r.flags.begin(), r.flags.end(), traced));
+}
+
 double mean_fetches(const OffsetResult& r) {
     double sum = 0;
     size_t n = 0;

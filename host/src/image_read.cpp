@@ -146,10 +146,7 @@ template <typename T>
 std::vector<T> allocate(size_t n, const std::string& what) {
     try {
         return std::vector<T>(n);
-    } catch (const std::bad_alloc&) {
-        throw Error("out of memory allocating " + mib(static_cast<double>(n) * sizeof(T)) +
-                    " for " + what);
-    } catch (const std::length_error&) {
+    } catch (const std::exception&) {  // std::bad_alloc, or std::length_error past max_size()
         throw Error("out of memory allocating " + mib(static_cast<double>(n) * sizeof(T)) +
                     " for " + what);
     }

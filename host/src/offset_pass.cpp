@@ -43,9 +43,13 @@ cl::Kernel& OffsetPass::kernel(bool lod, bool depth, bool fetches, bool flags, b
 }
 
 void OffsetPass::prepare(const DeviceHeightField& f, const PassSettings& settings) {
+    check_field(runtime_->context(), f);
+    build_precomputed(f, settings);
+}
+
+void OffsetPass::build_precomputed(const DeviceHeightField& f, const PassSettings& settings) {
     const PrecomputeSpec* spec = method_->precompute;
     if (!spec) return;
-    check_field(runtime_->context(), f);
     std::ostringstream key;
     key << f.heights() << ' ' << f.width << 'x' << f.height << ' ' << settings.scale << ' '
         << static_cast<int>(settings.address);
@@ -130,7 +134,7 @@ cl::Event OffsetPass::launch(const DeviceGBuffer& g, const DeviceHeightField& f,
                  {"the offset pass's fetches output", "uint", sizeof(cl_uint), n, true, true});
     check_buffer(context, t.flags,
                  {"the offset pass's flags output", "uint", sizeof(cl_uint), n, true, true});
-    prepare(f, settings);
+    build_precomputed(f, settings);
     // Over no pixels, the launch only makes the driver generate the kernel's code (PoCL does it at
     // a kernel's first launch): every work-item returns at once and nothing is written.
     OmOffsetParams p =

@@ -46,6 +46,7 @@ ErrorStats uv_error(const OffsetResult& result, const OffsetResult& reference, i
 bool traced(std::uint32_t flags);
 
 // Height fetches per traced pixel (the cost measure every tool reports), and the most one made.
+size_t traced_pixels(const OffsetResult& result);  // pixels with traced(flags)
 double mean_fetches(const OffsetResult& result);
 double max_fetches(const OffsetResult& result);
 

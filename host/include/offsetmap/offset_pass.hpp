@@ -67,6 +67,8 @@ class OffsetPass {
     void prepare(const DeviceHeightField& field, const PassSettings& settings);
 
   private:
+    // prepare(field, settings) without the field's check (launch has made it).
+    void build_precomputed(const DeviceHeightField& f, const PassSettings& settings);
     cl::Event launch(const DeviceGBuffer& g, const DeviceHeightField& f,
                      const PassSettings& settings, const OffsetTargets& t,
                      const std::vector<cl::Event>& wait, bool no_pixels);
