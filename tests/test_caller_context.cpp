@@ -275,5 +275,51 @@ TEST(CallerContext, OutOfOrderQueueGivesTheInOrderFrame) {
                           run(runs[k].first, inverted, host, s), "gated " + runs[k].first);
 }
 
+// One runtime, three of the caller's queues (the runtime's, another in-order one and an
+// out-of-order one): the same frame from each, no program built for the second and third, and
+// a queue of another context refused.
+TEST(CallerContext, OneRuntimeServesSeveralQueues) {
+    cl::Device device = runtime()->device();
+    cl::Context context(device);
+    cl::CommandQueue own(context, device);
+    auto rt = std::make_shared<Runtime>(context, device, own);
+    const std::vector<cl::CommandQueue> queues = {
+        cl::CommandQueue(), cl::CommandQueue(context, device),
+        cl::CommandQueue(context, device, CL_QUEUE_OUT_OF_ORDER_EXEC_MODE_ENABLE)};
+    HeightMap map = smooth_map(64);
+    GBuffer host = make_scene(RandomScene{40, 24, 23, 8.0, 90.0});
+    const size_t n = host.pixels();
+    PassSettings s;
+    s.scale = 0.06f;
+    s.lod.enabled = s.lod.footprint = true;  // the footprint pre-pass goes on the queue too
+    DeviceHeightField field = upload(*rt, map, s);
+    DeviceGBuffer g = upload(*rt, host);
+    const OffsetResult want = run("cone", map, host, s);
+    OffsetPass pass(rt, "cone");
+    ShadePass shade(rt);
+    size_t built = 0;
+    for (size_t q = 0; q < queues.size(); ++q) {
+        OffsetTargets t;
+        t.uv = cl::Buffer(context, CL_MEM_READ_WRITE, n * sizeof(cl_float2));
+        t.depth = cl::Buffer(context, CL_MEM_READ_WRITE, n * sizeof(float));
+        t.fetches = cl::Buffer(context, CL_MEM_READ_WRITE, n * sizeof(cl_uint));
+        t.flags = cl::Buffer(context, CL_MEM_READ_WRITE, n * sizeof(cl_uint));
+        cl::Event done = pass.enqueue(g, field, s, t, {}, queues[q]);
+        cl::Buffer rgba(context, CL_MEM_READ_WRITE, n * sizeof(cl_float4));
+        shade.enqueue(t.uv, t.flags, g, field, nullptr, s, ShadeSettings{}, rgba, {done}, queues[q])
+            .wait();
+        expect_same_frame(read_back(*rt, t, n, done), want, "queue " + std::to_string(q));
+        if (q == 0) built = rt->programs_built();
+        EXPECT_EQ(rt->programs_built(), built) << "queue " << q;
+    }
+    cl::Context other(device);
+    OffsetTargets t;
+    t.uv = cl::Buffer(context, CL_MEM_READ_WRITE, n * sizeof(cl_float2));
+    EXPECT_TRUE(contains(error_of([&] {
+                             pass.enqueue(g, field, s, t, {}, cl::CommandQueue(other, device));
+                         }),
+                         "the queue given to the pass belongs to another OpenCL context"));
+}
+
 }  // namespace
 }  // namespace omtest

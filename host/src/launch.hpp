@@ -7,6 +7,7 @@
 #include "offsetmap/error.hpp"
 #include "offsetmap/gbuffer.hpp"
 #include "offsetmap/heightmap.hpp"
+#include "offsetmap/runtime.hpp"
 
 namespace offsetmap {
 
@@ -81,6 +82,19 @@ inline void check_buffer(const cl::Context& context, const cl::Buffer& b, const 
         throw Error(name + " is read-only (CL_MEM_READ_ONLY), but the pass writes it");
     if (!use.written && (flags & CL_MEM_WRITE_ONLY))
         throw Error(name + " is write-only (CL_MEM_WRITE_ONLY), but the pass reads it");
+}
+
+// The queue a pass enqueues on: the caller's `queue` when given (checked to be on the runtime's
+// context), else the runtime's own.
+inline const cl::CommandQueue& pass_queue(const Runtime& rt, const cl::CommandQueue& queue) {
+    if (!queue()) return rt.queue();
+    cl_context owner = nullptr;
+    if (clGetCommandQueueInfo(queue(), CL_QUEUE_CONTEXT, sizeof owner, &owner, nullptr) !=
+        CL_SUCCESS)
+        throw Error("the queue given to the pass is not a valid OpenCL command queue");
+    if (owner != rt.context()())
+        throw Error("the queue given to the pass belongs to another OpenCL context");
+    return queue;
 }
 
 inline void check_field(const cl::Context& context, const DeviceHeightField& f,

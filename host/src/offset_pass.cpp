@@ -90,7 +90,8 @@ const cl::Image1DBuffer& OffsetPass::heights_image(const DeviceHeightField& f) {
 }
 
 cl::Buffer OffsetPass::footprint(const DeviceGBuffer& g, const DeviceHeightField& f,
-                                 const std::vector<cl::Event>& wait, cl::Event& done) {
+                                 const std::vector<cl::Event>& wait, const cl::CommandQueue& queue,
+                                 cl::Event& done) {
     auto& rt = *runtime_;
     if (footprint_pixels_ != g.pixels()) {
         footprint_ = device_buffer(rt.context(), CL_MEM_READ_WRITE, g.pixels() * sizeof(float),
@@ -102,27 +103,29 @@ cl::Buffer OffsetPass::footprint(const DeviceGBuffer& g, const DeviceHeightField
     cl::Kernel& k = footprint_kernel_;
     set_args(k, g.uv, g.width, g.height, static_cast<float>(f.width), static_cast<float>(f.height),
              footprint_);
-    rt.queue().enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(g.width, g.height), cl::NullRange,
-                                    &wait, &done);
+    queue.enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(g.width, g.height), cl::NullRange,
+                               &wait, &done);
     return footprint_;
 }
 
 cl::Event OffsetPass::enqueue(const DeviceGBuffer& g, const DeviceHeightField& f,
                               const PassSettings& settings, const OffsetTargets& t,
-                              const std::vector<cl::Event>& wait) {
-    return launch(g, f, settings, t, wait, false);
+                              const std::vector<cl::Event>& wait, const cl::CommandQueue& queue) {
+    return launch(g, f, settings, t, wait, queue, false);
 }
 
 void OffsetPass::prepare(const DeviceGBuffer& g, const DeviceHeightField& f,
                          const PassSettings& settings, const OffsetTargets& t) {
-    launch(g, f, settings, t, {}, true).wait();
+    launch(g, f, settings, t, {}, cl::CommandQueue(), true).wait();
 }
 
 cl::Event OffsetPass::launch(const DeviceGBuffer& g, const DeviceHeightField& f,
                              const PassSettings& settings, const OffsetTargets& t,
-                             const std::vector<cl::Event>& wait, bool no_pixels) {
+                             const std::vector<cl::Event>& wait,
+                             const cl::CommandQueue& queue_given, bool no_pixels) {
     validate(settings);
     const cl::Context& context = runtime_->context();
+    const cl::CommandQueue& queue = pass_queue(*runtime_, queue_given);
     check_gbuffer(context, g);
     check_field(context, f);
     const size_t n = g.pixels();
@@ -167,15 +170,15 @@ cl::Event OffsetPass::launch(const DeviceGBuffer& g, const DeviceHeightField& f,
                 lod = g.lod;
             } else {
                 cl::Event levels;
-                lod = footprint(g, f, wait, levels);
+                lod = footprint(g, f, wait, queue, levels);
                 deps.push_back(levels);
             }
         }
         set_optional(k, 5, lod);
         const cl::NDRange global =
             no_pixels ? cl::NDRange(kLocalSize) : padded((g.pixels() + lanes_ - 1) / lanes_);
-        runtime_->queue().enqueueNDRangeKernel(k, cl::NullRange, global, cl::NDRange(kLocalSize),
-                                               &deps, &event);
+        queue.enqueueNDRangeKernel(k, cl::NullRange, global, cl::NDRange(kLocalSize), &deps,
+                                   &event);
     } catch (const cl::Error& e) {
         throw Error("cannot run the '" + method_->name +
                     "' offset pass: " + describe_cl_error(e.err()));

@@ -28,8 +28,10 @@ ShadePass::ShadePass(std::shared_ptr<Runtime> runtime) : runtime_(std::move(runt
 cl::Event ShadePass::enqueue(const cl::Buffer& uv, const cl::Buffer& flags, const DeviceGBuffer& g,
                              const DeviceHeightField& f, const DeviceImage* albedo,
                              const PassSettings& settings, const ShadeSettings& s,
-                             const cl::Buffer& out_rgba, const std::vector<cl::Event>& wait) {
+                             const cl::Buffer& out_rgba, const std::vector<cl::Event>& wait,
+                             const cl::CommandQueue& queue) {
     const cl::Context& context = runtime_->context();
+    const cl::CommandQueue& q = pass_queue(*runtime_, queue);
     check_gbuffer(context, g);
     check_field(context, f, true);
     const size_t n = g.pixels();
@@ -88,8 +90,8 @@ cl::Event ShadePass::enqueue(const cl::Buffer& uv, const cl::Buffer& flags, cons
     try {
         std::vector<cl::Event> deps = wait;  // and the field's upload
         if (f.ready()) deps.push_back(f.ready);
-        runtime_->queue().enqueueNDRangeKernel(kernel_, cl::NullRange, padded(g.pixels()),
-                                               cl::NDRange(kLocalSize), &deps, &event);
+        q.enqueueNDRangeKernel(kernel_, cl::NullRange, padded(g.pixels()), cl::NDRange(kLocalSize),
+                               &deps, &event);
     } catch (const cl::Error& e) {
         throw Error(std::string("cannot run the shading pass: ") + describe_cl_error(e.err()));
     }

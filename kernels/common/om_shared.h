@@ -94,6 +94,37 @@ typedef struct {
     om_float p[OM_MAX_METHOD_PARAMS];  // method parameters: read with OM_PARAM(P, name)
 } OmOffsetParams;
 
+// The engine-shaped G-buffer (offsetmap/engine_gbuffer.hpp) and heights in the caller's memory:
+// how a buffer stores its values (images carry their own format), the depth buffer's convention,
+// the tangent frame's form and the light.
+enum {
+    OM_STORAGE_FLOAT = 0,
+    OM_STORAGE_HALF = 1,
+    OM_STORAGE_SNORM16 = 2,  // max(c / 32767, -1)
+    OM_STORAGE_UNORM16 = 3,  // c / 65535
+    OM_STORAGE_UNORM8 = 4    // c / 255
+};
+// Window depth d: GL, NDC z = 2d - 1 and the far plane at d = 1; zero-one (D3D, Vulkan, GL with
+// glClipControl), NDC z = d, far at 1; reversed (zero-one with near and far swapped), far at 0.
+enum { OM_DEPTH_GL = 0, OM_DEPTH_ZERO_ONE = 1, OM_DEPTH_REVERSED = 2 };
+enum { OM_FRAME_NORMAL_TANGENT = 0, OM_FRAME_QUATERNION = 1 };
+enum { OM_LIGHT_NONE = 0, OM_LIGHT_DIRECTIONAL = 1, OM_LIGHT_POINT = 2 };
+
+typedef struct {
+    om_int width, height;
+    om_float inv_view_proj[16];  // NDC -> world, column-major: row r, column c at [4 c + r]
+    om_float eye[3];             // world position of the eye
+    om_int depth_convention;     // OM_DEPTH_*
+    om_float row0_ndc_y;         // NDC y of pixel row 0's edge: +1 (D3D) or -1 (GL, Vulkan)
+    om_int frame;                // OM_FRAME_*
+    om_int light;                // OM_LIGHT_*
+    om_float light_vec[3];       // world direction toward the light (unit), or its position
+    om_int depth_storage;        // OM_STORAGE_* of each buffer input (unused for images)
+    om_int frame_storage;        // the normal (or quaternion) input
+    om_int tangent_storage;
+    om_int uv_storage;
+} OmReconstructParams;
+
 // Dimensions of mip level k of a W x H map: each level halves (rounding down, at least 1).
 #define OM_MAX_MIP_LEVELS 16
 

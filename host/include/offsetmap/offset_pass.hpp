@@ -24,8 +24,10 @@ struct OffsetTargets {
     cl::Buffer flags;
 };
 
-// One method's offset pass. Enqueues on the runtime's queue (the caller's, when the runtime wraps
-// the caller's objects) after `wait`, and returns the kernel's event.
+// One method's offset pass. Enqueues on `queue` (any queue of the runtime's context; the runtime's
+// own when null) after `wait`, and returns the kernel's event. One runtime serves any number of
+// queues: programs are built once per runtime. A pass object keeps its kernels' arguments, so
+// each thread that enqueues uses its own OffsetPass.
 class OffsetPass {
   public:
     // The method by name with parameter overrides (name -> text), resolved here; or with
@@ -36,7 +38,8 @@ class OffsetPass {
 
     cl::Event enqueue(const DeviceGBuffer& gbuffer, const DeviceHeightField& field,
                       const PassSettings& settings, const OffsetTargets& targets,
-                      const std::vector<cl::Event>& wait = {});
+                      const std::vector<cl::Event>& wait = {},
+                      const cl::CommandQueue& queue = cl::CommandQueue());
 
     // Everything the first enqueue of this shape (settings, which outputs are bound, the field)
     // would otherwise do itself, done now and waited for: the program variant, the driver's code
@@ -71,10 +74,12 @@ class OffsetPass {
     void build_precomputed(const DeviceHeightField& f, const PassSettings& settings);
     cl::Event launch(const DeviceGBuffer& g, const DeviceHeightField& f,
                      const PassSettings& settings, const OffsetTargets& t,
-                     const std::vector<cl::Event>& wait, bool no_pixels);
-    // Enqueues the footprint pre-pass after `wait`; `done` becomes its event.
+                     const std::vector<cl::Event>& wait, const cl::CommandQueue& queue,
+                     bool no_pixels);
+    // Enqueues the footprint pre-pass on `queue` after `wait`; `done` becomes its event.
     cl::Buffer footprint(const DeviceGBuffer& g, const DeviceHeightField& f,
-                         const std::vector<cl::Event>& wait, cl::Event& done);
+                         const std::vector<cl::Event>& wait, const cl::CommandQueue& queue,
+                         cl::Event& done);
 
     // The entry kernel specialised for LOD on/off and the optional outputs bound.
     cl::Kernel& kernel(bool lod, bool depth, bool fetches, bool flags, bool images);

@@ -6,6 +6,7 @@
 #include "offsetmap/error.hpp"
 #include "offsetmap/gbuffer.hpp"
 #include "offsetmap/heightmap.hpp"
+#include "offsetmap/engine_gbuffer.hpp"
 #include "offsetmap/passes.hpp"
 #include "offsetmap/registry.hpp"
 #include "offsetmap/runtime.hpp"

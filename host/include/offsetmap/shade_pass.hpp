@@ -32,7 +32,8 @@ struct DeviceImage {
 DeviceImage upload(Runtime& runtime, const Image4& image);
 
 // Blinn-Phong at uv' with the field's normals; writes linear RGBA float4 per pixel (alpha 0 where
-// the pixel is empty). Knows nothing of the method that produced uv'.
+// the pixel is empty). Knows nothing of the method that produced uv'. Enqueues on `queue` (the
+// runtime's when null) after `wait`.
 class ShadePass {
   public:
     explicit ShadePass(std::shared_ptr<Runtime> runtime);
@@ -40,7 +41,8 @@ class ShadePass {
     cl::Event enqueue(const cl::Buffer& uv, const cl::Buffer& flags, const DeviceGBuffer& gbuffer,
                       const DeviceHeightField& field, const DeviceImage* albedo,
                       const PassSettings& settings, const ShadeSettings& shade,
-                      const cl::Buffer& out_rgba, const std::vector<cl::Event>& wait = {});
+                      const cl::Buffer& out_rgba, const std::vector<cl::Event>& wait = {},
+                      const cl::CommandQueue& queue = cl::CommandQueue());
 
   private:
     std::shared_ptr<Runtime> runtime_;

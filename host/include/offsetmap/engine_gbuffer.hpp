@@ -1,0 +1,132 @@
+// The G-buffer as engines write it (depth, camera, tangent frame, uv; buffers or images, float,
+// half or snorm16) and the pass that reconstructs from it, on the device, the explicit G-buffer the
+// offset and shade passes read (tangent-space V and L per pixel).
+#pragma once
+#include <array>
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "offsetmap/cl.hpp"
+#include "offsetmap/gbuffer.hpp"
+#include "offsetmap/runtime.hpp"
+#include "om_shared.h"
+
+namespace offsetmap {
+
+// How a buffer input stores its values (images carry their own format).
+enum class Storage : om_int {
+    Float = OM_STORAGE_FLOAT,
+    Half = OM_STORAGE_HALF,
+    Snorm16 = OM_STORAGE_SNORM16,  // max(c / 32767, -1)
+    Unorm16 = OM_STORAGE_UNORM16,  // c / 65535
+    Unorm8 = OM_STORAGE_UNORM8     // c / 255
+};
+size_t storage_bytes(Storage storage);
+
+// One input in the caller's memory: either a buffer of tightly packed pixels (row 0 first, the
+// input's values per pixel in `storage`), or a width x height 2D image read with read_imagef
+// (CL_R, CL_RG or CL_RGBA as the input needs; CL_FLOAT, CL_HALF_FLOAT, CL_UNORM_INT8/16 or
+// CL_SNORM_INT8/16).
+struct Input {
+    cl::Buffer buffer;
+    Storage storage = Storage::Float;
+    cl::Image2D image;
+
+    bool bound() const { return buffer() || image(); }
+};
+
+// Window depth d as the depth buffer holds it: GL, NDC z = 2d - 1 (far plane d = 1); zero-one,
+// NDC z = d (D3D, Vulkan, GL with glClipControl; far d = 1); reversed, NDC z = d with the far plane
+// at d = 0 (infinite far planes included).
+enum class DepthConvention : om_int {
+    GL = OM_DEPTH_GL,
+    ZeroToOne = OM_DEPTH_ZERO_ONE,
+    Reversed = OM_DEPTH_REVERSED
+};
+
+// Which NDC y pixel row 0 sits at: the top (+1; D3D) or the bottom (-1; GL's framebuffer rows,
+// Vulkan).
+enum class FirstRow : om_int { Top = 1, Bottom = -1 };
+
+struct EngineCamera {
+    // NDC -> world, column-major (GLM's and GL's layout): row r, column c at [4 c + r].
+    std::array<float, 16> inverse_view_projection = {1, 0, 0, 0, 0, 1, 0, 0,
+                                                     0, 0, 1, 0, 0, 0, 0, 1};
+    std::array<float, 3> eye = {0, 0, 0};  // world position
+    DepthConvention depth = DepthConvention::ZeroToOne;
+    FirstRow first_row = FirstRow::Top;
+};
+
+// The tangent frame's form. NormalTangent: world normal (xyz; w unused) and tangent (xyz along
+// +u; w the handedness: w < 0 gives B = -N x T). Quaternion: the unit quaternion (x, y, z, w)
+// rotating tangent space (T, B, N columns) into the world; q and -q are the same rotation, so
+// w < 0 marks a mirrored frame (B = -N x T), and writers keep |w| at least one step of their
+// storage for mirrored frames.
+enum class FrameForm : om_int {
+    NormalTangent = OM_FRAME_NORMAL_TANGENT,
+    Quaternion = OM_FRAME_QUATERNION
+};
+
+enum class LightKind : om_int {
+    None = OM_LIGHT_NONE,
+    Directional = OM_LIGHT_DIRECTIONAL,  // vector: world direction toward the light
+    Point = OM_LIGHT_POINT               // vector: world position of the light
+};
+
+struct EngineLight {
+    LightKind kind = LightKind::None;
+    std::array<float, 3> vector = {0, 0, 1};
+};
+
+// The engine's G-buffer: per pixel depth (1 value), tangent frame (4 values each input) and uv
+// (2 values), with the camera that rendered it and the light. World units are the engine's.
+struct EngineGBuffer {
+    int width = 0;
+    int height = 0;
+    EngineCamera camera;
+    Input depth;
+    FrameForm frame = FrameForm::NormalTangent;
+    Input normal;   // NormalTangent; for Quaternion, the quaternion
+    Input tangent;  // NormalTangent only
+    Input uv;
+    EngineLight light;
+
+    size_t pixels() const { return static_cast<size_t>(width) * height; }
+};
+
+// Device buffers for an explicit G-buffer of width x height (light and lod when asked), readable
+// and writable: the reconstruct pass's output, the offset and shade passes' input.
+DeviceGBuffer allocate_gbuffer(Runtime& runtime, int width, int height, bool light, bool lod);
+
+// Reconstructs `out` (uv, view and, with a light, light) from the engine's G-buffer. Sky (depth
+// at the far plane) becomes an empty pixel (NaN uv); a degenerate frame or a depth that is not
+// finite a NaN V, which the offset pass flags INVALID, passing uv through.
+class ReconstructPass {
+  public:
+    explicit ReconstructPass(std::shared_ptr<Runtime> runtime);
+
+    // Enqueues on `queue` (the runtime's when null) after `wait`; returns the kernel's event.
+    // Throws Error naming the input whose buffer or image has the wrong size, type, format or
+    // context, before anything is enqueued.
+    cl::Event enqueue(const EngineGBuffer& in, const DeviceGBuffer& out,
+                      const std::vector<cl::Event>& wait = {},
+                      const cl::CommandQueue& queue = cl::CommandQueue());
+
+    // Checks the inputs, builds the program for this combination of buffers and images and the
+    // driver's code for it (a launch over no pixels), and waits: the first enqueue compiles
+    // nothing.
+    void prepare(const EngineGBuffer& in, const DeviceGBuffer& out);
+
+  private:
+    cl::Kernel& kernel(const EngineGBuffer& in);
+    cl::Event launch(const EngineGBuffer& in, const DeviceGBuffer& out,
+                     const std::vector<cl::Event>& wait, const cl::CommandQueue& queue,
+                     bool no_pixels);
+
+    std::shared_ptr<Runtime> runtime_;
+    std::map<std::string, cl::Kernel> kernels_;
+};
+
+}  // namespace offsetmap

@@ -1,0 +1,34 @@
+// Inputs in the caller's memory, as engines store them: a buffer of values in one of the
+// OM_STORAGE_* forms, or a 2D image read with read_imagef, whose format does the conversion.
+
+// Pixel (x, y) of an image, unfiltered.
+__constant sampler_t om_texel_sampler =
+    CLK_NORMALIZED_COORDS_FALSE | CLK_ADDRESS_CLAMP_TO_EDGE | CLK_FILTER_NEAREST;
+
+// Element i of a buffer holding values stored as `storage`. The unorm and snorm forms divide as
+// the OpenCL specification converts images (c / 65535, max(c / 32767, -1), ...), so a buffer and
+// an image of the same format agree to the conversion's rounding.
+OM_INLINE float om_stored(__global const uchar* p, int storage, size_t i) {
+    switch (storage) {
+        case OM_STORAGE_HALF:
+            return vload_half(i, (__global const half*)p);
+        case OM_STORAGE_SNORM16:
+            return fmax((float)((__global const short*)p)[i] / 32767.0f, -1.0f);
+        case OM_STORAGE_UNORM16:
+            return (float)((__global const ushort*)p)[i] / 65535.0f;
+        case OM_STORAGE_UNORM8:
+            return (float)p[i] / 255.0f;
+        default:
+            return ((__global const float*)p)[i];
+    }
+}
+
+// The first `n` values of pixel k of a buffer holding n values per pixel; the rest 0.
+OM_INLINE float4 om_stored_n(__global const uchar* p, int storage, size_t k, int n) {
+    float4 v = (float4)(0.0f);
+    v.x = om_stored(p, storage, k * n);
+    if (n > 1) v.y = om_stored(p, storage, k * n + 1);
+    if (n > 2) v.z = om_stored(p, storage, k * n + 2);
+    if (n > 3) v.w = om_stored(p, storage, k * n + 3);
+    return v;
+}
