@@ -51,31 +51,32 @@ size_t mip_pyramid_floats(int width, int height, int levels) {
     return total;
 }
 
-DeviceHeightField upload(Runtime& rt, const HeightMap& map, const PassSettings& settings,
-                         const Image4* normal_map, const std::vector<cl::Event>& wait) {
-    validate_height_map(map, "height map");
-    validate(settings);
-    if (normal_map && (normal_map->width != map.width || normal_map->height != map.height))
+namespace {
+
+// A field of width x height with its pyramid allocated, level 0 still to fill.
+DeviceHeightField allocate_field(Runtime& rt, int width, int height, const Image4* normal_map) {
+    if (normal_map && (normal_map->width != width || normal_map->height != height))
         throw Error("normal map is " + std::to_string(normal_map->width) + "x" +
                     std::to_string(normal_map->height) + " but the height map is " +
-                    std::to_string(map.width) + "x" + std::to_string(map.height));
+                    std::to_string(width) + "x" + std::to_string(height));
     DeviceHeightField f;
-    f.width = map.width;
-    f.height = map.height;
-    const size_t n = map.h.size();
-    f.mip_levels = mip_level_count(map.width, map.height);
-    const std::string size = std::to_string(map.width) + "x" + std::to_string(map.height);
-    f.heights =
-        device_buffer(rt.context(), CL_MEM_READ_WRITE,
-                      mip_pyramid_floats(map.width, map.height, f.mip_levels) * sizeof(float),
-                      "the " + size + " height pyramid");
-    // Level 0 through a buffer that copies the host data as it is created, so the caller's map
-    // may go at once; the device copy into the pyramid is enqueued like the rest.
-    cl::Buffer level0 = device_buffer(rt.context(), CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR,
-                                      n * sizeof(float), "the " + size + " heights", map.h.data());
-    cl::Event copied;
-    rt.queue().enqueueCopyBuffer(level0, f.heights, 0, 0, n * sizeof(float), &wait, &copied);
-    std::vector<cl::Event> done = build_mips(rt, f, {copied});
+    f.width = width;
+    f.height = height;
+    f.mip_levels = mip_level_count(width, height);
+    f.heights = device_buffer(
+        rt.context(), CL_MEM_READ_WRITE,
+        mip_pyramid_floats(width, height, f.mip_levels) * sizeof(float),
+        "the " + std::to_string(width) + "x" + std::to_string(height) + " height pyramid");
+    return f;
+}
+
+// Everything after level 0 (`filled`): the mips, the normals (derived, or the normal map's), and
+// the field's `ready` marker.
+void finish_field(Runtime& rt, DeviceHeightField& f, const PassSettings& settings,
+                  const Image4* normal_map, const cl::Event& filled) {
+    const size_t n = static_cast<size_t>(f.width) * f.height;
+    const std::string size = std::to_string(f.width) + "x" + std::to_string(f.height);
+    std::vector<cl::Event> done = build_mips(rt, f, {filled});
     if (normal_map) {
         f.normals = device_buffer(rt.context(), CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR,
                                   n * sizeof(cl_float4), "the " + size + " normal map",
@@ -84,16 +85,71 @@ DeviceHeightField upload(Runtime& rt, const HeightMap& map, const PassSettings& 
         f.normals = device_buffer(rt.context(), CL_MEM_READ_WRITE, n * sizeof(cl_float4),
                                   "the " + size + " normals");
         cl::Kernel k(rt.program(sampling_program_files("prep/normals.cl")), "om_normals");
-        set_args(k, offset_params(settings, 0, map.width, map.height), f.heights, f.normals);
-        std::vector<cl::Event> after_copy = {copied};
+        set_args(k, offset_params(settings, 0, f.width, f.height), f.heights, f.normals);
+        std::vector<cl::Event> after_fill = {filled};
         cl::Event normals;
-        rt.queue().enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(map.width, map.height),
-                                        cl::NullRange, &after_copy, &normals);
+        rt.queue().enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(f.width, f.height),
+                                        cl::NullRange, &after_fill, &normals);
         done.push_back(normals);
     }
     rt.queue().enqueueMarkerWithWaitList(&done, &f.ready);
     // Submitted now, so a caller waiting on `ready` alone never waits on an unflushed queue.
     rt.queue().flush();
+}
+
+}  // namespace
+
+DeviceHeightField upload(Runtime& rt, const HeightMap& map, const PassSettings& settings,
+                         const Image4* normal_map, const std::vector<cl::Event>& wait) {
+    validate_height_map(map, "height map");
+    validate(settings);
+    DeviceHeightField f = allocate_field(rt, map.width, map.height, normal_map);
+    // Level 0 through a buffer that copies the host data as it is created, so the caller's map
+    // may go at once; the device copy into the pyramid is enqueued like the rest.
+    const size_t n = map.h.size();
+    cl::Buffer level0 = device_buffer(
+        rt.context(), CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, n * sizeof(float),
+        "the " + std::to_string(map.width) + "x" + std::to_string(map.height) + " heights",
+        map.h.data());
+    cl::Event copied;
+    rt.queue().enqueueCopyBuffer(level0, f.heights, 0, 0, n * sizeof(float), &wait, &copied);
+    finish_field(rt, f, settings, normal_map, copied);
+    return f;
+}
+
+DeviceHeightField upload(Runtime& rt, const DeviceHeights& heights, const PassSettings& settings,
+                         const Image4* normal_map, const std::vector<cl::Event>& wait,
+                         cl::Buffer* clamped) {
+    validate(settings);
+    const int w = heights.width, h = heights.height;
+    if (w <= 0 || h <= 0 || static_cast<long long>(w) * h > kMaxHeightTexels)
+        throw Error("the device heights are " + std::to_string(w) + "x" + std::to_string(h) +
+                    "; a height map has 1 to " + std::to_string(kMaxHeightTexels) + " texels");
+    check_input(rt.context(), heights.texels, "the device heights", 1, w, h);
+    DeviceHeightField f = allocate_field(rt, w, h, normal_map);
+    cl::Event copied;
+    const Input texels = readable_input(rt, heights.texels, w, h, rt.queue(), wait, copied);
+    const bool image = texels.image() != nullptr;
+    cl::Kernel k(rt.program({"common/lanes.h", "common/storage.cl", "prep/import.cl"},
+                            image ? "#define OM_IMAGE_HEIGHTS\n" : ""),
+                 "om_import_heights");
+    cl::Buffer count = device_buffer(rt.context(), CL_MEM_READ_WRITE, sizeof(cl_uint),
+                                     "the clamped-height counter");
+    if (image)
+        k.setArg(0, texels.image);
+    else
+        k.setArg(0, texels.buffer);
+    set_args_from(k, 1, static_cast<cl_int>(texels.storage), w, h,
+                  static_cast<cl_int>(heights.depth_map), f.heights, count);
+    cl::Event zeroed, filled;
+    rt.queue().enqueueFillBuffer(count, cl_uint(0), 0, sizeof(cl_uint), &wait, &zeroed);
+    std::vector<cl::Event> after = wait;
+    after.push_back(zeroed);
+    if (copied()) after.push_back(copied);
+    rt.queue().enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(w, h), cl::NullRange, &after,
+                                    &filled);
+    finish_field(rt, f, settings, normal_map, filled);
+    if (clamped) *clamped = count;
     return f;
 }
 

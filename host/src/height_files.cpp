@@ -8,14 +8,11 @@
 namespace offsetmap {
 namespace {
 
-// The kernels index a field's texels with 32-bit ints, its mip pyramid included (4/3 of level 0).
-constexpr long long kMaxTexels = 1ll << 28;
-
 void check_texels(const OIIO::ImageSpec& spec, const std::string& path, const std::string& what) {
-    if (static_cast<long long>(spec.width) * spec.height > kMaxTexels)
+    if (static_cast<long long>(spec.width) * spec.height > kMaxHeightTexels)
         throw Error(describe_file(what, path) + " is too large (" + std::to_string(spec.width) +
-                    "x" + std::to_string(spec.height) + "; at most " + std::to_string(kMaxTexels) +
-                    " texels)");
+                    "x" + std::to_string(spec.height) + "; at most " +
+                    std::to_string(kMaxHeightTexels) + " texels)");
 }
 
 }  // namespace

@@ -7,6 +7,7 @@
 #include "offsetmap/error.hpp"
 #include "offsetmap/gbuffer.hpp"
 #include "offsetmap/heightmap.hpp"
+#include "offsetmap/input.hpp"
 #include "offsetmap/runtime.hpp"
 
 namespace offsetmap {
@@ -20,9 +21,13 @@ inline cl::NDRange padded(size_t n) {
 
 // A kernel's arguments, in order.
 template <typename... Args>
-void set_args(cl::Kernel& k, const Args&... args) {
-    cl_uint index = 0;
+void set_args_from(cl::Kernel& k, cl_uint first, const Args&... args) {
+    cl_uint index = first;
     (k.setArg(index++, args), ...);
+}
+template <typename... Args>
+void set_args(cl::Kernel& k, const Args&... args) {
+    set_args_from(k, 0, args...);
 }
 
 inline void set_optional(cl::Kernel& k, cl_uint index, const cl::Buffer& b) {
@@ -83,6 +88,20 @@ inline void check_buffer(const cl::Context& context, const cl::Buffer& b, const 
     if (!use.written && (flags & CL_MEM_WRITE_ONLY))
         throw Error(name + " is write-only (CL_MEM_WRITE_ONLY), but the pass reads it");
 }
+
+// Checks an input in the caller's memory (`what`: "the engine G-buffer's normal"): bound once (a
+// buffer or an image), of this context; a buffer holding `values` values per pixel of its storage
+// for width x height pixels, or a width x height image with that many channels, read as float.
+void check_input(const cl::Context& context, const Input& in, const std::string& what, int values,
+                 int width, int height);
+
+// `in` as a kernel can read it. PoCL's read_imagef returns wrong values for one-channel half
+// images (CL_R, CL_HALF_FLOAT; tested with PoCL 3.1): on PoCL such an image is copied, its raw
+// half bits, into a buffer of Storage::Half on `queue` after `wait`, and `copied` is set to the
+// copy's event. Every other input comes back as it is, `copied` left null.
+Input readable_input(const Runtime& rt, const Input& in, int width, int height,
+                     const cl::CommandQueue& queue, const std::vector<cl::Event>& wait,
+                     cl::Event& copied);
 
 // The queue a pass enqueues on: the caller's `queue` when given (checked to be on the runtime's
 // context), else the runtime's own.

@@ -1,6 +1,7 @@
 // The height field on the device: heights, their mip pyramid and normals.
 #pragma once
 #include "offsetmap/heightmap.hpp"
+#include "offsetmap/input.hpp"
 #include "offsetmap/runtime.hpp"
 #include "offsetmap/settings.hpp"
 
@@ -13,5 +14,23 @@ namespace offsetmap {
 DeviceHeightField upload(Runtime& runtime, const HeightMap& map, const PassSettings& settings,
                          const Image4* normal_map = nullptr,
                          const std::vector<cl::Event>& wait = {});
+
+// Heights already in the caller's device memory, on the runtime's context: a width x height
+// buffer (one value per texel in `storage`: unorm8, unorm16, half or float) or image (its first
+// channel, read as float). depth_map: the values are depths, 1 the deepest (H = 1 - value).
+struct DeviceHeights {
+    int width = 0;
+    int height = 0;
+    Input texels;
+    bool depth_map = false;
+};
+
+// As the host upload, from the caller's device memory: copied into the field's own pyramid on the
+// device (the caller may reuse its memory once `ready` completes), every step chained by events
+// after `wait`. Values outside [0,1] are clamped and NaN read as 0, counted in `clamped` (one
+// uint, complete with `ready`), as the file readers count what they clamp.
+DeviceHeightField upload(Runtime& runtime, const DeviceHeights& heights,
+                         const PassSettings& settings, const Image4* normal_map = nullptr,
+                         const std::vector<cl::Event>& wait = {}, cl::Buffer* clamped = nullptr);
 
 }  // namespace offsetmap

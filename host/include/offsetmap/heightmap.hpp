@@ -8,6 +8,10 @@ namespace offsetmap {
 
 class Runtime;
 
+// The most texels a height map may have: the kernels index a field's texels with 32-bit ints, its
+// mip pyramid (4/3 of level 0) included.
+inline constexpr long long kMaxHeightTexels = 1ll << 28;
+
 // Heights H in [0,1], 1 = highest, row 0 first: texel (i, j) is h[j * width + i] and has its
 // centre at uv = ((i + 0.5) / width, (j + 0.5) / height).
 struct HeightMap {
