@@ -7,6 +7,8 @@
 // Kernel times come from OpenCL profiling events: one warm-up launch, then as many launches as
 // fit in the target time (3 to 30), median and minimum reported. Output: a table on stdout,
 // DIR/bench.json, and charts by bench/plot_bench.py.
+#include <CL/cl_half.h>
+
 #include <CLI/CLI.hpp>
 #include <algorithm>
 #include <array>
@@ -298,6 +300,64 @@ struct Bench {
     // One method at one setting: time (uv' and depth written), fetches per pixel, and the ratio
     // to its roof: pass-through + fetches x the lane fetch rate at that many fetches per pixel,
     // both timed in turns with the method on the same G-buffer and map.
+    // The engine-shaped G-buffer's reconstruct pass (depth, camera, frame, uv to tangent-space V
+    // and L) in each storage, timed in turns with pom at its defaults on the explicit G-buffer of
+    // the same frame: what the engine path adds to a frame.
+    json reconstruct(const Resolution& res, const DeviceHeightField& f, const PassSettings& s) {
+        PlaneScene p;
+        p.width = res.w;
+        p.height = res.h;
+        const EngineScene e = make_engine_scene(p, DepthConvention::Reversed);
+        const size_t n = static_cast<size_t>(e.width) * e.height;
+        auto buffer = [&](const std::vector<float>& v, bool half) {
+            Input in;
+            in.storage = half ? Storage::Half : Storage::Float;
+            std::vector<cl_half> h(half ? v.size() : 0);
+            for (size_t k = 0; k < h.size(); ++k) h[k] = cl_half_from_float(v[k], CL_HALF_RTE);
+            in.buffer =
+                cl::Buffer(rt->context(), CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR,
+                           v.size() * storage_bytes(in.storage),
+                           half ? static_cast<void*>(h.data()) : const_cast<float*>(v.data()));
+            return in;
+        };
+        auto engine_gbuffer = [&](bool half) {
+            EngineGBuffer g;
+            g.width = e.width;
+            g.height = e.height;
+            g.camera = e.camera;
+            g.depth = buffer(e.depth, false);
+            g.normal = buffer(e.normal, half);
+            g.tangent = buffer(e.tangent, half);
+            g.uv = buffer(e.uv, half);
+            g.light = {LightKind::Directional, {0.55f, 0.35f, 0.76f}};
+            return g;
+        };
+        const EngineGBuffer full = engine_gbuffer(false), half = engine_gbuffer(true);
+        DeviceGBuffer out = allocate_gbuffer(*rt, e.width, e.height, true, false);
+        ReconstructPass pass(rt);
+        OffsetPass pom(rt, "pom");
+        OffsetTargets t;
+        t.uv = cl::Buffer(rt->context(), CL_MEM_READ_WRITE, n * sizeof(cl_float2));
+        const std::vector<Timing> times = time_interleaved(
+            {[&] { return pass.enqueue(full, out); }, [&] { return pass.enqueue(half, out); },
+             [&] { return pom.enqueue(out, f, s, t); }},
+            target_ms);
+        const double px = static_cast<double>(n);
+        json r = {{"resolution", res.name},
+                  {"float_ns_per_pixel", times[0].median_ms * 1e6 / px},
+                  {"half_ns_per_pixel", times[1].median_ms * 1e6 / px},
+                  {"pom_ns_per_pixel", times[2].median_ms * 1e6 / px},
+                  {"bytes_read_per_pixel_float", 4 + 16 + 16 + 8},
+                  {"bytes_written_per_pixel", 8 + 16 + 16}};
+        std::printf(
+            "\nengine G-buffer (reversed-Z depth, normal + tangent, uv, directional light), %s: "
+            "reconstruct %.2f ns/px from float, %.2f from half; pom at defaults %.2f ns/px "
+            "(reconstruct %.1f%% of it)\n",
+            res.name, r["float_ns_per_pixel"].get<double>(), r["half_ns_per_pixel"].get<double>(),
+            r["pom_ns_per_pixel"].get<double>(), 100.0 * times[0].median_ms / times[2].median_ms);
+        return r;
+    }
+
     json measure(const std::string& method, const std::map<std::string, std::string>& setting,
                  const DeviceGBuffer& g, const DeviceHeightField& f, const PassSettings& s) {
         OffsetPass pass(rt, method, setting);
@@ -584,6 +644,8 @@ int main(int argc, char** argv) {
                         out_dir.c_str());
             return 0;
         }
+
+        b.out["reconstruct"] = b.reconstruct(main_res, field, s);
 
         // Cost against resolution (should be flat per pixel).
         json by_res = json::array();

@@ -124,15 +124,10 @@ Input to_device(const Plane& p, int w, int h) {
     return in;
 }
 
-enum class Projection { GL, ZeroToOne, Reversed };
-
-// The plane scene's camera as an engine has it: view and projection matrices (GLM, column-major,
-// right-handed), the window depth of each pixel's hit on the plane z = 0 (or the far value), and
-// uv = hit.xy / tile. Matches make_scene(PlaneScene) pixel for pixel.
+// An engine's frame: its planes as floats before storage, and how each is stored.
 struct EngineFrame {
     int width = 0, height = 0;
     EngineCamera camera;
-    glm::dmat4 inverse;  // double NDC -> world
     Plane depth = with_values(1), normal = with_values(4), tangent = with_values(4),
           uv = with_values(2);
     FrameForm form = FrameForm::NormalTangent;
@@ -151,62 +146,17 @@ struct EngineFrame {
     }
 };
 
-EngineFrame plane_frame(const PlaneScene& s, Projection proj, FirstRow first_row) {
+// The plane scene as the library's engine scene writes it.
+EngineFrame plane_frame(const PlaneScene& s, DepthConvention depth, FirstRow first_row) {
+    EngineScene e = make_engine_scene(s, depth, first_row);
     EngineFrame f;
-    f.width = s.width;
-    f.height = s.height;
-    const double deg = M_PI / 180.0, yaw = s.yaw_deg * deg, pitch = s.pitch_deg * deg;
-    const glm::dvec3 eye(s.camera_x, s.camera_y, s.camera_height);
-    const glm::dvec3 forward(std::cos(pitch) * std::cos(yaw), std::cos(pitch) * std::sin(yaw),
-                             -std::sin(pitch));
-    const glm::dmat4 view = glm::lookAt(eye, eye + forward, glm::dvec3(0, 0, 1));
-    const double fov = s.fov_deg * deg, aspect = double(s.width) / s.height;
-    const double near = 0.01, far = 1.0e4;
-    glm::dmat4 projection = proj == Projection::GL ? glm::perspectiveNO(fov, aspect, near, far)
-                            : proj == Projection::ZeroToOne
-                                ? glm::perspectiveZO(fov, aspect, near, far)
-                                : glm::perspectiveZO(fov, aspect, far, near);
-    // Row 0 at NDC y = -1 (GL's rows, Vulkan): the same picture from a projection flipped in y.
-    if (first_row == FirstRow::Bottom)
-        projection = glm::scale(glm::dmat4(1), glm::dvec3(1, -1, 1)) * projection;
-    const glm::dmat4 vp = projection * view;
-    f.inverse = glm::inverse(vp);
-    for (int c = 0; c < 4; ++c)
-        for (int r = 0; r < 4; ++r)
-            f.camera.inverse_view_projection[4 * c + r] = static_cast<float>(f.inverse[c][r]);
-    f.camera.eye = {float(eye.x), float(eye.y), float(eye.z)};
-    f.camera.depth = proj == Projection::GL          ? DepthConvention::GL
-                     : proj == Projection::ZeroToOne ? DepthConvention::ZeroToOne
-                                                     : DepthConvention::Reversed;
-    f.camera.first_row = first_row;
-    const float far_depth = proj == Projection::Reversed ? 0.0f : 1.0f;
-    const size_t n = static_cast<size_t>(s.width) * s.height;
-    f.depth.v.assign(n, far_depth);
-    f.uv.v.assign(2 * n, std::nanf(""));
-    f.normal.v.assign(4 * n, 0.0f);
-    f.tangent.v.assign(4 * n, 0.0f);
-    const double th = std::tan(0.5 * fov);
-    const glm::dvec3 right = glm::normalize(glm::cross(forward, glm::dvec3(0, 0, 1)));
-    const glm::dvec3 up = glm::cross(right, forward);
-    for (int y = 0; y < s.height; ++y)
-        for (int x = 0; x < s.width; ++x) {
-            const size_t k = static_cast<size_t>(y) * s.width + x;
-            f.normal.v[4 * k + 2] = 1.0f;  // the plane's frame is the world's
-            f.tangent.v[4 * k] = 1.0f;
-            f.tangent.v[4 * k + 3] = 1.0f;
-            const double px = (2.0 * (x + 0.5) / s.width - 1.0) * th * aspect;
-            const double py = (1.0 - 2.0 * (y + 0.5) / s.height) * th;
-            const glm::dvec3 d = glm::normalize(forward + px * right + py * up);
-            if (d.z >= -1e-9) continue;
-            const glm::dvec3 hit = eye + d * (s.camera_height / -d.z);
-            const glm::dvec4 clip = vp * glm::dvec4(hit, 1.0);
-            const double z = clip.z / clip.w;
-            const double depth = proj == Projection::GL ? 0.5 * (z + 1.0) : z;
-            if (!(proj == Projection::Reversed ? depth > 0.0 : depth < 1.0)) continue;  // past far
-            f.depth.v[k] = static_cast<float>(depth);
-            f.uv.v[2 * k] = static_cast<float>(hit.x / s.tile);
-            f.uv.v[2 * k + 1] = static_cast<float>(hit.y / s.tile);
-        }
+    f.width = e.width;
+    f.height = e.height;
+    f.camera = e.camera;
+    f.depth.v = e.depth;
+    f.normal.v = e.normal;
+    f.tangent.v = e.tangent;
+    f.uv.v = e.uv;
     return f;
 }
 
@@ -396,7 +346,7 @@ PlaneScene small_plane() {
 struct Encoding {
     const char* name;
     FrameForm form;
-    Projection projection;
+    DepthConvention projection;
     FirstRow first_row;
     Storage depth, frame, uv;
     bool images;
@@ -459,26 +409,29 @@ const EngineLight kLamp{LightKind::Point, {0.2f, 0.1f, 0.6f}};
 INSTANTIATE_TEST_SUITE_P(
     Encodings, Reconstruct,
     ::testing::Values(
-        Encoding{"tangent_float_buffers", FrameForm::NormalTangent, Projection::ZeroToOne,
+        Encoding{"tangent_float_buffers", FrameForm::NormalTangent, DepthConvention::ZeroToOne,
                  FirstRow::Top, Storage::Float, Storage::Float, Storage::Float, false, kSun},
-        Encoding{"tangent_float_images_gl", FrameForm::NormalTangent, Projection::GL,
+        Encoding{"tangent_float_images_gl", FrameForm::NormalTangent, DepthConvention::GL,
                  FirstRow::Bottom, Storage::Float, Storage::Float, Storage::Float, true, kLamp},
-        Encoding{"tangent_snorm16_buffers_unorm16_depth", FrameForm::NormalTangent, Projection::GL,
-                 FirstRow::Top, Storage::Unorm16, Storage::Snorm16, Storage::Half, false, kNoLight},
-        Encoding{"tangent_half_images_reversed", FrameForm::NormalTangent, Projection::Reversed,
-                 FirstRow::Top, Storage::Float, Storage::Half, Storage::Half, true, kSun},
-        Encoding{"quaternion_float_buffers_reversed", FrameForm::Quaternion, Projection::Reversed,
-                 FirstRow::Bottom, Storage::Float, Storage::Float, Storage::Float, false, kLamp},
-        Encoding{"quaternion_half_buffers", FrameForm::Quaternion, Projection::ZeroToOne,
+        Encoding{"tangent_snorm16_buffers_unorm16_depth", FrameForm::NormalTangent,
+                 DepthConvention::GL, FirstRow::Top, Storage::Unorm16, Storage::Snorm16,
+                 Storage::Half, false, kNoLight},
+        Encoding{"tangent_half_images_reversed", FrameForm::NormalTangent,
+                 DepthConvention::Reversed, FirstRow::Top, Storage::Float, Storage::Half,
+                 Storage::Half, true, kSun},
+        Encoding{"quaternion_float_buffers_reversed", FrameForm::Quaternion,
+                 DepthConvention::Reversed, FirstRow::Bottom, Storage::Float, Storage::Float,
+                 Storage::Float, false, kLamp},
+        Encoding{"quaternion_half_buffers", FrameForm::Quaternion, DepthConvention::ZeroToOne,
                  FirstRow::Top, Storage::Float, Storage::Half, Storage::Float, false, kNoLight},
-        Encoding{"quaternion_snorm16_images_gl", FrameForm::Quaternion, Projection::GL,
+        Encoding{"quaternion_snorm16_images_gl", FrameForm::Quaternion, DepthConvention::GL,
                  FirstRow::Top, Storage::Unorm16, Storage::Snorm16, Storage::Float, true, kSun}),
     [](const ::testing::TestParamInfo<Encoding>& info) { return std::string(info.param.name); });
 
 // Bit for bit: the two image paths against the buffer paths of the same stored values.
 TEST(EngineGBuffer, ImagesReadTheSameAsBuffers) {
     for (Storage storage : {Storage::Float, Storage::Half}) {
-        EngineFrame f = plane_frame(small_plane(), Projection::ZeroToOne, FirstRow::Top);
+        EngineFrame f = plane_frame(small_plane(), DepthConvention::ZeroToOne, FirstRow::Top);
         randomise_frames(f, FrameForm::NormalTangent, 11);
         // Depth too: PoCL misreads one-channel half images, which the pass copies to a buffer.
         f.depth.storage = f.normal.storage = f.tangent.storage = f.uv.storage = storage;
@@ -499,7 +452,7 @@ TEST(EngineGBuffer, ImagesReadTheSameAsBuffers) {
 // decodes exactly (bit for bit); snorm16 within the decoding's rounding, which the reference's
 // bound carries (the Reconstruct suite), so here only half.
 TEST(EngineGBuffer, HalfStorageEqualsTheFloatPathOfItsValues) {
-    EngineFrame f = plane_frame(small_plane(), Projection::Reversed, FirstRow::Top);
+    EngineFrame f = plane_frame(small_plane(), DepthConvention::Reversed, FirstRow::Top);
     randomise_frames(f, FrameForm::Quaternion, 5);
     f.normal.storage = f.uv.storage = Storage::Half;
     EngineGBuffer half = f.to_device();
@@ -527,7 +480,7 @@ TEST(EngineGBuffer, SameSceneBothWaysWithinRounding) {
     s.width = 320;
     s.height = 180;
     s.with_light = false;
-    EngineFrame f = plane_frame(s, Projection::Reversed, FirstRow::Top);
+    EngineFrame f = plane_frame(s, DepthConvention::Reversed, FirstRow::Top);
     auto rt = runtime();
     const size_t n = static_cast<size_t>(s.width) * s.height;
     HeightMap map = smooth_map(128);
@@ -666,7 +619,7 @@ TEST(EngineGBuffer, SkyIsEmptyAndDegenerateFramesAreInvalid) {
 TEST(EngineGBuffer, WrongInputsAreRefusedByName) {
     auto rt = runtime();
     const cl::Context& context = rt->context();
-    EngineFrame f = plane_frame(small_plane(), Projection::ZeroToOne, FirstRow::Top);
+    EngineFrame f = plane_frame(small_plane(), DepthConvention::ZeroToOne, FirstRow::Top);
     const EngineGBuffer good = f.to_device();
     DeviceGBuffer out = allocate_gbuffer(*rt, f.width, f.height, false, false);
     ReconstructPass pass(rt);
@@ -725,7 +678,7 @@ TEST(EngineGBuffer, WrongInputsAreRefusedByName) {
 TEST(EngineGBuffer, PrepareLeavesNothingToCompile) {
     auto rt =
         std::make_shared<Runtime>(runtime()->context(), runtime()->device(), runtime()->queue());
-    EngineFrame f = plane_frame(small_plane(), Projection::GL, FirstRow::Top);
+    EngineFrame f = plane_frame(small_plane(), DepthConvention::GL, FirstRow::Top);
     f.normal.image = true;
     EngineGBuffer in = f.to_device();
     DeviceGBuffer out = allocate_gbuffer(*rt, f.width, f.height, false, false);

@@ -7,7 +7,9 @@
 namespace offsetmap {
 namespace {
 
-constexpr size_t kTile = 8;  // work-group side: fixed, so PoCL compiles one work-group function
+// The work-group: fixed, so PoCL compiles one work-group function; a row of pixels, which PoCL
+// vectorises along x.
+constexpr size_t kGroupX = 64, kGroupY = 1;
 
 bool finite(const float* v, size_t n) {
     for (size_t k = 0; k < n; ++k)
@@ -39,11 +41,22 @@ ReconstructPass::ReconstructPass(std::shared_ptr<Runtime> runtime) : runtime_(st
 
 cl::Kernel& ReconstructPass::kernel(const EngineGBuffer& in) {
     const bool quaternion = in.frame == FrameForm::Quaternion;
+    // Per input: an image, or a buffer of a storage the decoding is specialised for.
     std::string defines;
-    if (in.depth.image()) defines += "#define OM_IMAGE_DEPTH 1\n";
-    if (in.normal.image()) defines += "#define OM_IMAGE_FRAME 1\n";
-    if (!quaternion && in.tangent.image()) defines += "#define OM_IMAGE_TANGENT 1\n";
-    if (in.uv.image()) defines += "#define OM_IMAGE_UV 1\n";
+    auto input = [&](const Input& i, const char* name) {
+        if (i.image())
+            defines += std::string("#define OM_IMAGE_") + name + " 1\n";
+        else if (i.buffer())
+            defines += std::string("#define OM_STORAGE_") + name + " " +
+                       std::to_string(static_cast<int>(i.storage)) + "\n";
+    };
+    input(in.depth, "DEPTH");
+    input(in.normal, "FRAME");
+    if (!quaternion) input(in.tangent, "TANGENT");
+    input(in.uv, "UV");
+    if (quaternion) defines += "#define OM_QUATERNION_FRAME\n";
+    if (in.light.kind != LightKind::None) defines += "#define OM_LIT\n";
+    if (in.light.kind == LightKind::Point) defines += "#define OM_POINT_LIGHT\n";
     auto it = kernels_.find(defines);
     if (it == kernels_.end()) {
         cl::Program program = runtime_->program(
@@ -125,15 +138,14 @@ cl::Event ReconstructPass::launch(const EngineGBuffer& in, const DeviceGBuffer& 
     std::copy(cam.inverse_view_projection.begin(), cam.inverse_view_projection.end(),
               p.inv_view_proj);
     std::copy(cam.eye.begin(), cam.eye.end(), p.eye);
-    p.depth_convention = static_cast<om_int>(cam.depth);
+    const bool gl = cam.depth == DepthConvention::GL;
+    const bool reversed = cam.depth == DepthConvention::Reversed;
+    p.depth_scale = gl ? 2.0f : 1.0f;
+    p.depth_offset = gl ? -1.0f : 0.0f;
+    p.far_depth = reversed ? 0.0f : 1.0f;
+    p.far_sign = reversed ? -1.0f : 1.0f;
     p.row0_ndc_y = static_cast<float>(static_cast<int>(cam.first_row));
-    p.frame = static_cast<om_int>(in.frame);
-    p.light = static_cast<om_int>(light.kind);
     std::copy(lv.begin(), lv.end(), p.light_vec);
-    p.depth_storage = static_cast<om_int>(in.depth.storage);
-    p.frame_storage = static_cast<om_int>(in.normal.storage);
-    p.tangent_storage = static_cast<om_int>(in.tangent.storage);
-    p.uv_storage = static_cast<om_int>(in.uv.storage);
 
     const cl::CommandQueue& q = pass_queue(*runtime_, queue);
     // The inputs as the kernel reads them (a copy for the one image form PoCL misreads).
@@ -160,11 +172,12 @@ cl::Event ReconstructPass::launch(const EngineGBuffer& in, const DeviceGBuffer& 
     k.setArg(5, out.uv);
     k.setArg(6, out.view);
     set_optional(k, 7, lit ? out.light : cl::Buffer());
-    const cl::NDRange global = no_pixels ? cl::NDRange(kTile, kTile)
-                                         : cl::NDRange((in.width + kTile - 1) / kTile * kTile,
-                                                       (in.height + kTile - 1) / kTile * kTile);
+    const cl::NDRange global = no_pixels
+                                   ? cl::NDRange(kGroupX, kGroupY)
+                                   : cl::NDRange((in.width + kGroupX - 1) / kGroupX * kGroupX,
+                                                 (in.height + kGroupY - 1) / kGroupY * kGroupY);
     cl::Event done;
-    q.enqueueNDRangeKernel(k, cl::NullRange, global, cl::NDRange(kTile, kTile), &deps, &done);
+    q.enqueueNDRangeKernel(k, cl::NullRange, global, cl::NDRange(kGroupX, kGroupY), &deps, &done);
     return done;
 }
 

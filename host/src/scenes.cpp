@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <glm/glm.hpp>
+#include <glm/gtc/matrix_transform.hpp>
 #include <limits>
 #include <random>
 
@@ -22,39 +23,106 @@ cl_float4 f4(const glm::dvec3& v) {
     return {{static_cast<float>(v.x), static_cast<float>(v.y), static_cast<float>(v.z), 0.0f}};
 }
 
+// The plane scene's pinhole camera: the eye, its basis, and each pixel centre's ray.
+struct PlaneCamera {
+    glm::dvec3 eye, forward, right, up;
+    double th, aspect;
+    int width, height;
+
+    explicit PlaneCamera(const PlaneScene& s) {
+        if (!(s.camera_height > 0.0 && s.tile > 0.0 && s.fov_deg > 0.0 && s.fov_deg < 170.0))
+            throw Error("plane scene needs camera height > 0, tile > 0 and 0 < fov < 170 degrees");
+        check_gbuffer_size(s.width, s.height, "the G-buffer");
+        const double yaw = s.yaw_deg * kDeg, pitch = s.pitch_deg * kDeg;
+        eye = glm::dvec3(s.camera_x, s.camera_y, s.camera_height);
+        forward = glm::dvec3(std::cos(pitch) * std::cos(yaw), std::cos(pitch) * std::sin(yaw),
+                             -std::sin(pitch));
+        right = glm::normalize(glm::cross(forward, glm::dvec3(0, 0, 1)));
+        up = glm::cross(right, forward);
+        th = std::tan(0.5 * s.fov_deg * kDeg);
+        aspect = static_cast<double>(s.width) / s.height;
+        width = s.width;
+        height = s.height;
+    }
+    // Unit direction through pixel (x, y)'s centre; row 0 at the top.
+    glm::dvec3 ray(int x, int y) const {
+        const double px = (2.0 * (x + 0.5) / width - 1.0) * th * aspect;
+        const double py = (1.0 - 2.0 * (y + 0.5) / height) * th;
+        return glm::normalize(forward + px * right + py * up);
+    }
+};
+
 }  // namespace
 
 GBuffer make_scene(const PlaneScene& s) {
-    if (!(s.camera_height > 0.0 && s.tile > 0.0 && s.fov_deg > 0.0 && s.fov_deg < 170.0))
-        throw Error("plane scene needs camera height > 0, tile > 0 and 0 < fov < 170 degrees");
+    const PlaneCamera cam(s);
     GBuffer gb;
     gb.resize(s.width, s.height, s.with_light, false);
-    const double yaw = s.yaw_deg * kDeg, pitch = s.pitch_deg * kDeg;
-    const glm::dvec3 eye(s.camera_x, s.camera_y, s.camera_height);
-    const glm::dvec3 forward(std::cos(pitch) * std::cos(yaw), std::cos(pitch) * std::sin(yaw),
-                             -std::sin(pitch));
-    const glm::dvec3 right = glm::normalize(glm::cross(forward, glm::dvec3(0, 0, 1)));
-    const glm::dvec3 up = glm::cross(right, forward);
-    const double th = std::tan(0.5 * s.fov_deg * kDeg);
-    const double aspect = static_cast<double>(s.width) / s.height;
     const glm::dvec3 light = glm::normalize(glm::dvec3(s.light[0], s.light[1], s.light[2]));
     const float nan = std::numeric_limits<float>::quiet_NaN();
     for (int y = 0; y < s.height; ++y)
         for (int x = 0; x < s.width; ++x) {
             size_t k = static_cast<size_t>(y) * s.width + x;
-            double px = (2.0 * (x + 0.5) / s.width - 1.0) * th * aspect;
-            double py = (1.0 - 2.0 * (y + 0.5) / s.height) * th;
-            glm::dvec3 d = glm::normalize(forward + px * right + py * up);
+            const glm::dvec3 d = cam.ray(x, y);
             if (d.z >= -1e-9) {
                 gb.uv[k] = {{nan, nan}};
                 continue;
             }
-            glm::dvec3 hit = eye + d * (s.camera_height / -d.z);
+            glm::dvec3 hit = cam.eye + d * (s.camera_height / -d.z);
             gb.uv[k] = {{static_cast<float>(hit.x / s.tile), static_cast<float>(hit.y / s.tile)}};
             gb.view[k] = f4(-d);
             if (s.with_light) gb.light[k] = f4(light);
         }
     return gb;
+}
+
+EngineScene make_engine_scene(const PlaneScene& s, DepthConvention depth, FirstRow first_row) {
+    const PlaneCamera cam(s);
+    EngineScene e;
+    e.width = s.width;
+    e.height = s.height;
+    const glm::dmat4 view = glm::lookAt(cam.eye, cam.eye + cam.forward, glm::dvec3(0, 0, 1));
+    const double fov = s.fov_deg * kDeg, near = 0.01, far = 1.0e4;
+    glm::dmat4 projection =
+        depth == DepthConvention::GL          ? glm::perspectiveNO(fov, cam.aspect, near, far)
+        : depth == DepthConvention::ZeroToOne ? glm::perspectiveZO(fov, cam.aspect, near, far)
+                                              : glm::perspectiveZO(fov, cam.aspect, far, near);
+    // Row 0 at NDC y = -1: the same picture through a projection flipped in y.
+    if (first_row == FirstRow::Bottom)
+        projection = glm::scale(glm::dmat4(1.0), glm::dvec3(1, -1, 1)) * projection;
+    const glm::dmat4 vp = projection * view;
+    const glm::dmat4 inverse = glm::inverse(vp);
+    for (int c = 0; c < 4; ++c)
+        for (int r = 0; r < 4; ++r)
+            e.camera.inverse_view_projection[4 * c + r] = static_cast<float>(inverse[c][r]);
+    e.camera.eye = {static_cast<float>(cam.eye.x), static_cast<float>(cam.eye.y),
+                    static_cast<float>(cam.eye.z)};
+    e.camera.depth = depth;
+    e.camera.first_row = first_row;
+    const size_t n = static_cast<size_t>(s.width) * s.height;
+    const bool reversed = depth == DepthConvention::Reversed;
+    e.depth.assign(n, reversed ? 0.0f : 1.0f);
+    e.uv.assign(2 * n, std::numeric_limits<float>::quiet_NaN());
+    e.normal.assign(4 * n, 0.0f);
+    e.tangent.assign(4 * n, 0.0f);
+    for (int y = 0; y < s.height; ++y)
+        for (int x = 0; x < s.width; ++x) {
+            const size_t k = static_cast<size_t>(y) * s.width + x;
+            e.normal[4 * k + 2] = 1.0f;  // the plane's frame is the world's
+            e.tangent[4 * k] = 1.0f;
+            e.tangent[4 * k + 3] = 1.0f;
+            const glm::dvec3 d = cam.ray(x, y);
+            if (d.z >= -1e-9) continue;
+            const glm::dvec3 hit = cam.eye + d * (s.camera_height / -d.z);
+            const glm::dvec4 clip = vp * glm::dvec4(hit, 1.0);
+            const double z = clip.z / clip.w;
+            const double window = depth == DepthConvention::GL ? 0.5 * (z + 1.0) : z;
+            if (!(reversed ? window > 0.0 : window < 1.0)) continue;  // past the far plane
+            e.depth[k] = static_cast<float>(window);
+            e.uv[2 * k] = static_cast<float>(hit.x / s.tile);
+            e.uv[2 * k + 1] = static_cast<float>(hit.y / s.tile);
+        }
+    return e;
 }
 
 GBuffer make_scene(const SweepScene& s) {

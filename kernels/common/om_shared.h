@@ -114,15 +114,12 @@ typedef struct {
     om_int width, height;
     om_float inv_view_proj[16];  // NDC -> world, column-major: row r, column c at [4 c + r]
     om_float eye[3];             // world position of the eye
-    om_int depth_convention;     // OM_DEPTH_*
+    om_float depth_scale;        // NDC z = depth_scale d + depth_offset: 2, -1 (GL); 1, 0
+    om_float depth_offset;
+    om_float far_depth;          // d at the far plane: 1, or 0 (reversed)
+    om_float far_sign;           // sky where far_sign (d - far_depth) >= 0: +1, or -1 (reversed)
     om_float row0_ndc_y;         // NDC y of pixel row 0's edge: +1 (D3D) or -1 (GL, Vulkan)
-    om_int frame;                // OM_FRAME_*
-    om_int light;                // OM_LIGHT_*
     om_float light_vec[3];       // world direction toward the light (unit), or its position
-    om_int depth_storage;        // OM_STORAGE_* of each buffer input (unused for images)
-    om_int frame_storage;        // the normal (or quaternion) input
-    om_int tangent_storage;
-    om_int uv_storage;
 } OmReconstructParams;
 
 // Dimensions of mip level k of a W x H map: each level halves (rounding down, at least 1).

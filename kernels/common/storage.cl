@@ -23,6 +23,16 @@ OM_INLINE float om_stored(__global const uchar* p, int storage, size_t i) {
     }
 }
 
+// Element i of a buffer of `storage` known at build time (a literal 0-4, OM_STORAGE_*): straight-
+// line code, with no switch for a vectoriser to stop at.
+#define OM_STORED(p, storage, i) OM_STORED_(p, storage, i)
+#define OM_STORED_(p, storage, i) OM_STORED_##storage(p, i)
+#define OM_STORED_0(p, i) (((__global const float*)(p))[i])
+#define OM_STORED_1(p, i) vload_half((i), (__global const half*)(p))
+#define OM_STORED_2(p, i) fmax((float)(((__global const short*)(p))[i]) / 32767.0f, -1.0f)
+#define OM_STORED_3(p, i) ((float)(((__global const ushort*)(p))[i]) / 65535.0f)
+#define OM_STORED_4(p, i) ((float)(((__global const uchar*)(p))[i]) / 255.0f)
+
 // The first `n` values of pixel k of a buffer holding n values per pixel; the rest 0.
 OM_INLINE float4 om_stored_n(__global const uchar* p, int storage, size_t k, int n) {
     float4 v = (float4)(0.0f);

@@ -24,7 +24,8 @@ install)
         -DCMAKE_PREFIX_PATH="$tmp/prefix"
     quiet cmake --build "$tmp/consumer" -j "$jobs"
     # The installed library needs no source tree: the checkout is out of reach while it runs.
-    (cd / && "$tmp/consumer/consumer" && "$tmp/consumer/consumer_evaluation")
+    (cd / && "$tmp/consumer/consumer" && "$tmp/consumer/consumer_evaluation" &&
+        "$tmp/consumer/engine_example")
     ;;
 subdir)
     quiet cmake -S "$src/tests/package" -B "$tmp/consumer" -DCMAKE_BUILD_TYPE=Release \
@@ -32,9 +33,11 @@ subdir)
     quiet cmake --build "$tmp/consumer" -j "$jobs"
     [ ! -e "$tmp/consumer/offsetmap/offsetmap" ] || { echo "the CLI was built"; exit 1; }
     [ ! -e "$tmp/consumer/consumer_evaluation" ] || { echo "the evaluation library was built"; exit 1; }
-    (cd / && "$tmp/consumer/consumer")
+    (cd / && "$tmp/consumer/consumer" && "$tmp/consumer/engine_example")
     ;;
 esac
 # Neither binary of the pass links OpenImageIO.
-! ldd "$tmp/consumer/consumer" | grep -qi openimageio || { echo "consumer links OpenImageIO"; exit 1; }
+for exe in consumer engine_example; do
+    ! ldd "$tmp/consumer/$exe" | grep -qi openimageio || { echo "$exe links OpenImageIO"; exit 1; }
+done
 echo "package ($mode): ok"

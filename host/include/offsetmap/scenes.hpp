@@ -1,6 +1,7 @@
 #pragma once
 #include <cstdint>
 
+#include "offsetmap/engine_gbuffer.hpp"
 #include "offsetmap/gbuffer.hpp"
 
 namespace offsetmap {
@@ -43,6 +44,23 @@ struct RandomScene {
 };
 
 GBuffer make_scene(const PlaneScene& scene);
+
+// The plane scene as an engine writes it, on the host (float, row 0 first): window depth in the
+// given convention (the far value where the ray misses the plane or passes the far plane, 10^4;
+// near 0.01), the camera's inverse view-projection (GLM's right-handed perspective) and eye, the
+// plane's tangent frame (normal +z, tangent +x, handedness +1) and uv (NaN on sky). The same
+// pixels, rays and uv as make_scene's.
+struct EngineScene {
+    int width = 0;
+    int height = 0;
+    EngineCamera camera;
+    std::vector<float> depth;    // 1 value per pixel
+    std::vector<float> normal;   // 4 per pixel
+    std::vector<float> tangent;  // 4 per pixel
+    std::vector<float> uv;       // 2 per pixel
+};
+EngineScene make_engine_scene(const PlaneScene& scene, DepthConvention depth,
+                              FirstRow first_row = FirstRow::Top);
 GBuffer make_scene(const SweepScene& scene);
 GBuffer make_scene(const RandomScene& scene);
 
