@@ -49,8 +49,9 @@ inline void record_figure(const std::string& key, double value) {
     if (!dir || !*dir) dir = OFFSETMAP_FIGURES_DIR;
     static std::map<std::string, std::map<std::string, double>> figures;  // per test
     const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    const std::string test =
-        info ? std::string(info->test_suite_name()) + "." + info->name() : "none";
+    std::string test = info ? std::string(info->test_suite_name()) + "." + info->name() : "none";
+    for (char& c : test)
+        if (c == '/') c = '_';  // parameterised tests' names hold slashes
     auto& mine = figures[test];
     mine[key] = value;
     std::filesystem::create_directories(dir);

@@ -399,6 +399,8 @@ TEST_P(Reconstruct, ViewAndLightWithinTheDerivedBound) {
     }
     EXPECT_GT(sky, in.pixels() / 40) << "the scene should show sky";
     EXPECT_GT(traced, in.pixels() / 2);
+    record_figure(std::string("reconstruct.") + e.name + ".v_of_bound", worst);
+    record_figure(std::string("reconstruct.") + e.name + ".l_of_bound", worst_l);
     std::printf("%s: worst V error %.3f of the bound, L %.3f\n", e.name, worst, worst_l);
 }
 
@@ -533,8 +535,8 @@ TEST(EngineGBuffer, SameSceneBothWaysWithinRounding) {
         }
     }
     EXPECT_GT(traced, n / 2);
-    record_figure("worst_uv_texels", worst_texels);
-    record_figure("worst_of_bound", worst_ratio);
+    record_figure("engine.both_ways.uv_texels", worst_texels);
+    record_figure("engine.both_ways.of_bound", worst_ratio);
     std::printf(
         "%zu pixels traced both ways: uv' differs by at most %.3g texels (%.3f of the bound)\n",
         traced, worst_texels, worst_ratio);
