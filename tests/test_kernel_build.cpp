@@ -18,6 +18,26 @@ TEST(KernelBuild, EveryProgramBuildsWithoutWarnings) {
     rt->program({"prep/mips.cl"});
     rt->program({"prep/footprint.cl"});
     rt->program(sampling_program_files("prep/normals.cl"));
+    // The reconstruct pass's forms (its defines, as ReconstructPass::kernel writes them) and the
+    // height import's.
+    const std::vector<std::string> reconstruct = {"common/lanes.h", "common/storage.cl",
+                                                  "gbuffer/reconstruct.cl"};
+    for (const char* lanes : {"", "#define OM_LANES 8\n", "#define OM_LANES 16\n"})
+        for (const char* form :
+             {"#define OM_STORAGE_DEPTH 0\n#define OM_STORAGE_FRAME 0\n#define OM_STORAGE_TANGENT "
+              "0\n"
+              "#define OM_STORAGE_UV 0\n#define OM_LIT\n#define OM_POINT_LIGHT\n",
+              "#define OM_IMAGE_DEPTH 1\n#define OM_IMAGE_FRAME 1\n#define OM_IMAGE_UV 1\n"
+              "#define OM_QUATERNION_FRAME\n#define OM_LIT\n",
+              "#define OM_STORAGE_DEPTH 3\n#define OM_STORAGE_FRAME 2\n#define OM_STORAGE_TANGENT "
+              "1\n"
+              "#define OM_STORAGE_UV 1\n",
+              "#define OM_STORAGE_DEPTH 4\n#define OM_STORAGE_FRAME 1\n#define OM_STORAGE_UV 2\n"
+              "#define OM_QUATERNION_FRAME\n"})
+            rt->program(reconstruct, std::string(lanes) + form);
+    rt->program({"common/lanes.h", "common/storage.cl", "prep/import.cl"});
+    rt->program({"common/lanes.h", "common/storage.cl", "prep/import.cl"},
+                "#define OM_IMAGE_HEIGHTS\n");
     std::string all;
     for (const auto& w : rt->build_warnings()) all += w + "\n";
     EXPECT_TRUE(rt->build_warnings().empty()) << all;

@@ -7,9 +7,9 @@
 namespace offsetmap {
 namespace {
 
-// The work-group: fixed, so PoCL compiles one work-group function; a row of pixels, which PoCL
-// vectorises along x.
-constexpr size_t kGroupX = 64, kGroupY = 1;
+// The work-group (work-items of OM_LANES pixels each): fixed, so PoCL compiles one work-group
+// function.
+constexpr size_t kGroupX = 8, kGroupY = 8;
 
 bool finite(const float* v, size_t n) {
     for (size_t k = 0; k < n; ++k)
@@ -42,7 +42,8 @@ ReconstructPass::ReconstructPass(std::shared_ptr<Runtime> runtime) : runtime_(st
 cl::Kernel& ReconstructPass::kernel(const EngineGBuffer& in) {
     const bool quaternion = in.frame == FrameForm::Quaternion;
     // Per input: an image, or a buffer of a storage the decoding is specialised for.
-    std::string defines;
+    const int lanes = runtime_->lanes();
+    std::string defines = lanes > 1 ? "#define OM_LANES " + std::to_string(lanes) + "\n" : "";
     auto input = [&](const Input& i, const char* name) {
         if (i.image())
             defines += std::string("#define OM_IMAGE_") + name + " 1\n";
@@ -172,9 +173,10 @@ cl::Event ReconstructPass::launch(const EngineGBuffer& in, const DeviceGBuffer& 
     k.setArg(5, out.uv);
     k.setArg(6, out.view);
     set_optional(k, 7, lit ? out.light : cl::Buffer());
+    const size_t items = (in.width + runtime_->lanes() - 1) / runtime_->lanes();  // per row
     const cl::NDRange global = no_pixels
                                    ? cl::NDRange(kGroupX, kGroupY)
-                                   : cl::NDRange((in.width + kGroupX - 1) / kGroupX * kGroupX,
+                                   : cl::NDRange((items + kGroupX - 1) / kGroupX * kGroupX,
                                                  (in.height + kGroupY - 1) / kGroupY * kGroupY);
     cl::Event done;
     q.enqueueNDRangeKernel(k, cl::NullRange, global, cl::NDRange(kGroupX, kGroupY), &deps, &done);

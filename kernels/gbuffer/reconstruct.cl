@@ -7,40 +7,149 @@
 // finite, a degenerate frame (zero or non-finite normal or quaternion, a tangent along the normal)
 // or a point the matrix cannot place writes a NaN V: the offset pass flags it INVALID and passes
 // its uv through.
-// Each input is a buffer, its storage fixed at build time (OM_STORAGE_<INPUT>, one of
-// OM_STORAGE_*, so the decoding is straight-line code), or an image where the host defines
-// OM_IMAGE_<INPUT>. One program per combination.
+// Each work-item takes OM_LANES consecutive pixels of one row (lanes.h: one SIMD register per
+// value on a CPU, one pixel on a GPU); the host launches ceil(width / OM_LANES) x height. Fixed at
+// build time, one program per combination: each input's form, an image where the host defines
+// OM_IMAGE_<INPUT>, else a buffer of OM_STORAGE_<INPUT> (a literal OM_STORAGE_* value); the frame's
+// form (OM_QUATERNION_FRAME) and the light (OM_LIT, with OM_POINT_LIGHT for a point light).
 
-// Two steps, so the OM_IMAGE_* argument expands to 0 or 1 before it is pasted.
 #define OM_INPUT_ARG(name, image) OM_INPUT_ARG_(name, image)
 #define OM_INPUT_ARG_(name, image) OM_INPUT_ARG_##image(name)
 #define OM_INPUT_ARG_1(name) __read_only image2d_t name
 #define OM_INPUT_ARG_0(name) __global const uchar* name
-// Declares v0 .. v3, the first n values of pixel (x, y) (the rest 0), as scalars.
+
+#if OM_LANES == 1
+#define OM_VLOAD(p) ((p)[0])
+#define OM_VSTORE(v, p) ((p)[0] = (v))
+#elif OM_LANES == 8
+#define OM_VLOAD(p) vload8(0, p)
+#define OM_VSTORE(v, p) vstore8(v, 0, p)
+#else
+#define OM_VLOAD(p) vload16(0, p)
+#define OM_VSTORE(v, p) vstore16(v, 0, p)
+#endif
+
+// Declares OmF v0 .. v3: the first n values of the work-item's pixels (the rest 0). Lanes past the
+// row's end repeat its last pixel.
 #define OM_FETCH(name, image, storage, n, v) OM_FETCH_(name, image, storage, n, v)
 #define OM_FETCH_(name, image, storage, n, v) OM_FETCH_##image(name, storage, n, v)
-#define OM_FETCH_1(name, storage, n, v)                                        \
-    const float4 v##_ = read_imagef(name, om_texel_sampler, (int2)(x, y));     \
-    const float v##0 = v##_.x, v##1 = v##_.y, v##2 = v##_.z, v##3 = v##_.w
-#define OM_FETCH_0(name, storage, n, v)                                        \
-    const float v##0 = OM_STORED(name, storage, k * n),                        \
-                v##1 = n > 1 ? OM_STORED(name, storage, k * n + 1) : 0.0f,     \
-                v##2 = n > 2 ? OM_STORED(name, storage, k * n + 2) : 0.0f,     \
-                v##3 = n > 3 ? OM_STORED(name, storage, k * n + 3) : 0.0f
+// A full work-item of float or half values: vector loads and shuffles (as offset.cl loads its
+// G-buffer); 3x faster than a lane-by-lane load on AVX-512 (the bench's reconstruct entry).
+#if OM_LANES == 16
+// The i-th 16 values from element b on (vloadn needs only the element's alignment).
+#define OM_VL16_0(q, b, i) vload16(i, (__global const float*)(q) + (b))
+#define OM_VL16_1(q, b, i) vload_half16(i, (__global const half*)(q) + (b))
+#define OM_VL16_2(q, b, i) ((float16)0.0f)  // never taken (OM_HAS_FULL_LOAD)
+#define OM_VL16_3(q, b, i) ((float16)0.0f)
+#define OM_VL16_4(q, b, i) ((float16)0.0f)
+#define OM_VL16(q, storage, b, i) OM_VL16_(q, storage, b, i)
+#define OM_VL16_(q, storage, b, i) OM_VL16_##storage(q, b, i)
+#define OM_FULL_LOAD(p, storage, n, v)                                                      \
+    do {                                                                                    \
+        const size_t e_ = (row + x0) * (n);                                                 \
+        if ((n) == 1) {                                                                     \
+            v##0 = OM_VL16(p, storage, e_, 0);                                              \
+        } else if ((n) == 2) {                                                              \
+            const float16 a_ = OM_VL16(p, storage, e_, 0), b_ = OM_VL16(p, storage, e_, 1); \
+            v##0 = (float16)(a_.even, b_.even);                                             \
+            v##1 = (float16)(a_.odd, b_.odd);                                               \
+        } else {                                                                            \
+            const float16 a_ = OM_VL16(p, storage, e_, 0), b_ = OM_VL16(p, storage, e_, 1), \
+                          c_ = OM_VL16(p, storage, e_, 2), d_ = OM_VL16(p, storage, e_, 3); \
+            v##0 = (float16)(a_.s048c, b_.s048c, c_.s048c, d_.s048c);                       \
+            v##1 = (float16)(a_.s159d, b_.s159d, c_.s159d, d_.s159d);                       \
+            v##2 = (float16)(a_.s26ae, b_.s26ae, c_.s26ae, d_.s26ae);                       \
+            v##3 = (float16)(a_.s37bf, b_.s37bf, c_.s37bf, d_.s37bf);                       \
+        }                                                                                   \
+    } while (0)
+#define OM_HAS_FULL_LOAD(storage) ((storage) <= 1)
+#else
+#define OM_FULL_LOAD(p, storage, n, v)
+#define OM_HAS_FULL_LOAD(storage) 0
+#endif
+#define OM_FETCH_0(name, storage, n, v)                                                 \
+    OmF v##0 = 0.0f, v##1 = 0.0f, v##2 = 0.0f, v##3 = 0.0f;                             \
+    if (OM_HAS_FULL_LOAD(storage) && x0 + OM_LANES <= P.width) {                        \
+        OM_FULL_LOAD(name, storage, n, v);                                              \
+    } else {                                                                            \
+        float t_[4][OM_LANES];                                                          \
+        for (int l_ = 0; l_ < OM_LANES; ++l_) {                                         \
+            const size_t k_ = row + min(x0 + l_, P.width - 1);                          \
+            for (int c_ = 0; c_ < 4; ++c_)                                              \
+                t_[c_][l_] = c_ < (n) ? OM_STORED(name, storage, k_ * (n) + c_) : 0.0f; \
+        }                                                                               \
+        v##0 = OM_VLOAD(t_[0]);                                                         \
+        v##1 = OM_VLOAD(t_[1]);                                                         \
+        v##2 = OM_VLOAD(t_[2]);                                                         \
+        v##3 = OM_VLOAD(t_[3]);                                                         \
+    }
+#define OM_FETCH_1(name, storage, n, v)                                                    \
+    OmF v##0, v##1, v##2, v##3;                                                            \
+    {                                                                                      \
+        float t_[4][OM_LANES];                                                             \
+        for (int l_ = 0; l_ < OM_LANES; ++l_) {                                            \
+            const float4 r_ =                                                              \
+                read_imagef(name, om_texel_sampler, (int2)(min(x0 + l_, P.width - 1), y)); \
+            t_[0][l_] = r_.x;                                                              \
+            t_[1][l_] = r_.y;                                                              \
+            t_[2][l_] = r_.z;                                                              \
+            t_[3][l_] = r_.w;                                                              \
+        }                                                                                  \
+        v##0 = OM_VLOAD(t_[0]);                                                            \
+        v##1 = OM_VLOAD(t_[1]);                                                            \
+        v##2 = OM_VLOAD(t_[2]);                                                            \
+        v##3 = OM_VLOAD(t_[3]);                                                            \
+    }
 
-// The frame's form and the light are fixed at build time too (OM_QUATERNION_FRAME; OM_LIT, with
-// OM_POINT_LIGHT for a point light).
+// Writes n values per pixel (OmF a, b, ...) for the work-item's pixels inside the row: a full
+// work-item of 16 lanes with shuffles and vector stores, any other with a loop.
+#if OM_LANES == 16
+#define OM_I2_LO (uint16)(0, 16, 1, 17, 2, 18, 3, 19, 4, 20, 5, 21, 6, 22, 7, 23)
+#define OM_I2_HI (uint16)(8, 24, 9, 25, 10, 26, 11, 27, 12, 28, 13, 29, 14, 30, 15, 31)
+#define OM_I4_LO (uint16)(0, 1, 16, 17, 2, 3, 18, 19, 4, 5, 20, 21, 6, 7, 22, 23)
+#define OM_I4_HI (uint16)(8, 9, 24, 25, 10, 11, 26, 27, 12, 13, 28, 29, 14, 15, 30, 31)
+#define OM_PUT_FULL(o, n, a, b, c, d)                                                         \
+    if (x0 + OM_LANES <= P.width) {                                                           \
+        const float16 ab_lo = shuffle2(a, b, OM_I2_LO), ab_hi = shuffle2(a, b, OM_I2_HI);     \
+        if ((n) == 2) {                                                                       \
+            vstore16(ab_lo, 0, o);                                                            \
+            vstore16(ab_hi, 1, o);                                                            \
+        } else {                                                                              \
+            const float16 cd_lo = shuffle2(c, d, OM_I2_LO), cd_hi = shuffle2(c, d, OM_I2_HI); \
+            vstore16(shuffle2(ab_lo, cd_lo, OM_I4_LO), 0, o);                                 \
+            vstore16(shuffle2(ab_lo, cd_lo, OM_I4_HI), 1, o);                                 \
+            vstore16(shuffle2(ab_hi, cd_hi, OM_I4_LO), 2, o);                                 \
+            vstore16(shuffle2(ab_hi, cd_hi, OM_I4_HI), 3, o);                                 \
+        }                                                                                     \
+        break;                                                                                \
+    }
+#else
+#define OM_PUT_FULL(o, n, a, b, c, d)
+#endif
+#define OM_PUT(out, n, a, b, c, d)                                           \
+    do {                                                                     \
+        __global float* o_ = (__global float*)(out) + (row + x0) * (n);      \
+        OM_PUT_FULL(o_, n, a, b, c, d)                                       \
+        float s_[4][OM_LANES];                                               \
+        OM_VSTORE(a, s_[0]);                                                 \
+        OM_VSTORE(b, s_[1]);                                                 \
+        OM_VSTORE(c, s_[2]);                                                 \
+        OM_VSTORE(d, s_[3]);                                                 \
+        for (int l_ = 0; l_ < OM_LANES && x0 + l_ < P.width; ++l_)           \
+            for (int c_ = 0; c_ < (n); ++c_) o_[l_ * (n) + c_] = s_[c_][l_]; \
+    } while (0)
+
 #ifndef OM_STORAGE_DEPTH
 #define OM_STORAGE_DEPTH 0  // OM_STORAGE_FLOAT, as a literal for OM_STORED
 #endif
 #ifndef OM_STORAGE_FRAME
-#define OM_STORAGE_FRAME 0  // OM_STORAGE_FLOAT, as a literal for OM_STORED
+#define OM_STORAGE_FRAME 0
 #endif
 #ifndef OM_STORAGE_TANGENT
-#define OM_STORAGE_TANGENT 0  // OM_STORAGE_FLOAT, as a literal for OM_STORED
+#define OM_STORAGE_TANGENT 0
 #endif
 #ifndef OM_STORAGE_UV
-#define OM_STORAGE_UV 0  // OM_STORAGE_FLOAT, as a literal for OM_STORED
+#define OM_STORAGE_UV 0
 #endif
 #ifndef OM_IMAGE_DEPTH
 #define OM_IMAGE_DEPTH 0
@@ -55,12 +164,6 @@
 #define OM_IMAGE_UV 0
 #endif
 
-// Written for PoCL's loop vectoriser, which widens a work-group's pixels only in straight-line
-// scalar code: no float3 or float4 values (images aside), no switch, no run-time branch on the
-// frame's form or the light. It still declines the loop (it names an instruction it cannot
-// widen), so on a CPU this pass costs about 14 ns/pixel against 5 for its loads and stores
-// alone (720p, AVX-512, PoCL 3.1; the bench's "reconstruct" entry); explicit lanes as in
-// offset.cl are the way to close that.
 #define OM_DOT3(a, b) (a##x * b##x + a##y * b##y + a##z * b##z)
 
 __kernel void om_reconstruct(const OmReconstructParams P, OM_INPUT_ARG(depth_in, OM_IMAGE_DEPTH),
@@ -68,111 +171,104 @@ __kernel void om_reconstruct(const OmReconstructParams P, OM_INPUT_ARG(depth_in,
                              OM_INPUT_ARG(tangent_in, OM_IMAGE_TANGENT),
                              OM_INPUT_ARG(uv_in, OM_IMAGE_UV), __global float2* out_uv,
                              __global float4* out_view, __global float4* out_light) {
-    const int x = get_global_id(0), y = get_global_id(1);
-    if (x >= P.width || y >= P.height) return;
-    const size_t k = (size_t)y * P.width + x;
+    const int x0 = get_global_id(0) * OM_LANES, y = get_global_id(1);
+    if (x0 >= P.width || y >= P.height) return;
+    const size_t row = (size_t)y * P.width;
     OM_FETCH(uv_in, OM_IMAGE_UV, OM_STORAGE_UV, 2, uv);
     OM_FETCH(depth_in, OM_IMAGE_DEPTH, OM_STORAGE_DEPTH, 1, depth);
     OM_FETCH(frame_in, OM_IMAGE_FRAME, OM_STORAGE_FRAME, 4, f);
-    const float d = depth0;
+    const OmF d = depth0;
 
     // The pixel centre in NDC, then p = (M ndc).xyz / (M ndc).w and V = (eye - p) / |eye - p|.
-    const float nx = (float)(2 * x + 1) / (float)P.width - 1.0f;
+    const OmF fx = OM_TO_FLOAT(2 * (x0 + OM_LANE_IDS) + 1);
+    const OmF nx = fx / (float)P.width - 1.0f;
     const float ny = P.row0_ndc_y * (1.0f - (float)(2 * y + 1) / (float)P.height);
-    const float nz = P.depth_scale * d + P.depth_offset;  // 2d - 1 (GL) or d
+    const OmF nz = P.depth_scale * d + P.depth_offset;  // 2d - 1 (GL) or d
     const float* m = P.inv_view_proj;
-    const float cw = m[3] * nx + m[7] * ny + m[11] * nz + m[15];
-    const float px = (m[0] * nx + m[4] * ny + m[8] * nz + m[12]) / cw;
-    const float py = (m[1] * nx + m[5] * ny + m[9] * nz + m[13]) / cw;
-    const float pz = (m[2] * nx + m[6] * ny + m[10] * nz + m[14]) / cw;
-    float vx = P.eye[0] - px, vy = P.eye[1] - py, vz = P.eye[2] - pz;
-    const float iv = rsqrt(OM_DOT3(v, v));
+    const OmF cw = m[3] * nx + m[7] * ny + m[11] * nz + m[15];
+    const OmF px = (m[0] * nx + m[4] * ny + m[8] * nz + m[12]) / cw;
+    const OmF py = (m[1] * nx + m[5] * ny + m[9] * nz + m[13]) / cw;
+    const OmF pz = (m[2] * nx + m[6] * ny + m[10] * nz + m[14]) / cw;
+    OmF vx = P.eye[0] - px, vy = P.eye[1] - py, vz = P.eye[2] - pz;
+    const OmF iv = rsqrt(OM_DOT3(v, v));
     vx *= iv;
     vy *= iv;
     vz *= iv;
 
-    float tx, ty, tz, bx, by, bz, nx_, ny_, nz_;
-    int ok;
+    OmF tx, ty, tz, bx, by, bz, qnx, qny, qnz;  // the frame: tangent, bitangent, normal
+    OmI ok;
 #ifdef OM_QUATERNION_FRAME
     {
         // The columns of the rotation by the unit quaternion: tangent, bitangent, normal. q and -q
         // are the same rotation, so the sign of w carries the handedness.
-        const float q2 = f0 * f0 + f1 * f1 + f2 * f2 + f3 * f3;
-        ok = isfinite(q2) && q2 > 1.0e-12f;
-        const float iq = rsqrt(q2);
-        const float qx = f0 * iq, qy = f1 * iq, qz = f2 * iq, qw = f3 * iq;
-        const float xx = qx * qx, yy = qy * qy, zz = qz * qz;
-        const float xy = qx * qy, xz = qx * qz, yz = qy * qz;
-        const float wx = qw * qx, wy = qw * qy, wz = qw * qz;
-        const float h = f3 < 0.0f ? -1.0f : 1.0f;
+        const OmF q2 = f0 * f0 + f1 * f1 + f2 * f2 + f3 * f3;
+        ok = isfinite(q2) & (q2 > 1.0e-12f);
+        const OmF iq = rsqrt(q2);
+        const OmF qx = f0 * iq, qy = f1 * iq, qz = f2 * iq, qw = f3 * iq;
+        const OmF xx = qx * qx, yy = qy * qy, zz = qz * qz;
+        const OmF xy = qx * qy, xz = qx * qz, yz = qy * qz;
+        const OmF wx = qw * qx, wy = qw * qy, wz = qw * qz;
+        const OmF h = OM_SEL((OmF)1.0f, (OmF)-1.0f, f3 < 0.0f);
         tx = 1.0f - 2.0f * (yy + zz);
         ty = 2.0f * (xy + wz);
         tz = 2.0f * (xz - wy);
         bx = h * (2.0f * (xy - wz));
         by = h * (1.0f - 2.0f * (xx + zz));
         bz = h * (2.0f * (yz + wx));
-        nx_ = 2.0f * (xz + wy);
-        ny_ = 2.0f * (yz - wx);
-        nz_ = 1.0f - 2.0f * (xx + yy);
+        qnx = 2.0f * (xz + wy);
+        qny = 2.0f * (yz - wx);
+        qnz = 1.0f - 2.0f * (xx + yy);
     }
 #else
     {
         OM_FETCH(tangent_in, OM_IMAGE_TANGENT, OM_STORAGE_TANGENT, 4, t);
-        const float n2 = f0 * f0 + f1 * f1 + f2 * f2;
-        const float in_ = rsqrt(n2);
-        nx_ = f0 * in_;
-        ny_ = f1 * in_;
-        nz_ = f2 * in_;
-        const float nt = nx_ * t0 + ny_ * t1 + nz_ * t2;
-        tx = t0 - nx_ * nt;
-        ty = t1 - ny_ * nt;
-        tz = t2 - nz_ * nt;
-        const float tp2 = OM_DOT3(t, t);
+        const OmF n2 = f0 * f0 + f1 * f1 + f2 * f2;
+        const OmF in = rsqrt(n2);
+        qnx = f0 * in;
+        qny = f1 * in;
+        qnz = f2 * in;
+        const OmF nt = qnx * t0 + qny * t1 + qnz * t2;
+        tx = t0 - qnx * nt;
+        ty = t1 - qny * nt;
+        tz = t2 - qnz * nt;
+        const OmF tp2 = OM_DOT3(t, t);
         // A tangent within about 0.06 degrees of the normal spans no plane.
-        ok = isfinite(n2) && n2 > 1.0e-12f && isfinite(tp2) &&
-             tp2 > 1.0e-6f * (t0 * t0 + t1 * t1 + t2 * t2);
-        const float it = rsqrt(tp2);
+        ok = isfinite(n2) & (n2 > 1.0e-12f) & isfinite(tp2) &
+             (tp2 > 1.0e-6f * (t0 * t0 + t1 * t1 + t2 * t2));
+        const OmF it = rsqrt(tp2);
         tx *= it;
         ty *= it;
         tz *= it;
-        const float h = t3 < 0.0f ? -1.0f : 1.0f;  // B = h N x T
-        bx = h * (ny_ * tz - nz_ * ty);
-        by = h * (nz_ * tx - nx_ * tz);
-        bz = h * (nx_ * ty - ny_ * tx);
+        const OmF h = OM_SEL((OmF)1.0f, (OmF)-1.0f, t3 < 0.0f);  // B = h N x T
+        bx = h * (qny * tz - qnz * ty);
+        by = h * (qnz * tx - qnx * tz);
+        bz = h * (qnx * ty - qny * tx);
     }
 #endif
-    const float vt = OM_DOT3(v, t), vb = OM_DOT3(v, b), vn = vx * nx_ + vy * ny_ + vz * nz_;
-    ok = ok && isfinite(d) && isfinite(vt) && isfinite(vb) && isfinite(vn);
+    const OmF vt = OM_DOT3(v, t), vb = OM_DOT3(v, b), vn = OM_DOT3(v, qn);
+    ok = ok & isfinite(d) & isfinite(vt) & isfinite(vb) & isfinite(vn);
 
-    const int sky = P.far_sign * (d - P.far_depth) >= 0.0f;  // d >= 1, or d <= 0 when reversed
-    // Stored as scalars too.
-    __global float* ouv = (__global float*)out_uv + 2 * k;
-    __global float* ov = (__global float*)out_view + 4 * k;
-    ouv[0] = sky ? NAN : uv0;
-    ouv[1] = sky ? NAN : uv1;
-    ov[0] = sky ? 0.0f : ok ? vt : NAN;
-    ov[1] = sky ? 0.0f : ok ? vb : NAN;
-    ov[2] = sky ? 1.0f : ok ? vn : NAN;
-    ov[3] = sky ? 0.0f : ok ? 0.0f : NAN;
+    // Sky: d >= 1, or d <= 0 when reversed.
+    const OmI sky = P.far_sign * (d - P.far_depth) >= 0.0f;
+    const OmF nan = (OmF)NAN;
+    OM_PUT(out_uv, 2, OM_SEL(uv0, nan, sky), OM_SEL(uv1, nan, sky), nan, nan);
+    OM_PUT(out_view, 4, OM_SEL(OM_SEL(nan, vt, ok), (OmF)0.0f, sky),
+           OM_SEL(OM_SEL(nan, vb, ok), (OmF)0.0f, sky), OM_SEL(OM_SEL(nan, vn, ok), (OmF)1.0f, sky),
+           OM_SEL(nan, (OmF)0.0f, ok | sky));
 #ifdef OM_LIT
-    float lx = P.light_vec[0], ly = P.light_vec[1], lz = P.light_vec[2];
+    OmF lx = P.light_vec[0], ly = P.light_vec[1], lz = P.light_vec[2];
 #ifdef OM_POINT_LIGHT
-    {
-        lx -= px;
-        ly -= py;
-        lz -= pz;
-        const float il = rsqrt(OM_DOT3(l, l));
-        lx *= il;
-        ly *= il;
-        lz *= il;
-    }
+    lx -= px;
+    ly -= py;
+    lz -= pz;
+    const OmF il = rsqrt(OM_DOT3(l, l));
+    lx *= il;
+    ly *= il;
+    lz *= il;
 #endif
-    const float lt = OM_DOT3(l, t), lb = OM_DOT3(l, b), ln = lx * nx_ + ly * ny_ + lz * nz_;
-    const int lit = ok && isfinite(lt) && isfinite(lb) && isfinite(ln);
-    __global float* ol = (__global float*)out_light + 4 * k;
-    ol[0] = lit ? lt : 0.0f;
-    ol[1] = lit ? lb : 0.0f;
-    ol[2] = lit ? ln : 1.0f;
-    ol[3] = 0.0f;
+    const OmF lt = OM_DOT3(l, t), lb = OM_DOT3(l, b), ln = OM_DOT3(l, qn);
+    const OmI lit = ok & isfinite(lt) & isfinite(lb) & isfinite(ln);
+    OM_PUT(out_light, 4, OM_SEL((OmF)0.0f, lt, lit), OM_SEL((OmF)0.0f, lb, lit),
+           OM_SEL((OmF)1.0f, ln, lit), (OmF)0.0f);
 #endif
 }
