@@ -727,5 +727,85 @@ TEST(EngineGBuffer, PrepareLeavesNothingToCompile) {
     EXPECT_EQ(rt->programs_built(), built);
 }
 
+// The engine form of a G-buffer file: written and read back exactly (both frame forms, the
+// camera and the light in the header), and load_gbuffer reconstructs it within the derived bound.
+TEST(EngineGBuffer, EngineFormFilesRoundTrip) {
+    const std::string dir = ::testing::TempDir();
+    PlaneScene s = small_plane();
+    EngineScene e = make_engine_scene(s, DepthConvention::GL, FirstRow::Bottom);
+    e.light = {LightKind::Point, {0.25f, -1.5f, 0.75f}};
+    for (FrameForm form : {FrameForm::NormalTangent, FrameForm::Quaternion}) {
+        EngineScene w = e;
+        if (form == FrameForm::Quaternion) {  // the plane's frame: the identity rotation
+            w.frame = form;
+            w.tangent.clear();
+            for (size_t k = 0; k < w.pixels(); ++k)
+                std::copy_n(std::array<float, 4>{0, 0, 0, 1}.begin(), 4, w.normal.begin() + 4 * k);
+        }
+        const std::string path = dir + "/engine_form.exr";
+        save_engine_gbuffer(path, w);
+        const EngineScene r = load_engine_gbuffer(path);
+        EXPECT_EQ(r.camera.inverse_view_projection, w.camera.inverse_view_projection);
+        EXPECT_EQ(r.camera.eye, w.camera.eye);
+        EXPECT_EQ(r.camera.depth, w.camera.depth);
+        EXPECT_EQ(r.camera.first_row, w.camera.first_row);
+        EXPECT_EQ(r.light.kind, w.light.kind);
+        EXPECT_EQ(r.light.vector, w.light.vector);
+        EXPECT_EQ(r.frame, w.frame);
+        EXPECT_EQ(0, std::memcmp(r.depth.data(), w.depth.data(), w.depth.size() * 4));
+        EXPECT_EQ(0, std::memcmp(r.uv.data(), w.uv.data(), w.uv.size() * 4));  // NaN sky too
+        EXPECT_EQ(r.normal, w.normal);
+        EXPECT_EQ(r.tangent, w.tangent);
+
+        // Through load_gbuffer: the reconstruct pass's V and L, within the reference's bound.
+        const GBuffer g = load_gbuffer(path, kDefaultReadLimitBytes, runtime().get());
+        EngineFrame f = plane_frame(s, DepthConvention::GL, FirstRow::Bottom);
+        f.form = form;
+        f.normal.v = w.normal;
+        for (size_t k = 0; k < g.pixels(); ++k) {
+            const Reference ref = reference(f, k, w.light);
+            if (ref.sky) {
+                EXPECT_TRUE(std::isnan(g.uv[k].s[0])) << k;
+                continue;
+            }
+            for (int i = 0; i < 3; ++i) {
+                ASSERT_LE(std::abs(g.view[k].s[i] - ref.v_ts[i]), ref.bound) << k;
+                ASSERT_LE(std::abs(g.light[k].s[i] - ref.l_ts[i]), ref.l_bound) << k;
+            }
+        }
+    }
+}
+
+TEST(EngineGBuffer, EngineFormFileErrorsNameTheAttribute) {
+    const std::string path = ::testing::TempDir() + "/engine_form_bad.exr";
+    EngineScene e = make_engine_scene(small_plane(), DepthConvention::ZeroToOne);
+    save_engine_gbuffer(path, e);
+    ASSERT_EQ(error_of([&] { load_engine_gbuffer(path); }), "");
+    // Rewrite the header with one attribute spoiled, the pixels kept.
+    auto spoil = [&](const std::string& name, const std::string& value) {
+        auto in = OIIO::ImageInput::open(path);
+        OIIO::ImageSpec spec = in->spec();
+        std::vector<float> data(spec.image_pixels() * spec.nchannels);
+        in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, data.data());
+        in->close();
+        spec.attribute(name, value);
+        const std::string bad = ::testing::TempDir() + "/engine_form_spoilt.exr";
+        auto out = OIIO::ImageOutput::create(bad);
+        out->open(bad, spec);
+        out->write_image(OIIO::TypeDesc::FLOAT, data.data());
+        out->close();
+        return error_of([&] { load_gbuffer(bad, kDefaultReadLimitBytes, runtime().get()); });
+    };
+    EXPECT_TRUE(contains(spoil("offsetmap:depth", "d3d"),
+                         "attribute offsetmap:depth must be gl, zero-one or reversed, got 'd3d'"));
+    EXPECT_TRUE(contains(spoil("offsetmap:eye", "1 2"),
+                         "attribute offsetmap:eye must hold 3 numbers, got '1 2'"));
+    EXPECT_TRUE(
+        contains(spoil("offsetmap:inverseViewProjection", "1 0 0 nan 0 1 0 0 0 0 1 0 0 0 0 1"),
+                 "attribute offsetmap:inverseViewProjection"));
+    EXPECT_TRUE(contains(spoil("offsetmap:light", "spot 0 0 1"),
+                         "attribute offsetmap:light must start with directional or point"));
+}
+
 }  // namespace
 }  // namespace omtest

@@ -170,6 +170,13 @@ int main(int argc, char** argv) {
     std::string gb_out;
     gb_scene.add_to(*cmd_gbuffer);
     cmd_gbuffer->add_option("-o,--output", gb_out, "output EXR file")->required();
+    // The engine form: depth, camera, tangent frame and uv, as an engine writes its G-buffer.
+    std::string gb_depth;
+    cmd_gbuffer
+        ->add_option("--engine-form", gb_depth,
+                     "write the plane scene in the engine form (depth, camera, frame, uv) with "
+                     "this depth convention; render reconstructs V from it")
+        ->check(CLI::IsMember({"gl", "zero-one", "reversed"}));
 
     auto* cmd_render = app.add_subcommand("render", "run one method's offset pass (and shading)");
     ReliefOptions relief;
@@ -276,7 +283,20 @@ int main(int argc, char** argv) {
         if (*cmd_methods) print_methods(json);
         if (*cmd_gbuffer) {
             gb_scene.check();
-            save_gbuffer(gb_out, gb_scene.make());
+            if (gb_depth.empty()) {
+                save_gbuffer(gb_out, gb_scene.make());
+            } else {
+                if (gb_scene.scene != "plane")
+                    throw UsageError("--engine-form writes the plane scene, not --scene " +
+                                     gb_scene.scene);
+                PlaneScene p = gb_scene.plane;
+                if (gb_scene.width) p.width = gb_scene.width;
+                if (gb_scene.height) p.height = gb_scene.height;
+                const DepthConvention d = gb_depth == "gl"         ? DepthConvention::GL
+                                          : gb_depth == "zero-one" ? DepthConvention::ZeroToOne
+                                                                   : DepthConvention::Reversed;
+                save_engine_gbuffer(gb_out, make_engine_scene(p, d));
+            }
         }
         if (*cmd_render) return render(relief, shading, scene, req);
         if (*cmd_compare) return run_compare(cmp_out, cmp_relief, cmp_shading, cmp_scene, repeats);

@@ -1,5 +1,7 @@
 // G-buffer files: the OpenEXR contract (channels found by name) read and written.
+#include <cstdio>
 #include <map>
+#include <sstream>
 
 #include "exr.hpp"
 #include "image_read.hpp"
@@ -8,13 +10,181 @@
 
 namespace offsetmap {
 
-GBuffer load_gbuffer(const std::string& path, size_t max_bytes) {
+namespace {
+
+const char* depth_name(DepthConvention d) {
+    return d == DepthConvention::GL          ? "gl"
+           : d == DepthConvention::ZeroToOne ? "zero-one"
+                                             : "reversed";
+}
+
+std::string numbers(const float* v, int n) {
+    std::string out;
+    for (int k = 0; k < n; ++k) {
+        char text[32];
+        std::snprintf(text, sizeof text, "%.9g", v[k]);  // 9 digits: the float again on reading
+        out += (k ? " " : "") + std::string(text);
+    }
+    return out;
+}
+
+// `count` finite numbers from an attribute's text; throws Error naming the file and attribute.
+std::vector<float> parse_numbers(const std::string& text, int count, const std::string& file,
+                                 const std::string& name) {
+    std::istringstream in(text);
+    std::vector<float> out;
+    float x;
+    while (in >> x) out.push_back(x);
+    if (!in.eof() || static_cast<int>(out.size()) != count)
+        throw Error(file + ": attribute " + name + " must hold " + std::to_string(count) +
+                    " numbers, got '" + text + "'");
+    for (float v : out)
+        if (!std::isfinite(v)) throw Error(file + ": attribute " + name + " is not finite");
+    return out;
+}
+
+}  // namespace
+
+void save_engine_gbuffer(const std::string& path, const EngineScene& e) {
+    const bool quaternion = e.frame == FrameForm::Quaternion;
+    std::vector<std::string> names = {"depth", "u", "v"};
+    for (const char* n : quaternion ? std::vector<const char*>{"Qx", "Qy", "Qz", "Qw"}
+                                    : std::vector<const char*>{"Nx", "Ny", "Nz"})
+        names.push_back(n);
+    if (!quaternion) names.insert(names.end(), {"Tx", "Ty", "Tz", "Tw"});
+    const int nc = static_cast<int>(names.size());
+    std::vector<float> data(e.pixels() * nc);
+    for (size_t k = 0; k < e.pixels(); ++k) {
+        float* px = &data[k * nc];
+        int c = 0;
+        px[c++] = e.depth[k];
+        px[c++] = e.uv[2 * k];
+        px[c++] = e.uv[2 * k + 1];
+        for (int a = 0; a < (quaternion ? 4 : 3); ++a) px[c++] = e.normal[4 * k + a];
+        if (!quaternion)
+            for (int a = 0; a < 4; ++a) px[c++] = e.tangent[4 * k + a];
+    }
+    std::map<std::string, std::string> attributes = {
+        {"offsetmap:inverseViewProjection", numbers(e.camera.inverse_view_projection.data(), 16)},
+        {"offsetmap:eye", numbers(e.camera.eye.data(), 3)},
+        {"offsetmap:depth", depth_name(e.camera.depth)},
+        {"offsetmap:firstRow", e.camera.first_row == FirstRow::Top ? "top" : "bottom"}};
+    if (e.light.kind != LightKind::None)
+        attributes["offsetmap:light"] =
+            std::string(e.light.kind == LightKind::Point ? "point " : "directional ") +
+            numbers(e.light.vector.data(), 3);
+    write_float_exr(path, "G-buffer", e.width, e.height, names, data, attributes);
+}
+
+EngineScene load_engine_gbuffer(const std::string& path, size_t max_bytes) {
     const std::string what = "G-buffer";
     auto in = open_image(path, what);
     const OIIO::ImageSpec& spec = in->spec();
     const std::string file = describe_file(what, path);
     std::map<std::string, int> index;
     for (int c = 0; c < spec.nchannels; ++c) index[spec.channelnames[c]] = c;
+    const bool quaternion = index.count("Qx") != 0;
+    std::vector<const char*> needed = {"depth", "u", "v"};
+    for (const char* n : quaternion
+                             ? std::vector<const char*>{"Qx", "Qy", "Qz", "Qw"}
+                             : std::vector<const char*>{"Nx", "Ny", "Nz", "Tx", "Ty", "Tz", "Tw"})
+        needed.push_back(n);
+    std::string missing;
+    for (const char* n : needed) {
+        if (!index.count(n)) {
+            missing += std::string(missing.empty() ? "" : " ") + n;
+            continue;
+        }
+        const OIIO::TypeDesc t = spec.channelformat(index[n]);
+        if (t.basetype != OIIO::TypeDesc::HALF && t.basetype != OIIO::TypeDesc::FLOAT)
+            throw Error(file + " stores channel '" + n + "' as " + t.c_str() +
+                        "; G-buffer channels must be half or float");
+    }
+    if (!missing.empty())
+        throw Error(file + " (engine form) lacks channel(s) " + missing +
+                    " (needs depth u v and Nx Ny Nz Tx Ty Tz Tw or Qx Qy Qz Qw)");
+    auto attribute = [&](const char* name) {
+        const std::string text = spec.get_string_attribute(name);
+        if (text.empty()) throw Error(file + " (engine form) lacks attribute " + name);
+        return text;
+    };
+    EngineScene e;
+    e.width = spec.width;
+    e.height = spec.height;
+    e.frame = quaternion ? FrameForm::Quaternion : FrameForm::NormalTangent;
+    const auto m = parse_numbers(attribute("offsetmap:inverseViewProjection"), 16, file,
+                                 "offsetmap:inverseViewProjection");
+    std::copy(m.begin(), m.end(), e.camera.inverse_view_projection.begin());
+    const auto eye = parse_numbers(attribute("offsetmap:eye"), 3, file, "offsetmap:eye");
+    std::copy(eye.begin(), eye.end(), e.camera.eye.begin());
+    const std::string depth = attribute("offsetmap:depth");
+    if (depth == "gl")
+        e.camera.depth = DepthConvention::GL;
+    else if (depth == "zero-one")
+        e.camera.depth = DepthConvention::ZeroToOne;
+    else if (depth == "reversed")
+        e.camera.depth = DepthConvention::Reversed;
+    else
+        throw Error(file + ": attribute offsetmap:depth must be gl, zero-one or reversed, got '" +
+                    depth + "'");
+    const std::string row = attribute("offsetmap:firstRow");
+    if (row != "top" && row != "bottom")
+        throw Error(file + ": attribute offsetmap:firstRow must be top or bottom, got '" + row +
+                    "'");
+    e.camera.first_row = row == "top" ? FirstRow::Top : FirstRow::Bottom;
+    if (const std::string light = spec.get_string_attribute("offsetmap:light"); !light.empty()) {
+        const size_t space = light.find(' ');
+        const std::string kind = light.substr(0, space);
+        if (kind != "directional" && kind != "point")
+            throw Error(file +
+                        ": attribute offsetmap:light must start with directional or point, "
+                        "got '" +
+                        light + "'");
+        e.light.kind = kind == "point" ? LightKind::Point : LightKind::Directional;
+        const auto v = parse_numbers(space == std::string::npos ? "" : light.substr(space + 1), 3,
+                                     file, "offsetmap:light");
+        std::copy(v.begin(), v.end(), e.light.vector.begin());
+    }
+    check_gbuffer_size(spec.width, spec.height, file);
+    check_decode_size(spec, path, what, spec.nchannels * sizeof(float) + 11 * sizeof(float),
+                      max_bytes);
+    std::vector<float> data = read_float_pixels(*in, path, what, 0, spec.nchannels);
+    const size_t n = e.pixels();
+    const int nc = spec.nchannels;
+    e.depth.resize(n);
+    e.uv.resize(2 * n);
+    e.normal.assign(4 * n, 0.0f);
+    if (!quaternion) e.tangent.resize(4 * n);
+    auto ch = [&](size_t k, const char* name) { return data[k * nc + index[name]]; };
+    for (size_t k = 0; k < n; ++k) {
+        e.depth[k] = ch(k, "depth");
+        e.uv[2 * k] = ch(k, "u");
+        e.uv[2 * k + 1] = ch(k, "v");
+        const char* const frame[] = {"Nx", "Ny", "Nz", "Tx", "Ty", "Tz", "Tw"};
+        const char* const quat[] = {"Qx", "Qy", "Qz", "Qw"};
+        if (quaternion) {
+            for (int a = 0; a < 4; ++a) e.normal[4 * k + a] = ch(k, quat[a]);
+        } else {
+            for (int a = 0; a < 3; ++a) e.normal[4 * k + a] = ch(k, frame[a]);
+            for (int a = 0; a < 4; ++a) e.tangent[4 * k + a] = ch(k, frame[3 + a]);
+        }
+    }
+    return e;
+}
+
+GBuffer load_gbuffer(const std::string& path, size_t max_bytes, Runtime* runtime) {
+    const std::string what = "G-buffer";
+    auto in = open_image(path, what);
+    const OIIO::ImageSpec& spec = in->spec();
+    const std::string file = describe_file(what, path);
+    std::map<std::string, int> index;
+    for (int c = 0; c < spec.nchannels; ++c) index[spec.channelnames[c]] = c;
+    if (index.count("depth") && !index.count("Vx")) {  // the engine form
+        in.reset();
+        const EngineScene e = load_engine_gbuffer(path, max_bytes);
+        if (runtime) return reconstruct(*runtime, e);
+        return reconstruct(*Runtime::create(), e);
+    }
     std::string present;
     for (const auto& n : spec.channelnames) present += (present.empty() ? "" : " ") + n;
     std::string missing;
@@ -22,7 +192,9 @@ GBuffer load_gbuffer(const std::string& path, size_t max_bytes) {
         if (!index.count(n)) missing += std::string(missing.empty() ? "" : " ") + n;
     if (!missing.empty())
         throw Error(file + " lacks channel(s) " + missing +
-                    " (needs u v Vx Vy Vz, optionally Lx Ly Lz lod; it has: " + present + ")");
+                    " (needs u v Vx Vy Vz, optionally Lx Ly Lz lod, or the engine form: depth u v "
+                    "Nx Ny Nz Tx Ty Tz Tw; it has: " +
+                    present + ")");
     int nl = static_cast<int>(index.count("Lx") + index.count("Ly") + index.count("Lz"));
     if (nl != 0 && nl != 3)
         throw Error(file + " has only some of Lx Ly Lz (it has: " + present + ")");

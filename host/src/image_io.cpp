@@ -121,10 +121,12 @@ void write_uv_exr(const std::string& path, const OffsetResult& r) {
 }
 
 void write_float_exr(const std::string& path, const std::string& what, int width, int height,
-                     const std::vector<std::string>& channels, const std::vector<float>& data) {
+                     const std::vector<std::string>& channels, const std::vector<float>& data,
+                     const std::map<std::string, std::string>& attributes) {
     OIIO::ImageSpec spec(width, height, static_cast<int>(channels.size()), OIIO::TypeDesc::FLOAT);
     spec.channelnames = channels;
     spec.attribute("compression", "zip");
+    for (const auto& [name, value] : attributes) spec.attribute(name, value);
     auto out = OIIO::ImageOutput::create(path);
     if (!out || !out->open(path, spec) || !out->write_image(OIIO::TypeDesc::FLOAT, data.data()) ||
         !out->close())

@@ -99,6 +99,10 @@ EngineScene make_engine_scene(const PlaneScene& s, DepthConvention depth, FirstR
                     static_cast<float>(cam.eye.z)};
     e.camera.depth = depth;
     e.camera.first_row = first_row;
+    if (s.with_light)  // the plane's frame is the world's: the tangent-space light as it is
+        e.light = {LightKind::Directional,
+                   {static_cast<float>(s.light[0]), static_cast<float>(s.light[1]),
+                    static_cast<float>(s.light[2])}};
     const size_t n = static_cast<size_t>(s.width) * s.height;
     const bool reversed = depth == DepthConvention::Reversed;
     e.depth.assign(n, reversed ? 0.0f : 1.0f);
@@ -166,6 +170,42 @@ GBuffer make_scene(const RandomScene& s) {
         gb.uv[k] = {{static_cast<float>(u), static_cast<float>(v)}};
         gb.view[k] = f4(glm::dvec3(r * std::cos(az), r * std::sin(az), z));
     }
+    return gb;
+}
+
+GBuffer reconstruct(Runtime& rt, const EngineScene& e) {
+    const size_t n = e.pixels();
+    const bool quaternion = e.frame == FrameForm::Quaternion;
+    if (e.depth.size() != n || e.normal.size() != 4 * n ||
+        (!quaternion && e.tangent.size() != 4 * n) || e.uv.size() != 2 * n)
+        throw Error("the engine scene's planes do not match its size " + std::to_string(e.width) +
+                    "x" + std::to_string(e.height));
+    auto input = [&](const std::vector<float>& v) {
+        Input in;
+        in.buffer = cl::Buffer(rt.context(), CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR,
+                               v.size() * sizeof(float), const_cast<float*>(v.data()));
+        return in;
+    };
+    EngineGBuffer g;
+    g.width = e.width;
+    g.height = e.height;
+    g.camera = e.camera;
+    g.depth = input(e.depth);
+    g.frame = e.frame;
+    g.normal = input(e.normal);
+    if (!quaternion) g.tangent = input(e.tangent);
+    g.uv = input(e.uv);
+    g.light = e.light;
+    const bool lit = e.light.kind != LightKind::None;
+    auto shared = std::shared_ptr<Runtime>(&rt, [](Runtime*) {});  // the caller keeps it alive
+    DeviceGBuffer out = allocate_gbuffer(rt, e.width, e.height, lit, false);
+    ReconstructPass(shared).enqueue(g, out).wait();
+    GBuffer gb;
+    gb.resize(e.width, e.height, lit, false);
+    rt.queue().enqueueReadBuffer(out.uv, CL_TRUE, 0, n * sizeof(cl_float2), gb.uv.data());
+    rt.queue().enqueueReadBuffer(out.view, CL_TRUE, 0, n * sizeof(cl_float4), gb.view.data());
+    if (lit)
+        rt.queue().enqueueReadBuffer(out.light, CL_TRUE, 0, n * sizeof(cl_float4), gb.light.data());
     return gb;
 }
 

@@ -7,6 +7,7 @@
 #include "offsetmap/evaluate.hpp"
 #include "offsetmap/gbuffer.hpp"
 #include "offsetmap/heightmap.hpp"
+#include "offsetmap/scenes.hpp"
 
 namespace offsetmap {
 
@@ -40,9 +41,20 @@ Image4 load_normal_map(const std::string& path, bool flip_green,
                        size_t max_bytes = kDefaultReadLimitBytes);
 
 // Reads an OpenEXR G-buffer with channels u v Vx Vy Vz and optionally Lx Ly Lz (all three) and lod,
-// each stored as half or float. Throws Error naming the file and the missing or mistyped channels,
+// each stored as half or float; or one in the engine form (channel depth; save_engine_gbuffer),
+// which is reconstructed on `runtime` (a runtime of its own when null) as the reconstruct pass does
+// it in a frame. Throws Error naming the file and the missing or mistyped channels or attributes,
 // or the size limit (kMaxGBufferPixels, `max_bytes`) it exceeds.
-GBuffer load_gbuffer(const std::string& path, size_t max_bytes = kDefaultReadLimitBytes);
+GBuffer load_gbuffer(const std::string& path, size_t max_bytes = kDefaultReadLimitBytes,
+                     Runtime* runtime = nullptr);
+
+// The engine form of a G-buffer file: float channels depth, Nx Ny Nz Tx Ty Tz Tw (or Qx Qy Qz Qw)
+// and u v, and the camera and light as header attributes (offsetmap:inverseViewProjection, 16
+// numbers column-major; offsetmap:eye, 3; offsetmap:depth, gl | zero-one | reversed;
+// offsetmap:firstRow, top | bottom; offsetmap:light, "directional x y z" or "point x y z").
+void save_engine_gbuffer(const std::string& path, const EngineScene& scene);
+EngineScene load_engine_gbuffer(const std::string& path,
+                                size_t max_bytes = kDefaultReadLimitBytes);
 
 // While on, the readers send what image decoders write straight to the process's stderr (libpng
 // prints its errors before OpenImageIO reports them) to /dev/null for the duration of each read, so

@@ -55,12 +55,20 @@ struct EngineScene {
     int height = 0;
     EngineCamera camera;
     std::vector<float> depth;    // 1 value per pixel
-    std::vector<float> normal;   // 4 per pixel
-    std::vector<float> tangent;  // 4 per pixel
+    FrameForm frame = FrameForm::NormalTangent;
+    std::vector<float> normal;   // 4 per pixel (the quaternion in the quaternion form)
+    std::vector<float> tangent;  // 4 per pixel (empty in the quaternion form)
     std::vector<float> uv;       // 2 per pixel
+    EngineLight light;           // the plane scene's light, directional, when it has one
+
+    size_t pixels() const { return static_cast<size_t>(width) * height; }
 };
 EngineScene make_engine_scene(const PlaneScene& scene, DepthConvention depth,
                               FirstRow first_row = FirstRow::Top);
+
+// The explicit G-buffer of an engine scene, reconstructed on `runtime`'s device by the
+// reconstruct pass (from float buffers) and read back: what the offset pass sees in a frame.
+GBuffer reconstruct(Runtime& runtime, const EngineScene& scene);
 GBuffer make_scene(const SweepScene& scene);
 GBuffer make_scene(const RandomScene& scene);
 
