@@ -29,8 +29,8 @@ int main() try {
     }
     auto input = [&](std::vector<float>& v) {
         Input in;
-        in.buffer = cl::Buffer(context, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, v.size() * 4,
-                               v.data());
+        in.buffer =
+            cl::Buffer(context, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, v.size() * 4, v.data());
         return in;
     };
     g.depth = input(depth), g.normal = input(normal), g.tangent = input(tangent), g.uv = input(uv);
@@ -59,7 +59,8 @@ int main() try {
     queue.enqueueReadBuffer(rgba, CL_TRUE, 0, n * sizeof(cl_float4), color.data());
     int lit = 0;
     for (const cl_float4& c : color) lit += c.s[3] == 1.0f && std::isfinite(c.s[0]);
-    std::printf("engine example: %d of %d pixels shaded on %s\n", lit, n, rt->device_name().c_str());
+    std::printf("engine example: %d of %d pixels shaded on %s\n", lit, n,
+                rt->device_name().c_str());
     return lit == n ? 0 : 1;
 } catch (const std::exception& e) {
     std::fprintf(stderr, "engine example: %s\n", e.what());

@@ -315,10 +315,9 @@ TEST(CallerContext, OneRuntimeServesSeveralQueues) {
     cl::Context other(device);
     OffsetTargets t;
     t.uv = cl::Buffer(context, CL_MEM_READ_WRITE, n * sizeof(cl_float2));
-    EXPECT_TRUE(contains(error_of([&] {
-                             pass.enqueue(g, field, s, t, {}, cl::CommandQueue(other, device));
-                         }),
-                         "the queue given to the pass belongs to another OpenCL context"));
+    EXPECT_TRUE(contains(
+        error_of([&] { pass.enqueue(g, field, s, t, {}, cl::CommandQueue(other, device)); }),
+        "the queue given to the pass belongs to another OpenCL context"));
 }
 
 }  // namespace

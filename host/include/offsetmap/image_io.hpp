@@ -53,8 +53,7 @@ GBuffer load_gbuffer(const std::string& path, size_t max_bytes = kDefaultReadLim
 // numbers column-major; offsetmap:eye, 3; offsetmap:depth, gl | zero-one | reversed;
 // offsetmap:firstRow, top | bottom; offsetmap:light, "directional x y z" or "point x y z").
 void save_engine_gbuffer(const std::string& path, const EngineScene& scene);
-EngineScene load_engine_gbuffer(const std::string& path,
-                                size_t max_bytes = kDefaultReadLimitBytes);
+EngineScene load_engine_gbuffer(const std::string& path, size_t max_bytes = kDefaultReadLimitBytes);
 
 // While on, the readers send what image decoders write straight to the process's stderr (libpng
 // prints its errors before OpenImageIO reports them) to /dev/null for the duration of each read, so

@@ -54,7 +54,7 @@ struct EngineScene {
     int width = 0;
     int height = 0;
     EngineCamera camera;
-    std::vector<float> depth;    // 1 value per pixel
+    std::vector<float> depth;  // 1 value per pixel
     FrameForm frame = FrameForm::NormalTangent;
     std::vector<float> normal;   // 4 per pixel (the quaternion in the quaternion form)
     std::vector<float> tangent;  // 4 per pixel (empty in the quaternion form)
