@@ -23,13 +23,6 @@
 #define OM_LOAD_F(dst, p, base, n) dst = (p)[base]
 #define OM_STORE(src, T, p, base, n) ((__global T*)(p))[base] = (src)
 #else
-#if OM_LANES == 8
-#define OM_VLOAD(p) vload8(0, p)
-#define OM_VSTORE(v, p) vstore8(v, 0, p)
-#else
-#define OM_VLOAD(p) vload16(0, p)
-#define OM_VSTORE(v, p) vstore16(v, 0, p)
-#endif
 #define OM_LOAD_F(dst, p, base, n)                                                     \
     do {                                                                               \
         float tmp_[OM_LANES];                                                          \

@@ -76,13 +76,30 @@ void save_engine_gbuffer(const std::string& path, const EngineScene& e) {
     write_float_exr(path, "G-buffer", e.width, e.height, names, data, attributes);
 }
 
-EngineScene load_engine_gbuffer(const std::string& path, size_t max_bytes) {
-    const std::string what = "G-buffer";
-    auto in = open_image(path, what);
-    const OIIO::ImageSpec& spec = in->spec();
-    const std::string file = describe_file(what, path);
+namespace {
+
+// A G-buffer file opened once: its reader, its name for messages, its channels by name.
+struct GBufferFile {
+    std::string path;
+    std::unique_ptr<OIIO::ImageInput> in;
+    std::string file;  // "G-buffer 'path'"
     std::map<std::string, int> index;
-    for (int c = 0; c < spec.nchannels; ++c) index[spec.channelnames[c]] = c;
+
+    explicit GBufferFile(const std::string& p)
+        : path(p), in(open_image(p, "G-buffer")), file(describe_file("G-buffer", p)) {
+        const OIIO::ImageSpec& spec = in->spec();
+        for (int c = 0; c < spec.nchannels; ++c) index[spec.channelnames[c]] = c;
+    }
+    bool engine_form() const { return index.count("depth") && !index.count("Vx"); }
+};
+
+EngineScene read_engine_form(GBufferFile& g, size_t max_bytes) {
+    const std::string what = "G-buffer";
+    const std::string& path = g.path;
+    const std::string& file = g.file;
+    OIIO::ImageInput* in = g.in.get();
+    const OIIO::ImageSpec& spec = in->spec();
+    std::map<std::string, int>& index = g.index;
     const bool quaternion = index.count("Qx") != 0;
     std::vector<const char*> needed = {"depth", "u", "v"};
     for (const char* n : quaternion
@@ -172,19 +189,22 @@ EngineScene load_engine_gbuffer(const std::string& path, size_t max_bytes) {
     return e;
 }
 
-GBuffer load_gbuffer(const std::string& path, size_t max_bytes, Runtime* runtime) {
+}  // namespace
+
+EngineScene load_engine_gbuffer(const std::string& path, size_t max_bytes) {
+    GBufferFile g(path);
+    return read_engine_form(g, max_bytes);
+}
+
+GBuffer load_gbuffer(const std::string& path, size_t max_bytes, std::shared_ptr<Runtime> runtime) {
     const std::string what = "G-buffer";
-    auto in = open_image(path, what);
+    GBufferFile g(path);
+    if (g.engine_form())
+        return reconstruct(runtime ? runtime : Runtime::create(), read_engine_form(g, max_bytes));
+    auto& in = g.in;
     const OIIO::ImageSpec& spec = in->spec();
-    const std::string file = describe_file(what, path);
-    std::map<std::string, int> index;
-    for (int c = 0; c < spec.nchannels; ++c) index[spec.channelnames[c]] = c;
-    if (index.count("depth") && !index.count("Vx")) {  // the engine form
-        in.reset();
-        const EngineScene e = load_engine_gbuffer(path, max_bytes);
-        if (runtime) return reconstruct(*runtime, e);
-        return reconstruct(*Runtime::create(), e);
-    }
+    const std::string& file = g.file;
+    std::map<std::string, int>& index = g.index;
     std::string present;
     for (const auto& n : spec.channelnames) present += (present.empty() ? "" : " ") + n;
     std::string missing;

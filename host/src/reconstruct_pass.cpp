@@ -152,6 +152,7 @@ cl::Event ReconstructPass::launch(const EngineGBuffer& in, const DeviceGBuffer& 
     // The inputs as the kernel reads them (a copy for the one image form PoCL misreads).
     EngineGBuffer use = in;
     std::vector<cl::Event> deps = wait;
+    if (quaternion) use.tangent = Input();  // not read in this form
     for (Input* input : {&use.depth, &use.normal, &use.tangent, &use.uv}) {
         if (!input->bound()) continue;
         cl::Event copied;
@@ -168,7 +169,7 @@ cl::Event ReconstructPass::launch(const EngineGBuffer& in, const DeviceGBuffer& 
     };
     bind(1, use.depth);
     bind(2, use.normal);
-    bind(3, quaternion ? Input() : use.tangent);
+    bind(3, use.tangent);
     bind(4, use.uv);
     k.setArg(5, out.uv);
     k.setArg(6, out.view);

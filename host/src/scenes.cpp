@@ -173,7 +173,8 @@ GBuffer make_scene(const RandomScene& s) {
     return gb;
 }
 
-GBuffer reconstruct(Runtime& rt, const EngineScene& e) {
+GBuffer reconstruct(std::shared_ptr<Runtime> runtime, const EngineScene& e) {
+    Runtime& rt = *runtime;
     const size_t n = e.pixels();
     const bool quaternion = e.frame == FrameForm::Quaternion;
     if (e.depth.size() != n || e.normal.size() != 4 * n ||
@@ -197,9 +198,8 @@ GBuffer reconstruct(Runtime& rt, const EngineScene& e) {
     g.uv = input(e.uv);
     g.light = e.light;
     const bool lit = e.light.kind != LightKind::None;
-    auto shared = std::shared_ptr<Runtime>(&rt, [](Runtime*) {});  // the caller keeps it alive
     DeviceGBuffer out = allocate_gbuffer(rt, e.width, e.height, lit, false);
-    ReconstructPass(shared).enqueue(g, out).wait();
+    ReconstructPass(runtime).enqueue(g, out).wait();
     GBuffer gb;
     gb.resize(e.width, e.height, lit, false);
     rt.queue().enqueueReadBuffer(out.uv, CL_TRUE, 0, n * sizeof(cl_float2), gb.uv.data());

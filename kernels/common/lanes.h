@@ -43,6 +43,8 @@ typedef int OmI;
 #define OM_LFLOOR(x) om_floor(x)
 #define OM_GATHER(p, i) ((p)[i])
 #define OM_LANE_IDS 0
+#define OM_VLOAD(p) ((p)[0])
+#define OM_VSTORE(v, p) ((p)[0] = (v))
 #elif OM_LANES == 8
 typedef float8 OmF;
 typedef int8 OmI;
@@ -55,6 +57,8 @@ typedef int8 OmI;
     ((float8)((p)[(i).s0], (p)[(i).s1], (p)[(i).s2], (p)[(i).s3], (p)[(i).s4], (p)[(i).s5], \
               (p)[(i).s6], (p)[(i).s7]))
 #define OM_LANE_IDS ((int8)(0, 1, 2, 3, 4, 5, 6, 7))
+#define OM_VLOAD(p) vload8(0, p)
+#define OM_VSTORE(v, p) vstore8(v, 0, p)
 #elif OM_LANES == 16
 typedef float16 OmF;
 typedef int16 OmI;
@@ -68,6 +72,8 @@ typedef int16 OmI;
                (p)[(i).s6], (p)[(i).s7], (p)[(i).s8], (p)[(i).s9], (p)[(i).sa], (p)[(i).sb], \
                (p)[(i).sc], (p)[(i).sd], (p)[(i).se], (p)[(i).sf]))
 #define OM_LANE_IDS ((int16)(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15))
+#define OM_VLOAD(p) vload16(0, p)  // an OmF from OM_LANES floats in private memory
+#define OM_VSTORE(v, p) vstore16(v, 0, p)
 #else
 #error "OM_LANES must be 1, 8 or 16"
 #endif

@@ -5,26 +5,10 @@
 __constant sampler_t om_texel_sampler =
     CLK_NORMALIZED_COORDS_FALSE | CLK_ADDRESS_CLAMP_TO_EDGE | CLK_FILTER_NEAREST;
 
-// Element i of a buffer holding values stored as `storage`. The unorm and snorm forms divide as
-// the OpenCL specification converts images (c / 65535, max(c / 32767, -1), ...), so a buffer and
-// an image of the same format agree to the conversion's rounding.
-OM_INLINE float om_stored(__global const uchar* p, int storage, size_t i) {
-    switch (storage) {
-        case OM_STORAGE_HALF:
-            return vload_half(i, (__global const half*)p);
-        case OM_STORAGE_SNORM16:
-            return fmax((float)((__global const short*)p)[i] / 32767.0f, -1.0f);
-        case OM_STORAGE_UNORM16:
-            return (float)((__global const ushort*)p)[i] / 65535.0f;
-        case OM_STORAGE_UNORM8:
-            return (float)p[i] / 255.0f;
-        default:
-            return ((__global const float*)p)[i];
-    }
-}
-
 // Element i of a buffer of `storage` known at build time (a literal 0-4, OM_STORAGE_*): straight-
-// line code, with no switch for a vectoriser to stop at.
+// line code, with no switch for a vectoriser to stop at. The unorm and snorm forms divide as the
+// OpenCL specification converts images (c / 65535, max(c / 32767, -1), ...), so a buffer and an
+// image of the same format agree to the conversion's rounding.
 #define OM_STORED(p, storage, i) OM_STORED_(p, storage, i)
 #define OM_STORED_(p, storage, i) OM_STORED_##storage(p, i)
 #define OM_STORED_0(p, i) (((__global const float*)(p))[i])
@@ -33,12 +17,18 @@ OM_INLINE float om_stored(__global const uchar* p, int storage, size_t i) {
 #define OM_STORED_3(p, i) ((float)(((__global const ushort*)(p))[i]) / 65535.0f)
 #define OM_STORED_4(p, i) ((float)(((__global const uchar*)(p))[i]) / 255.0f)
 
-// The first `n` values of pixel k of a buffer holding n values per pixel; the rest 0.
-OM_INLINE float4 om_stored_n(__global const uchar* p, int storage, size_t k, int n) {
-    float4 v = (float4)(0.0f);
-    v.x = om_stored(p, storage, k * n);
-    if (n > 1) v.y = om_stored(p, storage, k * n + 1);
-    if (n > 2) v.z = om_stored(p, storage, k * n + 2);
-    if (n > 3) v.w = om_stored(p, storage, k * n + 3);
-    return v;
+// The same, with the storage known only at run time.
+OM_INLINE float om_stored(__global const uchar* p, int storage, size_t i) {
+    switch (storage) {
+        case OM_STORAGE_HALF:
+            return OM_STORED_1(p, i);
+        case OM_STORAGE_SNORM16:
+            return OM_STORED_2(p, i);
+        case OM_STORAGE_UNORM16:
+            return OM_STORED_3(p, i);
+        case OM_STORAGE_UNORM8:
+            return OM_STORED_4(p, i);
+        default:
+            return OM_STORED_0(p, i);
+    }
 }

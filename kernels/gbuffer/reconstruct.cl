@@ -18,17 +18,6 @@
 #define OM_INPUT_ARG_1(name) __read_only image2d_t name
 #define OM_INPUT_ARG_0(name) __global const uchar* name
 
-#if OM_LANES == 1
-#define OM_VLOAD(p) ((p)[0])
-#define OM_VSTORE(v, p) ((p)[0] = (v))
-#elif OM_LANES == 8
-#define OM_VLOAD(p) vload8(0, p)
-#define OM_VSTORE(v, p) vstore8(v, 0, p)
-#else
-#define OM_VLOAD(p) vload16(0, p)
-#define OM_VSTORE(v, p) vstore16(v, 0, p)
-#endif
-
 // Declares OmF v0 .. v3: the first n values of the work-item's pixels (the rest 0). Lanes past the
 // row's end repeat its last pixel.
 #define OM_FETCH(name, image, storage, n, v) OM_FETCH_(name, image, storage, n, v)

@@ -46,7 +46,7 @@ Image4 load_normal_map(const std::string& path, bool flip_green,
 // it in a frame. Throws Error naming the file and the missing or mistyped channels or attributes,
 // or the size limit (kMaxGBufferPixels, `max_bytes`) it exceeds.
 GBuffer load_gbuffer(const std::string& path, size_t max_bytes = kDefaultReadLimitBytes,
-                     Runtime* runtime = nullptr);
+                     std::shared_ptr<Runtime> runtime = nullptr);
 
 // The engine form of a G-buffer file: float channels depth, Nx Ny Nz Tx Ty Tz Tw (or Qx Qy Qz Qw)
 // and u v, and the camera and light as header attributes (offsetmap:inverseViewProjection, 16

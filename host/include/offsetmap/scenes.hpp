@@ -68,7 +68,7 @@ EngineScene make_engine_scene(const PlaneScene& scene, DepthConvention depth,
 
 // The explicit G-buffer of an engine scene, reconstructed on `runtime`'s device by the
 // reconstruct pass (from float buffers) and read back: what the offset pass sees in a frame.
-GBuffer reconstruct(Runtime& runtime, const EngineScene& scene);
+GBuffer reconstruct(std::shared_ptr<Runtime> runtime, const EngineScene& scene);
 GBuffer make_scene(const SweepScene& scene);
 GBuffer make_scene(const RandomScene& scene);
 
