@@ -24,94 +24,17 @@
 #include <nlohmann/json.hpp>
 #include <thread>
 
+#include "bench_materials.hpp"
+#include "bench_util.hpp"
 #include "cpu_peer.hpp"
 #include "offsetmap/evaluation.hpp"
 #include "om_shared.h"
 
 using namespace offsetmap;
+using namespace offsetmap::bench;
 using nlohmann::json;
 
 namespace {
-
-struct Timing {
-    double median_ms = 0, min_ms = 0;
-    int runs = 0;
-};
-
-Timing time_launches(const std::function<cl::Event()>& launch, double target_ms) {
-    launch().wait();  // warm-up: PoCL compiles per local size on first launch
-    cl::Event first = launch();
-    first.wait();
-    double t0 = std::max(event_ms(first), 1e-3);
-    int runs = std::clamp(static_cast<int>(target_ms / t0), target_ms > 0 ? 3 : 1, 30);
-    std::vector<double> ts = {t0};
-    for (int r = 1; r < runs; ++r) {
-        cl::Event e = launch();
-        e.wait();
-        ts.push_back(event_ms(e));
-    }
-    std::sort(ts.begin(), ts.end());
-    return {ts[ts.size() / 2], ts.front(), static_cast<int>(ts.size())};
-}
-
-// Kernels timed in turns (a, b, c, a, b, c, ...), each after a warm-up launch, at least 5 and
-// at most 30 rounds within about `target_ms`: the machine's load changes within seconds, so
-// kernels compared as a ratio are timed in the same window (timed minutes apart, the ratio of
-// two fixed kernels moved by up to 2x on a shared machine).
-std::vector<Timing> time_interleaved(const std::vector<std::function<cl::Event()>>& launches,
-                                     double target_ms) {
-    double round = 0;
-    for (const auto& launch : launches) {
-        launch().wait();
-        cl::Event e = launch();
-        e.wait();
-        round += std::max(event_ms(e), 1e-3);
-    }
-    int runs = std::clamp(static_cast<int>(target_ms / round), target_ms > 0 ? 5 : 1, 30);
-    std::vector<std::vector<double>> ts(launches.size());
-    for (int r = 0; r < runs; ++r)
-        for (size_t k = 0; k < launches.size(); ++k) {
-            cl::Event e = launches[k]();
-            e.wait();
-            ts[k].push_back(event_ms(e));
-        }
-    std::vector<Timing> out;
-    for (auto& t : ts) {
-        std::sort(t.begin(), t.end());
-        out.push_back({t[t.size() / 2], t.front(), runs});
-    }
-    return out;
-}
-
-// Several octaves of tiling sines: smooth at large scale, detailed at texel scale, so the access
-// pattern of a march is realistic for any size.
-HeightMap bench_map(int n) {
-    HeightMap m;
-    m.width = m.height = n;
-    m.h.resize(static_cast<size_t>(n) * n);
-    for (int j = 0; j < n; ++j)
-        for (int i = 0; i < n; ++i) {
-            double u = (i + 0.5) / n, v = (j + 0.5) / n, h = 0.5;
-            for (int k = 0; k < 5; ++k) {
-                double f = std::pow(2.0, k + 1), a = 0.22 / (k + 1);
-                h += a * std::sin(2 * M_PI * f * u + k) * std::sin(2 * M_PI * (f + 1) * v + 2 * k);
-            }
-            m.h[static_cast<size_t>(j) * n + i] = static_cast<float>(std::clamp(h, 0.0, 1.0));
-        }
-    return m;
-}
-
-struct Resolution {
-    const char* name;
-    int w, h;
-};
-
-GBuffer camera_gbuffer(const Resolution& r) {
-    PlaneScene p;
-    p.width = r.w;
-    p.height = r.h;
-    return make_scene(p);
-}
 
 // Host memcpy of `bytes` over all hardware threads, as GB/s of traffic (read + write): the
 // median of `reps` copies, each preceded by `before` (a kernel to time in turns with it).
@@ -524,7 +447,7 @@ void print_header(const char* title) {
 int main(int argc, char** argv) {
     CLI::App app{
         "offsetmap_bench: throughput of every offset method against the device's roofline"};
-    bool quick = false, smoke = false;
+    bool quick = false, smoke = false, materials_only = false;
     std::string out_dir = "out/bench", device;
     double target_ms = 300;
     app.add_flag("--quick", quick, "720p only, smaller maps and grids (about a minute)");
@@ -539,6 +462,8 @@ int main(int argc, char** argv) {
     app.add_option(
         "--methods", only,
         "only these methods: roofline, their defaults and the C++ loop (no growth charts)");
+    app.add_flag("--materials", materials_only,
+                 "only the material frame (tiles, one dispatch per method) at the main resolution");
     std::vector<std::string> ab;
     app.add_option("--ab", ab,
                    "A/B of two kernel folders (copies of kernels/): the methods (or --methods) "
@@ -588,6 +513,12 @@ int main(int argc, char** argv) {
                                           camera_gbuffer(main_res), bench_map(1024), s, rounds);
             std::ofstream(out_dir + "/bench-ab.json") << b.out.dump(2) << "\n";
             std::printf("\nwrote %s/bench-ab.json\n", out_dir.c_str());
+            return 0;
+        }
+        if (materials_only) {
+            b.out["materials"] = bench_materials(b.rt, main_res, b.target_ms);
+            std::ofstream(out_dir + "/bench-materials.json") << b.out.dump(2) << "\n";
+            std::printf("\nwrote %s/bench-materials.json\n", out_dir.c_str());
             return 0;
         }
         std::map<int, DeviceHeightField> fields;
@@ -646,6 +577,7 @@ int main(int argc, char** argv) {
         }
 
         b.out["reconstruct"] = b.reconstruct(main_res, field, s);
+        b.out["materials"] = bench_materials(b.rt, main_res, b.target_ms);
 
         // Cost against resolution (should be flat per pixel).
         json by_res = json::array();

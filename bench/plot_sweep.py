@@ -8,6 +8,9 @@ Writes OUT_DIR/pareto-ns.png (mean uv error against kernel ns/pixel) and OUT_DIR
 sweep order, the Pareto front (no other point is both cheaper and more accurate) drawn and its
 members named; and OUT_DIR/pareto-by-map.png, the ns/pixel chart per height map. Every point is the
 mean over the sweep's height maps and view sets. `exact` (zero error) sits on the error floor.
+A material frame (`sweep --materials`, map "materials": every method for all materials at once, and
+the table's own methods as "per-material", drawn as a star) has its own panel in pareto-by-map.png
+and stays out of the means.
 Needs Debian's python3-matplotlib.
 """
 import json
@@ -59,6 +62,9 @@ def draw(ax, points, cost, floor, title, annotate=True):
         ps = [p for p in points if p["method"] == m]
         xs = [max(p[cost], floor) for p in ps]
         ys = [max(p["error"], ERROR_FLOOR) for p in ps]
+        if m == "per-material":
+            ax.plot(xs, ys, "*", color="red", label=m, markersize=14)
+            continue
         ax.plot(xs, ys, "-o", color=colours(i % 10), label=m, markersize=4, linewidth=1)
     front = pareto(points, cost)
     ax.step([max(p[cost], floor) for p in front], [max(p["error"], ERROR_FLOOR) for p in front],
@@ -80,9 +86,9 @@ def main():
     with open(sys.argv[1]) as f:
         doc = json.load(f)
     records, out = doc["records"], sys.argv[2]
-    points = aggregate(records)
-    maps = sorted(set(r["map"] for r in records))
-    views = sorted(set(r["views"] for r in records))
+    points = aggregate(records, lambda r: r["map"] != "materials")
+    maps = sorted(set(r["map"] for r in records if r["map"] != "materials"))
+    views = sorted(set(r["views"] for r in records if r["map"] != "materials"))
     where = "%d height maps x %d view sets (%s)\n%s" % (len(maps), len(views), ", ".join(views),
                                                         doc.get("device", ""))
     for cost, floor, xlabel, name in (
@@ -95,11 +101,14 @@ def main():
         fig.tight_layout()
         fig.savefig(out + "/" + name, dpi=110)
         plt.close(fig)
+    if any(r["map"] == "materials" for r in records):
+        maps.append("materials")
     cols = min(4, len(maps))
     rows = (len(maps) + cols - 1) // cols
     fig, axes = plt.subplots(rows, cols, figsize=(4.2 * cols, 3.6 * rows), squeeze=False)
     for ax, m in zip(axes.flat, maps):
-        draw(ax, aggregate(records, lambda r: r["map"] == m), "ns", 0, m, annotate=False)
+        title = m if m != "materials" else "material frame (pooled; star: per-material)"
+        draw(ax, aggregate(records, lambda r: r["map"] == m), "ns", 0, title, annotate=False)
         ax.set_xlabel("ns/pixel")
     for ax in list(axes.flat)[len(maps):]:
         ax.axis("off")

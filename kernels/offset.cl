@@ -16,12 +16,10 @@
 // OM_IMAGES, OM_LOD when the LOD system is on, OM_OUT_DEPTH / OM_OUT_FETCHES / OM_OUT_FLAGS for the
 // optional outputs bound.
 
-// Pixel ids base .. base + OM_LANES - 1; the last work-item may hold fewer than OM_LANES pixels:
-// its loads repeat the last pixel and its stores stop at pixel_count.
-// OM_STORE writes lanes of element type T (float, or int for the uint outputs: same bits).
+// The lod plane's lanes base .. base + OM_LANES - 1; the last work-item may hold fewer than
+// OM_LANES pixels: its loads repeat the last pixel.
 #if OM_LANES == 1
 #define OM_LOAD_F(dst, p, base, n) dst = (p)[base]
-#define OM_STORE(src, T, p, base, n) ((__global T*)(p))[base] = (src)
 #else
 #define OM_LOAD_F(dst, p, base, n)                                                     \
     do {                                                                               \
@@ -29,17 +27,7 @@
         for (int k_ = 0; k_ < OM_LANES; ++k_) tmp_[k_] = (p)[min((base) + k_, (n)-1)]; \
         dst = OM_VLOAD(tmp_);                                                          \
     } while (0)
-#define OM_STORE(src, T, p, base, n)                                                  \
-    do {                                                                              \
-        __global T* d_ = (__global T*)(p) + (base);                                   \
-        if ((base) + OM_LANES <= (n)) {                                               \
-            OM_VSTORE(src, d_);                                                       \
-            break;                                                                    \
-        }                                                                             \
-        T tmp_[OM_LANES];                                                             \
-        OM_VSTORE(src, tmp_);                                                         \
-        for (int k_ = 0; k_ < OM_LANES && (base) + k_ < (n); ++k_) d_[k_] = tmp_[k_]; \
-    } while (0)
+#endif
 
 // A full work-item's G-buffer (interleaved uv and view) split into planes with vector loads and
 // shuffles, and its uv' interleaved back. Works on global or private memory (generic macros).
@@ -79,69 +67,42 @@
                  1, p);                                                                            \
     } while (0)
 #endif
-#endif
 
-__kernel void om_offset(const OmOffsetParams P, __global const float2* gb_uv2,
-                        __global const float4* gb_view4, __global const float* heights,
-                        __global const float* aux, __global const float* lod,
-                        __global float2* out_uv2, __global float* out_depth,
-                        __global uint* out_fetches, __global uint* out_flags OM_IMG_PARAM) {
-    // The G-buffer is interleaved (uv: 2 floats, view: 4 per pixel): read as floats, split into
-    // planes.
-    __global const float* gb_uv = (__global const float*)gb_uv2;
-    __global const float* gb_view = (__global const float*)gb_view4;
-    __global float* out_uv = (__global float*)out_uv2;
-    const int n = P.pixel_count;
-    const int base = (int)get_global_id(0) * OM_LANES;
-    if (base >= n) return;
-    OmF u, v, vx, vy, vz;
-#if OM_LANES == 1
-    u = gb_uv[2 * base];
-    v = gb_uv[2 * base + 1];
-    vx = gb_view[4 * base];
-    vy = gb_view[4 * base + 1];
-    vz = gb_view[4 * base + 2];
-#else
-    if (base + OM_LANES <= n) {
-        om_load_full(gb_uv + 2 * base, gb_view + 4 * base, &u, &v, &vx, &vy, &vz);
-    } else {
-        float tu[2 * OM_LANES], tv[4 * OM_LANES];
-        for (int k = 0; k < OM_LANES; ++k) {
-            int id = min(base + k, n - 1);
-            tu[2 * k] = gb_uv[2 * id];
-            tu[2 * k + 1] = gb_uv[2 * id + 1];
-            for (int c = 0; c < 4; ++c) tv[4 * k + c] = gb_view[4 * id + c];
-        }
-        om_load_full(tu, tv, &u, &v, &vx, &vy, &vz);
-    }
-#endif
+// One work-item's lanes: ray setup, LOD, the method, the LOD fade. Lanes in `skip` are rejected
+// as empty pixels are (no fetches; the caller does not store them). `m` is the lanes' mip level
+// (read under OM_LOD only). Shared by om_offset and the material frame's tile entry, so a pixel
+// gets the same bits through either.
+OM_INLINE void om_offset_lanes(const OmOffsetParams* P, OmF u, OmF v, OmF vx, OmF vy, OmF vz,
+                               OmI skip, OmF m, __global const float* heights,
+                               __global const float* aux, OmF* ou_out, OmF* ov_out, OmF* t_out,
+                               OmI* fetches_out, OmI* flags_out OM_IMG_PARAM) {
     OmRay ray;
     OmF base_u, base_v;
-    OmI flags = om_ray_setup(u, v, vx, vy, vz, &P, &ray, &base_u, &base_v);
+    OmI flags = om_ray_setup(u, v, vx, vy, vz, P, &ray, &base_u, &base_v);
     OmF blend = 1.0f;
     OmI level = 0;
 #ifdef OM_LOD
-    OmF m;
-    OM_LOAD_F(m, lod, base, n);
     m = OM_SEL(m, 0.0f, !isfinite(m));
     level = OM_TO_INT(clamp(m, 0.0f, 16.0f));  // truncation is floor for m >= 0
-    if (P.lod_footprint) {
+    if (P->lod_footprint) {
         OmF texels = (ray.t_exit - ray.t_enter) * sqrt(ray.vx * ray.vx + ray.vy * ray.vy) *
-                     fmax((float)P.hf_width, (float)P.hf_height) / OM_TO_FLOAT((OmI)1 << level);
+                     fmax((float)P->hf_width, (float)P->hf_height) / OM_TO_FLOAT((OmI)1 << level);
         ray.step_cap = OM_TO_INT(ceil(texels)) + 1;
-        blend = clamp((texels - P.lod_fade_lo) / (P.lod_fade_hi - P.lod_fade_lo), 0.0f, 1.0f);
+        blend = clamp((texels - P->lod_fade_lo) / (P->lod_fade_hi - P->lod_fade_lo), 0.0f, 1.0f);
     } else {
-        blend = clamp((P.lod_threshold - m) / P.lod_fade, 0.0f, 1.0f);
-        ray.detail = mix((OmF)1.0f, (OmF)P.lod_min_detail, clamp(m / P.lod_threshold, 0.0f, 1.0f));
+        blend = clamp((P->lod_threshold - m) / P->lod_fade, 0.0f, 1.0f);
+        ray.detail =
+            mix((OmF)1.0f, (OmF)P->lod_min_detail, clamp(m / P->lod_threshold, 0.0f, 1.0f));
     }
 #endif
-    OmField f = om_field(heights, &P, level);
+    OmField f = om_field(heights, P, level);
     f.aux = aux;
-    OmI rejected = (flags & (int)(OM_FLAG_EMPTY | OM_FLAG_INVALID | OM_FLAG_BACKFACING)) != 0;
+    OmI rejected =
+        (flags & (int)(OM_FLAG_EMPTY | OM_FLAG_INVALID | OM_FLAG_BACKFACING)) != 0 || skip != 0;
     OmI traced = !rejected && blend > 0.0f;
     OmF t = 0.0f;
     OmI fetches = 0, trace_flags = 0;
-    if (OM_ANY(traced)) t = om_trace(&ray, &f, &P, traced, &fetches, &trace_flags OM_IMG_ARG);
+    if (OM_ANY(traced)) t = om_trace(&ray, &f, P, traced, &fetches, &trace_flags OM_IMG_ARG);
     // Every method returns the hit's ray parameter t: uv' is the ray's footprint there, and the
     // LOD fade moves it toward normal mapping (blend = 1 without LOD).
     OmF hu = ray.u - t * ray.vx, hv = ray.v - t * ray.vy;
@@ -149,36 +110,124 @@ __kernel void om_offset(const OmOffsetParams P, __global const float2* gb_uv2,
     hv = ray.v + blend * (hv - ray.v);
     OmF ou = hu + base_u, ov = hv + base_v;
     // On a non-tiling surface a ray that leaves the tile sees past the polygon's edge.
-    OmI outside = P.tile_mask ? (OmI)(ou < 0.0f || ou > 1.0f || ov < 0.0f || ov > 1.0f) : (OmI)0;
+    OmI outside = P->tile_mask ? (OmI)(ou < 0.0f || ou > 1.0f || ov < 0.0f || ov > 1.0f) : (OmI)0;
     flags |= OM_SEL(OM_SEL((OmI)OM_FLAG_LOD_FADED, (OmI)0, rejected),
                     trace_flags | OM_SEL((OmI)0, (OmI)OM_FLAG_OUT_OF_TILE, outside), traced);
     ou = OM_SEL(u, ou, traced);  // rejected lanes pass their G-buffer uv through (NaN included)
     ov = OM_SEL(v, ov, traced);
     t = OM_SEL((OmF)0.0f, t * blend, traced);
     fetches = OM_SEL((OmI)0, fetches, traced);
+    *ou_out = ou;
+    *ov_out = ov;
+    *t_out = t;
+    *fetches_out = fetches;
+    *flags_out = flags;
+}
+
+// The G-buffer's pixels base .. base + count - 1 (count in [1, OM_LANES]) as lane planes; lanes
+// past count repeat the last pixel.
+OM_INLINE void om_load_gbuffer(__global const float* gb_uv, __global const float* gb_view, int base,
+                               int count, OmF* u, OmF* v, OmF* vx, OmF* vy, OmF* vz) {
 #if OM_LANES == 1
-    out_uv[2 * base] = ou;
-    out_uv[2 * base + 1] = ov;
+    *u = gb_uv[2 * base];
+    *v = gb_uv[2 * base + 1];
+    *vx = gb_view[4 * base];
+    *vy = gb_view[4 * base + 1];
+    *vz = gb_view[4 * base + 2];
 #else
-    if (base + OM_LANES <= n) {
-        om_store_uv(ou, ov, out_uv + 2 * base);
+    if (count == OM_LANES) {
+        om_load_full(gb_uv + 2 * base, gb_view + 4 * base, u, v, vx, vy, vz);
     } else {
-        float pu[OM_LANES], pv[OM_LANES];
-        OM_VSTORE(ou, pu);
-        OM_VSTORE(ov, pv);
-        for (int k = 0; k < OM_LANES && base + k < n; ++k) {
-            out_uv[2 * (base + k)] = pu[k];
-            out_uv[2 * (base + k) + 1] = pv[k];
+        float tu[2 * OM_LANES], tv[4 * OM_LANES];
+        for (int k = 0; k < OM_LANES; ++k) {
+            int id = base + min(k, count - 1);
+            tu[2 * k] = gb_uv[2 * id];
+            tu[2 * k + 1] = gb_uv[2 * id + 1];
+            for (int c = 0; c < 4; ++c) tv[4 * k + c] = gb_view[4 * id + c];
         }
+        om_load_full(tu, tv, u, v, vx, vy, vz);
     }
 #endif
+}
+
+// Stores the lanes among the first `count` whose `keep` is non-zero: vector stores when that is
+// all OM_LANES of them.
+OM_INLINE void om_store_lanes(__global float* out_uv, __global float* out_depth,
+                              __global uint* out_fetches, __global uint* out_flags, int base,
+                              int count, OmI keep, OmF ou, OmF ov, OmF t, OmI fetches, OmI flags) {
+#if OM_LANES == 1
+    if (!keep) return;
+    out_uv[2 * base] = ou;
+    out_uv[2 * base + 1] = ov;
 #ifdef OM_OUT_DEPTH
-    OM_STORE(t, float, out_depth, base, n);
+    out_depth[base] = t;
 #endif
 #ifdef OM_OUT_FETCHES
-    OM_STORE(fetches, int, out_fetches, base, n);
+    out_fetches[base] = (uint)fetches;
 #endif
 #ifdef OM_OUT_FLAGS
-    OM_STORE(flags, int, out_flags, base, n);
+    out_flags[base] = (uint)flags;
 #endif
+#else
+    if (count == OM_LANES && all(keep != 0)) {
+        om_store_uv(ou, ov, out_uv + 2 * base);
+#ifdef OM_OUT_DEPTH
+        OM_VSTORE(t, out_depth + base);
+#endif
+#ifdef OM_OUT_FETCHES
+        OM_VSTORE(fetches, (__global int*)out_fetches + base);
+#endif
+#ifdef OM_OUT_FLAGS
+        OM_VSTORE(flags, (__global int*)out_flags + base);
+#endif
+        return;
+    }
+    float pu[OM_LANES], pv[OM_LANES], pt[OM_LANES];
+    int pf[OM_LANES], pg[OM_LANES], pk[OM_LANES];
+    OM_VSTORE(ou, pu);
+    OM_VSTORE(ov, pv);
+    OM_VSTORE(t, pt);
+    OM_VSTORE(fetches, pf);
+    OM_VSTORE(flags, pg);
+    OM_VSTORE(keep, pk);
+    for (int k = 0; k < count; ++k) {
+        if (!pk[k]) continue;
+        out_uv[2 * (base + k)] = pu[k];
+        out_uv[2 * (base + k) + 1] = pv[k];
+#ifdef OM_OUT_DEPTH
+        out_depth[base + k] = pt[k];
+#endif
+#ifdef OM_OUT_FETCHES
+        out_fetches[base + k] = (uint)pf[k];
+#endif
+#ifdef OM_OUT_FLAGS
+        out_flags[base + k] = (uint)pg[k];
+#endif
+    }
+#endif
+}
+
+__kernel void om_offset(const OmOffsetParams P, __global const float2* gb_uv2,
+                        __global const float4* gb_view4, __global const float* heights,
+                        __global const float* aux, __global const float* lod,
+                        __global float2* out_uv2, __global float* out_depth,
+                        __global uint* out_fetches, __global uint* out_flags OM_IMG_PARAM) {
+    const int n = P.pixel_count;
+    const int base = (int)get_global_id(0) * OM_LANES;
+    if (base >= n) return;
+    const int count = min(OM_LANES, n - base);
+    // The G-buffer is interleaved (uv: 2 floats, view: 4 per pixel): read as floats.
+    OmF u, v, vx, vy, vz;
+    om_load_gbuffer((__global const float*)gb_uv2, (__global const float*)gb_view4, base, count, &u,
+                    &v, &vx, &vy, &vz);
+    OmF m = 0.0f;
+#ifdef OM_LOD
+    OM_LOAD_F(m, lod, base, n);
+#endif
+    OmF ou, ov, t;
+    OmI fetches, flags;
+    om_offset_lanes(&P, u, v, vx, vy, vz, (OmI)0, m, heights, aux, &ou, &ov, &t, &fetches,
+                    &flags OM_IMG_ARG);
+    om_store_lanes((__global float*)out_uv2, out_depth, out_fetches, out_flags, base, count, (OmI)1,
+                   ou, ov, t, fetches, flags);
 }

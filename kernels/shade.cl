@@ -79,6 +79,34 @@ OM_INLINE float om_light_visibility(const OmField* f, float2 uv, float3 l, const
     return clamp(0.5f - (worst - alpha) / fmax(P->light_size, 1.0e-4f), 0.0f, 1.0f);
 }
 
+// One pixel's colour at uv'. Without normals the surface is flat (n = z), without heights it
+// casts no shadows (the material frame's id 0: no relief).
+OM_INLINE float4 om_shade_pixel(const OmShadeParams* P, float2 uv, uint flags, float3 v, float3 l,
+                                __global const float4* normals, __global const float* heights,
+                                __global const float4* albedo) {
+    if ((flags & (OM_FLAG_EMPTY | OM_FLAG_OUT_OF_TILE)) || !isfinite(uv.x) || !isfinite(uv.y))
+        return (float4)(0.16f, 0.17f, 0.20f, 0.0f);  // background: no surface here
+    int wrap = P->address_mode == OM_ADDRESS_WRAP;
+    float3 n = (float3)(0.0f, 0.0f, 1.0f);
+    if (normals) n = om_unit_or(om_sample4(normals, P->hf_width, P->hf_height, wrap, uv).xyz, n);
+    float3 base = P->has_albedo
+                      ? om_sample4(albedo, P->albedo_width, P->albedo_height, wrap, uv).xyz
+                      : om_checker(uv);
+    l = om_unit_or(l, (float3)(0.0f, 0.0f, 1.0f));
+    v = om_unit_or(v, (float3)(0.0f, 0.0f, 1.0f));
+    // A light below the polygon lights nothing on it, whatever the relief normal says.
+    float lit = l.z > 0.0f ? 1.0f : 0.0f;
+    float ndl = fmax(dot(n, l), 0.0f) * lit;
+    if (ndl > 0.0f && heights && P->shadow_mode != OM_SHADOW_NONE) {
+        OmField f = om_field_of(heights, P->hf_width, P->hf_height, wrap);
+        ndl *= om_light_visibility(&f, uv, l, P);
+    }
+    float3 hv = om_unit_or(l + v, n);
+    float spec = ndl > 0.0f ? pow(fmax(dot(n, hv), 0.0f), P->shininess) : 0.0f;
+    float3 c = base * (P->ambient + P->diffuse * ndl) + (float3)(P->specular * spec);
+    return (float4)(c, 1.0f);
+}
+
 __kernel void om_shade(const OmShadeParams P, __global const float2* uv_in,
                        __global const uint* flags_in, __global const float4* gb_view,
                        __global const float4* gb_light, __global const float4* normals,
@@ -86,29 +114,37 @@ __kernel void om_shade(const OmShadeParams P, __global const float2* uv_in,
                        __global float4* out_rgba) {
     int id = get_global_id(0);
     if (id >= P.pixel_count) return;
-    float2 uv = uv_in[id];
-    uint flags = flags_in ? flags_in[id] : 0u;
-    if ((flags & (OM_FLAG_EMPTY | OM_FLAG_OUT_OF_TILE)) || !isfinite(uv.x) || !isfinite(uv.y)) {
-        out_rgba[id] = (float4)(0.16f, 0.17f, 0.20f, 0.0f);  // background: no surface here
-        return;
-    }
-    int wrap = P.address_mode == OM_ADDRESS_WRAP;
-    float3 n = om_unit_or(om_sample4(normals, P.hf_width, P.hf_height, wrap, uv).xyz,
-                          (float3)(0.0f, 0.0f, 1.0f));
-    float3 base = P.has_albedo ? om_sample4(albedo, P.albedo_width, P.albedo_height, wrap, uv).xyz
-                               : om_checker(uv);
     float3 l = P.has_light ? gb_light[id].xyz : (float3)(P.light_x, P.light_y, P.light_z);
-    l = om_unit_or(l, (float3)(0.0f, 0.0f, 1.0f));
-    float3 v = om_unit_or(gb_view[id].xyz, (float3)(0.0f, 0.0f, 1.0f));
-    // A light below the polygon lights nothing on it, whatever the relief normal says.
-    float lit = l.z > 0.0f ? 1.0f : 0.0f;
-    float ndl = fmax(dot(n, l), 0.0f) * lit;
-    if (ndl > 0.0f && P.shadow_mode != OM_SHADOW_NONE) {
-        OmField f = om_field_of(heights, P.hf_width, P.hf_height, wrap);
-        ndl *= om_light_visibility(&f, uv, l, &P);
+    out_rgba[id] = om_shade_pixel(&P, uv_in[id], flags_in ? flags_in[id] : 0u, gb_view[id].xyz, l,
+                                  normals, heights, albedo);
+}
+
+// The material frame's shading: each pixel with its material's normals, albedo and relief (the
+// slot table of the offset pass's tiles); id 0 and ids without a slot flat, with frame's
+// parameters F.
+__kernel void om_shade_materials(const OmShadeParams F, __global const OmMaterialSlot* slots,
+                                 __global const int* slot_of_id, const int id_limit,
+                                 __global const float* material, __global const float2* uv_in,
+                                 __global const uint* flags_in, __global const float4* gb_view,
+                                 __global const float4* gb_light, __global const float4* normals,
+                                 __global const float* heights, __global const float4* albedo,
+                                 __global float4* out_rgba) {
+    int id = get_global_id(0);
+    if (id >= F.pixel_count) return;
+    float m = material[id];
+    int k = om_slot_of(m, id_limit, slot_of_id);
+    OmShadeParams P = F;
+    __global const float4* n = 0;
+    __global const float* h = 0;
+    __global const float4* a = 0;
+    if (k >= 0) {
+        __global const OmMaterialSlot* S = slots + k;
+        P = S->shade;
+        n = normals + S->normals_offset;
+        h = heights + S->heights_offset;
+        a = P.has_albedo ? albedo + S->albedo_offset : 0;
     }
-    float3 hv = om_unit_or(l + v, n);
-    float spec = ndl > 0.0f ? pow(fmax(dot(n, hv), 0.0f), P.shininess) : 0.0f;
-    float3 c = base * (P.ambient + P.diffuse * ndl) + (float3)(P.specular * spec);
-    out_rgba[id] = (float4)(c, 1.0f);
+    float3 l = F.has_light ? gb_light[id].xyz : (float3)(F.light_x, F.light_y, F.light_z);
+    out_rgba[id] =
+        om_shade_pixel(&P, uv_in[id], flags_in ? flags_in[id] : 0u, gb_view[id].xyz, l, n, h, a);
 }

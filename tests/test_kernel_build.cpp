@@ -38,6 +38,16 @@ TEST(KernelBuild, EveryProgramBuildsWithoutWarnings) {
     rt->program({"common/lanes.h", "common/storage.cl", "prep/import.cl"});
     rt->program({"common/lanes.h", "common/storage.cl", "prep/import.cl"},
                 "#define OM_IMAGE_HEIGHTS\n");
+    // The material frame's classification, shading and tile entry (its entry is the same for
+    // every method: one without and one with precomputed data).
+    PassSettings s;
+    std::vector<FrameMaterial> table(2);
+    for (int k = 0; k < 2; ++k) {
+        table[k].id = k + 1;
+        table[k].field = upload(*rt, smooth_map(16), s);
+        table[k].params = resolve_params(find_method(k ? "cone" : "pom"), {});
+    }
+    MaterialFrame frame(rt, table);
     std::string all;
     for (const auto& w : rt->build_warnings()) all += w + "\n";
     EXPECT_TRUE(rt->build_warnings().empty()) << all;

@@ -103,6 +103,28 @@ int run_sweep_command(const SweepCommand& cmd, const ReliefOptions& relief) {
     o.methods = cmd.methods;
     o.progress = progress_line;
     std::vector<SweepRecord> records = run_sweep(rt, maps, views, o);
+    if (!cmd.materials.empty()) {
+        // The frame of the table's materials on the camera view: each a tile of its own.
+        const std::vector<LoadedMaterial> table =
+            load_materials(read_material_table(cmd.materials, settings));
+        PlaneScene plane;
+        plane.width = cmd.quick ? 320 : 640;
+        plane.height = cmd.quick ? 180 : 360;
+        plane.camera_height = 0.9;
+        plane.pitch_deg = 28.0;
+        GBuffer gb = make_scene(plane);
+        std::vector<int> ids;
+        for (const auto& m : table) ids.push_back(m.spec.id);
+        lay_out_materials(gb, ids);
+        std::vector<MethodParams> chosen;
+        for (const auto& m : table)
+            chosen.push_back(m.spec.method == "auto"
+                                 ? choose_method(rt, m, gb).chosen.params
+                                 : resolve_params(find_method(m.spec.method), m.spec.params));
+        const auto frame = sweep_material_frame(rt, table, chosen, gb, "camera", o.repeats,
+                                                o.progress, cmd.methods);
+        records.insert(records.end(), frame.begin(), frame.end());
+    }
     std::fprintf(stderr, "\n");
     write_sweep_csv(cmd.out_dir + "/sweep.csv", records);
     write_sweep_json(cmd.out_dir + "/sweep.json", records, rt->device_name(), settings);

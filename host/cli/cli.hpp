@@ -119,6 +119,21 @@ void progress_line(const std::string& line);
 // run for half a second; otherwise a line every ten seconds once it has run for two.
 void show_progress(Runtime& runtime);
 
+// A frame of many materials (render --materials, the demo): the table, the outputs asked for.
+struct MaterialsJob {
+    std::string table;  // the JSON file
+    std::string uv_out, color_out, error_out, ids_out;
+    std::string out_dir;  // when set: materials-frame.png, materials-sheet.png, materials.json
+    bool explain = false;
+    // Also every method at every setting of its grid for the whole frame: the cheapest single
+    // one at the table's worst-material p95 (on by default with out_dir).
+    bool compare_single = false;
+    int tile_rows = kDefaultTileRows;
+    int repeats = 5;
+};
+int run_materials_job(const MaterialsJob& job, const ReliefOptions& relief,
+                      const ShadingOptions& shading, const SceneOptions& scene);
+
 // Every method on one scene: shaded, uv-error and fetch-count images, contact sheet, table.
 int run_compare(const std::string& out_dir, const ReliefOptions& relief,
                 const ShadingOptions& shading, const SceneOptions& scene, int repeats);
@@ -135,7 +150,8 @@ struct AnalysisOptions {
 struct SweepCommand : AnalysisOptions {
     std::vector<std::string> maps;  // image files; default: the sweep maps in data_dir
     std::string data_dir;           // default: default_data_dir()
-    std::string gbuffer;  // a G-buffer file as the only view set (default: camera, random)
+    std::string gbuffer;    // a G-buffer file as the only view set (default: camera, random)
+    std::string materials;  // a material table: its frame as one more case
     bool quick = false;
     int repeats = 5;
     SweepCommand() { out_dir = "out/sweep"; }

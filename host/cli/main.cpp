@@ -170,6 +170,11 @@ int main(int argc, char** argv) {
     std::string gb_out;
     gb_scene.add_to(*cmd_gbuffer);
     cmd_gbuffer->add_option("-o,--output", gb_out, "output EXR file")->required();
+    std::vector<int> gb_ids;
+    cmd_gbuffer
+        ->add_option("--material-ids", gb_ids,
+                     "write a material channel: each uv tile one of these ids (0: no relief)")
+        ->check(CLI::Range(0, kMaxMaterialId));
     // The engine form: depth, camera, tangent frame and uv, as an engine writes its G-buffer.
     std::string gb_depth;
     cmd_gbuffer
@@ -183,11 +188,28 @@ int main(int argc, char** argv) {
     ShadingOptions shading;
     SceneOptions scene;
     RenderRequest req;
-    relief.add_to(*cmd_render, MapOption::Required);
+    MaterialsJob materials;
+    relief.add_to(*cmd_render, MapOption::Optional);
     shading.add_to(*cmd_render);
     scene.add_to(*cmd_render, true);
-    cmd_render->add_option("--method", req.method, "method name (see 'offsetmap methods')")
-        ->required();
+    cmd_render->add_option("--method", req.method,
+                           "method name (see 'offsetmap methods'); required without --materials");
+    cmd_render->add_option("--materials", materials.table,
+                           "material table (JSON): per material id its map, settings and method "
+                           "(or auto by error budget); the G-buffer's ids pick them");
+    cmd_render->add_flag("--explain", materials.explain,
+                         "--materials: each material's method, its error and cost, the "
+                         "runner-up");
+    cmd_render->add_flag("--compare-single", materials.compare_single,
+                         "--materials: also run each method at each setting for the whole frame "
+                         "and report the cheapest one at the table's worst-material p95 error");
+    cmd_render
+        ->add_option("--tile-rows", materials.tile_rows,
+                     "--materials: tile height (tiles are 16 pixels wide)")
+        ->check(CLI::Range(1, 64))
+        ->capture_default_str();
+    cmd_render->add_option("--ids-out", materials.ids_out,
+                           "--materials: the material ids as a picture (PNG)");
     cmd_render->add_option("--set", req.sets, "method parameter key=value (repeatable)");
     cmd_render->add_option("--uv-out", req.uv_out, "EXR with u v depth fetches flags");
     cmd_render->add_option("--color-out", req.color_out, "shaded image (PNG)");
@@ -224,6 +246,9 @@ int main(int argc, char** argv) {
                           "program)");
     cmd_sweep->add_option("--gbuffer", sweep.gbuffer,
                           "G-buffer EXR: the one view set (default: a camera and random views)");
+    cmd_sweep->add_option("--materials", sweep.materials,
+                          "material table (JSON): its frame on the camera view as one more case "
+                          "(map 'materials'), every method for all materials and the table's own");
     cmd_sweep->add_flag("--quick", sweep.quick,
                         "3 maps, smaller views, 3 timed runs (about a minute)");
     cmd_sweep->add_option("--repeats", sweep.repeats, "timed runs per point")
@@ -251,7 +276,8 @@ int main(int argc, char** argv) {
         ->capture_default_str();
 
     auto* cmd_demo = app.add_subcommand(
-        "demo", "compare + quick sweep + failure map on the default data -> one folder");
+        "demo",
+        "compare + quick sweep + failure map + material frame on the default data -> one folder");
     ReliefOptions demo_relief;
     ShadingOptions demo_shading;
     std::string demo_out = "out/demo", demo_data;
@@ -284,7 +310,9 @@ int main(int argc, char** argv) {
         if (*cmd_gbuffer) {
             gb_scene.check();
             if (gb_depth.empty()) {
-                save_gbuffer(gb_out, gb_scene.make());
+                GBuffer gb = gb_scene.make();
+                if (!gb_ids.empty()) lay_out_materials(gb, gb_ids);
+                save_gbuffer(gb_out, gb);
             } else {
                 if (gb_scene.scene != "plane")
                     throw UsageError("--engine-form writes the plane scene, not --scene " +
@@ -295,10 +323,41 @@ int main(int argc, char** argv) {
                 const DepthConvention d = gb_depth == "gl"         ? DepthConvention::GL
                                           : gb_depth == "zero-one" ? DepthConvention::ZeroToOne
                                                                    : DepthConvention::Reversed;
-                save_engine_gbuffer(gb_out, make_engine_scene(p, d));
+                EngineScene e = make_engine_scene(p, d);
+                if (!gb_ids.empty()) {  // laid out by each pixel's uv, as the explicit form's
+                    GBuffer at;
+                    at.resize(e.width, e.height, false, false);
+                    for (size_t k = 0; k < at.pixels(); ++k)
+                        at.uv[k] = {{e.uv[2 * k], e.uv[2 * k + 1]}};
+                    lay_out_materials(at, gb_ids);
+                    e.material = at.material;
+                }
+                save_engine_gbuffer(gb_out, e);
             }
         }
-        if (*cmd_render) return render(relief, shading, scene, req);
+        if (*cmd_render) {
+            if (materials.table.empty()) {
+                if (relief.height_map.empty())
+                    throw UsageError("render needs --height-map (or --materials FILE.json)");
+                if (req.method.empty())
+                    throw UsageError("render needs --method (or --materials FILE.json)");
+                for (const auto& [given, name] :
+                     {std::pair{materials.explain, "--explain"},
+                      {materials.compare_single, "--compare-single"},
+                      {!materials.ids_out.empty(), "--ids-out"},
+                      {cmd_render->count("--tile-rows") > 0, "--tile-rows"}})
+                    if (given) throw UsageError(std::string(name) + " applies to --materials");
+                return render(relief, shading, scene, req);
+            }
+            if (!req.method.empty() || !req.sets.empty())
+                throw UsageError(std::string(req.method.empty() ? "--set" : "--method") +
+                                 " belongs to one material: with --materials each entry of the "
+                                 "table names its method and params");
+            materials.uv_out = req.uv_out;
+            materials.color_out = req.color_out;
+            materials.error_out = req.error_out;
+            return run_materials_job(materials, relief, shading, scene);
+        }
         if (*cmd_compare) return run_compare(cmp_out, cmp_relief, cmp_shading, cmp_scene, repeats);
         if (*cmd_sweep) return run_sweep_command(sweep, sweep_relief);
         if (*cmd_failure) return run_failure_command(failure, failure_relief);
@@ -322,7 +381,22 @@ int main(int argc, char** argv) {
             TemporalCommand tc;
             tc.out_dir = demo_out;
             tc.frames = 12;
-            return run_temporal_command(tc, demo_relief);
+            run_temporal_command(tc, demo_relief);
+            // A frame of four materials (data/materials.json), three of them by error budget.
+            MaterialsJob mj;
+            mj.table = demo_data + "/materials.json";
+            mj.out_dir = demo_out;
+            mj.explain = true;
+            ReliefOptions mrelief;
+            mrelief.device = demo_relief.device;
+            ShadingOptions mshading;
+            mshading.shadows = "soft";
+            SceneOptions mscene;
+            mscene.plane.width = 640;
+            mscene.plane.height = 360;
+            mscene.plane.camera_height = 0.9;  // high enough to see a dozen material tiles
+            mscene.plane.pitch_deg = 28.0;
+            return run_materials_job(mj, mrelief, mshading, mscene);
         }
     } catch (const UsageError& e) {
         return fail(kExitUsage, e.what());

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <limits>
 
 #include "launch.hpp"
@@ -39,9 +40,9 @@ double max_fetches(const OffsetResult& r) {
     return most;
 }
 
-OffsetResult run_offset(Runtime& rt, OffsetPass& pass, const DeviceGBuffer& g,
-                        const DeviceHeightField& f, const PassSettings& settings, int repeats) {
-    const size_t n = g.pixels();
+namespace {
+
+OffsetTargets all_targets(Runtime& rt, size_t n) {
     OffsetTargets t;
     t.uv = device_buffer(rt.context(), CL_MEM_WRITE_ONLY, n * sizeof(cl_float2), "the uv output");
     t.depth = device_buffer(rt.context(), CL_MEM_WRITE_ONLY, n * sizeof(float), "the depth output");
@@ -49,14 +50,11 @@ OffsetResult run_offset(Runtime& rt, OffsetPass& pass, const DeviceGBuffer& g,
                               "the fetches output");
     t.flags = device_buffer(rt.context(), CL_MEM_WRITE_ONLY, n * sizeof(std::uint32_t),
                             "the flags output");
-    OffsetResult r;
-    r.width = g.width;
-    r.height = g.height;
-    for (int k = 0; k < std::max(1, repeats); ++k) {
-        cl::Event e = pass.enqueue(g, f, settings, t);
-        e.wait();
-        if (rt.profiling()) r.kernel_ms.push_back(event_ms(e));
-    }
+    return t;
+}
+
+void read_back(Runtime& rt, const OffsetTargets& t, OffsetResult& r) {
+    const size_t n = static_cast<size_t>(r.width) * r.height;
     r.uv.resize(n);
     r.depth.resize(n);
     r.fetches.resize(n);
@@ -66,6 +64,39 @@ OffsetResult run_offset(Runtime& rt, OffsetPass& pass, const DeviceGBuffer& g,
     q.enqueueReadBuffer(t.depth, CL_FALSE, 0, n * sizeof(float), r.depth.data());
     q.enqueueReadBuffer(t.fetches, CL_FALSE, 0, n * sizeof(std::uint32_t), r.fetches.data());
     q.enqueueReadBuffer(t.flags, CL_TRUE, 0, n * sizeof(std::uint32_t), r.flags.data());
+}
+
+}  // namespace
+
+OffsetResult run_offset(Runtime& rt, OffsetPass& pass, const DeviceGBuffer& g,
+                        const DeviceHeightField& f, const PassSettings& settings, int repeats) {
+    const OffsetTargets t = all_targets(rt, g.pixels());
+    OffsetResult r;
+    r.width = g.width;
+    r.height = g.height;
+    for (int k = 0; k < std::max(1, repeats); ++k) {
+        cl::Event e = pass.enqueue(g, f, settings, t);
+        e.wait();
+        if (rt.profiling()) r.kernel_ms.push_back(event_ms(e));
+    }
+    read_back(rt, t, r);
+    return r;
+}
+
+OffsetResult run_material_frame(Runtime& rt, MaterialFrame& frame, const DeviceGBuffer& g,
+                                int repeats) {
+    const OffsetTargets t = all_targets(rt, g.pixels());
+    OffsetResult r;
+    r.width = g.width;
+    r.height = g.height;
+    for (int k = 0; k < std::max(1, repeats); ++k) {
+        frame.enqueue(g, t).wait();
+        if (!rt.profiling()) continue;
+        double ms = event_ms(frame.classify_event());
+        for (const auto& d : frame.dispatches()) ms += event_ms(d.event);
+        r.kernel_ms.push_back(ms);
+    }
+    read_back(rt, t, r);
     return r;
 }
 
@@ -85,20 +116,7 @@ std::vector<cl_float4> run_shade(Runtime& rt, ShadePass& pass, const OffsetResul
     return rgba;
 }
 
-ErrorStats uv_error(const OffsetResult& r, const OffsetResult& ref, int fw, int fh,
-                    std::vector<float>* per_pixel) {
-    const size_t n = r.uv.size();
-    std::vector<double> errs;
-    errs.reserve(n);
-    if (per_pixel) per_pixel->assign(n, std::numeric_limits<float>::quiet_NaN());
-    for (size_t k = 0; k < n; ++k) {
-        if (!traced(r.flags[k]) || !traced(ref.flags[k])) continue;
-        double du = (static_cast<double>(r.uv[k].s[0]) - ref.uv[k].s[0]) * fw;
-        double dv = (static_cast<double>(r.uv[k].s[1]) - ref.uv[k].s[1]) * fh;
-        double e = std::hypot(du, dv);
-        errs.push_back(e);
-        if (per_pixel) (*per_pixel)[k] = static_cast<float>(e);
-    }
+ErrorStats error_stats(std::vector<double> errs) {
     ErrorStats s;
     s.count = errs.size();
     if (errs.empty()) return s;
@@ -115,6 +133,23 @@ ErrorStats uv_error(const OffsetResult& r, const OffsetResult& ref, int fw, int 
     std::nth_element(errs.begin(), errs.begin() + p, errs.end());
     s.p95 = errs[p];
     return s;
+}
+
+ErrorStats uv_error(const OffsetResult& r, const OffsetResult& ref, int fw, int fh,
+                    std::vector<float>* per_pixel, const std::function<bool(size_t)>& include) {
+    const size_t n = r.uv.size();
+    std::vector<double> errs;
+    errs.reserve(n);
+    if (per_pixel) per_pixel->assign(n, std::numeric_limits<float>::quiet_NaN());
+    for (size_t k = 0; k < n; ++k) {
+        if (!traced(r.flags[k]) || !traced(ref.flags[k]) || (include && !include(k))) continue;
+        double du = (static_cast<double>(r.uv[k].s[0]) - ref.uv[k].s[0]) * fw;
+        double dv = (static_cast<double>(r.uv[k].s[1]) - ref.uv[k].s[1]) * fh;
+        double e = std::hypot(du, dv);
+        errs.push_back(e);
+        if (per_pixel) (*per_pixel)[k] = static_cast<float>(e);
+    }
+    return error_stats(std::move(errs));
 }
 
 }  // namespace offsetmap

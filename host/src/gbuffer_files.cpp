@@ -1,5 +1,7 @@
 // G-buffer files: the OpenEXR contract (channels found by name) read and written.
+#include <cmath>
 #include <cstdio>
+#include <functional>
 #include <map>
 #include <sstream>
 
@@ -52,6 +54,8 @@ void save_engine_gbuffer(const std::string& path, const EngineScene& e) {
                                     : std::vector<const char*>{"Nx", "Ny", "Nz"})
         names.push_back(n);
     if (!quaternion) names.insert(names.end(), {"Tx", "Ty", "Tz", "Tw"});
+    const bool ids = !e.material.empty();
+    if (ids) names.push_back("material");
     const int nc = static_cast<int>(names.size());
     std::vector<float> data(e.pixels() * nc);
     for (size_t k = 0; k < e.pixels(); ++k) {
@@ -63,6 +67,7 @@ void save_engine_gbuffer(const std::string& path, const EngineScene& e) {
         for (int a = 0; a < (quaternion ? 4 : 3); ++a) px[c++] = e.normal[4 * k + a];
         if (!quaternion)
             for (int a = 0; a < 4; ++a) px[c++] = e.tangent[4 * k + a];
+        if (ids) px[c++] = e.material[k];
     }
     std::map<std::string, std::string> attributes = {
         {"offsetmap:inverseViewProjection", numbers(e.camera.inverse_view_projection.data(), 16)},
@@ -92,6 +97,21 @@ struct GBufferFile {
     }
     bool engine_form() const { return index.count("depth") && !index.count("Vx"); }
 };
+
+// The 'material' channel's values, checked to be material ids.
+std::vector<float> material_ids(const std::string& file, const GBuffer& gb,
+                                const std::function<float(size_t)>& value) {
+    std::vector<float> ids(gb.pixels());
+    for (size_t k = 0; k < ids.size(); ++k) {
+        const float m = value(k);
+        if (!(m >= 0.0f && m <= 65535.0f && m == std::floor(m)))
+            throw Error(file + ": channel 'material' holds " + std::to_string(m) + " at pixel (" +
+                        std::to_string(k % gb.width) + ", " + std::to_string(k / gb.width) +
+                        "); material ids are integers in [0, 65535]");
+        ids[k] = m;
+    }
+    return ids;
+}
 
 EngineScene read_engine_form(GBufferFile& g, size_t max_bytes) {
     const std::string what = "G-buffer";
@@ -199,8 +219,20 @@ EngineScene load_engine_gbuffer(const std::string& path, size_t max_bytes) {
 GBuffer load_gbuffer(const std::string& path, size_t max_bytes, std::shared_ptr<Runtime> runtime) {
     const std::string what = "G-buffer";
     GBufferFile g(path);
-    if (g.engine_form())
-        return reconstruct(runtime ? runtime : Runtime::create(), read_engine_form(g, max_bytes));
+    if (g.engine_form()) {
+        GBuffer gb =
+            reconstruct(runtime ? runtime : Runtime::create(), read_engine_form(g, max_bytes));
+        if (g.index.count("material")) {
+            const int c = g.index["material"];
+            const OIIO::TypeDesc t = g.in->spec().channelformat(c);
+            if (t.basetype != OIIO::TypeDesc::HALF && t.basetype != OIIO::TypeDesc::FLOAT)
+                throw Error(g.file + " stores channel 'material' as " + t.c_str() +
+                            "; G-buffer channels must be half or float");
+            const std::vector<float> m = read_float_pixels(*g.in, path, what, c, c + 1);
+            gb.material = material_ids(g.file, gb, [&](size_t k) { return m[k]; });
+        }
+        return gb;
+    }
     auto& in = g.in;
     const OIIO::ImageSpec& spec = in->spec();
     const std::string& file = g.file;
@@ -211,15 +243,16 @@ GBuffer load_gbuffer(const std::string& path, size_t max_bytes, std::shared_ptr<
     for (const char* n : {"u", "v", "Vx", "Vy", "Vz"})
         if (!index.count(n)) missing += std::string(missing.empty() ? "" : " ") + n;
     if (!missing.empty())
-        throw Error(file + " lacks channel(s) " + missing +
-                    " (needs u v Vx Vy Vz, optionally Lx Ly Lz lod, or the engine form: depth u v "
-                    "Nx Ny Nz Tx Ty Tz Tw; it has: " +
-                    present + ")");
+        throw Error(
+            file + " lacks channel(s) " + missing +
+            " (needs u v Vx Vy Vz, optionally Lx Ly Lz lod material, or the engine form: depth u v "
+            "Nx Ny Nz Tx Ty Tz Tw; it has: " +
+            present + ")");
     int nl = static_cast<int>(index.count("Lx") + index.count("Ly") + index.count("Lz"));
     if (nl != 0 && nl != 3)
         throw Error(file + " has only some of Lx Ly Lz (it has: " + present + ")");
     // Integer channels would be scaled to [0,1] on read: vectors and uv must be stored as numbers.
-    for (const char* n : {"u", "v", "Vx", "Vy", "Vz", "Lx", "Ly", "Lz", "lod"}) {
+    for (const char* n : {"u", "v", "Vx", "Vy", "Vz", "Lx", "Ly", "Lz", "lod", "material"}) {
         if (!index.count(n)) continue;
         const OIIO::TypeDesc t = spec.channelformat(index[n]);
         if (t.basetype != OIIO::TypeDesc::HALF && t.basetype != OIIO::TypeDesc::FLOAT)
@@ -228,10 +261,10 @@ GBuffer load_gbuffer(const std::string& path, size_t max_bytes, std::shared_ptr<
     }
     check_gbuffer_size(spec.width, spec.height, file);
     // What is read (every channel as float) and what is kept (uv, view, light, lod).
-    check_decode_size(
-        spec, path, what,
-        spec.nchannels * sizeof(float) + sizeof(cl_float2) + 2 * sizeof(cl_float4) + sizeof(float),
-        max_bytes);
+    check_decode_size(spec, path, what,
+                      spec.nchannels * sizeof(float) + sizeof(cl_float2) + 2 * sizeof(cl_float4) +
+                          2 * sizeof(float),
+                      max_bytes);
     std::vector<float> data = read_float_pixels(*in, path, what, 0, spec.nchannels);
     GBuffer gb;
     gb.resize(spec.width, spec.height, nl == 3, index.count("lod") != 0);
@@ -243,6 +276,8 @@ GBuffer load_gbuffer(const std::string& path, size_t max_bytes, std::shared_ptr<
         if (gb.has_light()) gb.light[k] = {{ch(k, "Lx"), ch(k, "Ly"), ch(k, "Lz"), 0.0f}};
         if (gb.has_lod()) gb.lod[k] = ch(k, "lod");
     }
+    if (index.count("material"))
+        gb.material = material_ids(file, gb, [&](size_t k) { return ch(k, "material"); });
     return gb;
 }
 
@@ -250,6 +285,7 @@ void save_gbuffer(const std::string& path, const GBuffer& gb) {
     std::vector<std::string> names = {"u", "v", "Vx", "Vy", "Vz"};
     if (gb.has_light()) names.insert(names.end(), {"Lx", "Ly", "Lz"});
     if (gb.has_lod()) names.push_back("lod");
+    if (gb.has_material()) names.push_back("material");
     const int nc = static_cast<int>(names.size());
     std::vector<float> data(gb.pixels() * nc);
     for (size_t k = 0; k < gb.pixels(); ++k) {
@@ -261,6 +297,7 @@ void save_gbuffer(const std::string& path, const GBuffer& gb) {
         if (gb.has_light())
             for (int a = 0; a < 3; ++a) px[c++] = gb.light[k].s[a];
         if (gb.has_lod()) px[c++] = gb.lod[k];
+        if (gb.has_material()) px[c++] = gb.material[k];
     }
     write_float_exr(path, "G-buffer", gb.width, gb.height, names, data);
 }

@@ -10,6 +10,17 @@
 
 namespace offsetmap {
 
+void check_targets(const cl::Context& context, const OffsetTargets& t, size_t n) {
+    check_buffer(context, t.uv,
+                 {"the offset pass's uv output", "float2", sizeof(cl_float2), n, true});
+    check_buffer(context, t.depth,
+                 {"the offset pass's depth output", "float", sizeof(float), n, true, true});
+    check_buffer(context, t.fetches,
+                 {"the offset pass's fetches output", "uint", sizeof(cl_uint), n, true, true});
+    check_buffer(context, t.flags,
+                 {"the offset pass's flags output", "uint", sizeof(cl_uint), n, true, true});
+}
+
 OffsetPass::OffsetPass(std::shared_ptr<Runtime> runtime, const std::string& method,
                        const std::map<std::string, std::string>& params)
     : OffsetPass(std::move(runtime), resolve_params(find_method(method), params)) {}
@@ -129,14 +140,7 @@ cl::Event OffsetPass::launch(const DeviceGBuffer& g, const DeviceHeightField& f,
     check_gbuffer(context, g);
     check_field(context, f);
     const size_t n = g.pixels();
-    check_buffer(context, t.uv,
-                 {"the offset pass's uv output", "float2", sizeof(cl_float2), n, true});
-    check_buffer(context, t.depth,
-                 {"the offset pass's depth output", "float", sizeof(float), n, true, true});
-    check_buffer(context, t.fetches,
-                 {"the offset pass's fetches output", "uint", sizeof(cl_uint), n, true, true});
-    check_buffer(context, t.flags,
-                 {"the offset pass's flags output", "uint", sizeof(cl_uint), n, true, true});
+    check_targets(context, t, n);
     build_precomputed(f, settings);
     // Over no pixels, the launch only makes the driver generate the kernel's code (PoCL does it at
     // a kernel's first launch): every work-item returns at once and nothing is written.

@@ -5,6 +5,7 @@
 
 #include "launch.hpp"
 #include "offsetmap/registry.hpp"
+#include "shade_params.hpp"
 
 namespace offsetmap {
 
@@ -21,42 +22,15 @@ DeviceImage upload(Runtime& rt, const Image4& image) {
     return d;
 }
 
-ShadePass::ShadePass(std::shared_ptr<Runtime> runtime) : runtime_(std::move(runtime)) {
-    kernel_ = cl::Kernel(runtime_->program(sampling_program_files("shade.cl")), "om_shade");
-}
-
-cl::Event ShadePass::enqueue(const cl::Buffer& uv, const cl::Buffer& flags, const DeviceGBuffer& g,
-                             const DeviceHeightField& f, const DeviceImage* albedo,
-                             const PassSettings& settings, const ShadeSettings& s,
-                             const cl::Buffer& out_rgba, const std::vector<cl::Event>& wait,
-                             const cl::CommandQueue& queue) {
-    const cl::Context& context = runtime_->context();
-    const cl::CommandQueue& q = pass_queue(*runtime_, queue);
-    check_gbuffer(context, g);
-    check_field(context, f, true);
-    const size_t n = g.pixels();
-    check_buffer(context, uv, {"the shade pass's uv input", "float2", sizeof(cl_float2), n});
-    check_buffer(context, flags,
-                 {"the shade pass's flags input", "uint", sizeof(cl_uint), n, false, true});
-    check_buffer(context, out_rgba,
-                 {"the shade pass's colour output", "float4", sizeof(cl_float4), n, true});
-    if (albedo) {
-        if (albedo->width <= 0 || albedo->height <= 0)
-            throw Error("the albedo image's size is " + std::to_string(albedo->width) + "x" +
-                        std::to_string(albedo->height));
-        check_buffer(context, albedo->texels,
-                     {"the albedo image's texels", "float4", sizeof(cl_float4),
-                      static_cast<size_t>(albedo->width) * albedo->height});
-    }
+OmShadeParams shade_params(const PassSettings& settings, const ShadeSettings& s, int map_w,
+                           int map_h, const DeviceImage* albedo) {
     OmShadeParams p{};
-    p.pixel_count = static_cast<int>(g.pixels());
-    p.hf_width = f.width;
-    p.hf_height = f.height;
+    p.hf_width = map_w;
+    p.hf_height = map_h;
     p.address_mode = static_cast<om_int>(settings.address);
     p.light_x = s.light[0];
     p.light_y = s.light[1];
     p.light_z = s.light[2];
-    p.has_light = g.light() ? 1 : 0;
     p.ambient = s.ambient;
     p.diffuse = s.diffuse;
     p.specular = s.specular;
@@ -71,12 +45,50 @@ cl::Event ShadePass::enqueue(const cl::Buffer& uv, const cl::Buffer& flags, cons
     p.light_size = static_cast<float>(s.light_size_deg * M_PI / 180.0);
     p.scale = settings.scale;
     p.ref_plane = settings.reference_plane;
-    const GrazingRule rule = grazing_rule(settings, f.width, f.height);
+    const GrazingRule rule = grazing_rule(settings, map_w, map_h);
     p.min_vz = rule.min_vz;
     p.grazing = static_cast<om_int>(settings.grazing);
     p.has_albedo = albedo ? 1 : 0;
     p.albedo_width = albedo ? albedo->width : 0;
     p.albedo_height = albedo ? albedo->height : 0;
+    return p;
+}
+
+void check_shade_buffers(const cl::Context& context, const cl::Buffer& uv, const cl::Buffer& flags,
+                         const cl::Buffer& out_rgba, size_t n) {
+    check_buffer(context, uv, {"the shade pass's uv input", "float2", sizeof(cl_float2), n});
+    check_buffer(context, flags,
+                 {"the shade pass's flags input", "uint", sizeof(cl_uint), n, false, true});
+    check_buffer(context, out_rgba,
+                 {"the shade pass's colour output", "float4", sizeof(cl_float4), n, true});
+}
+
+ShadePass::ShadePass(std::shared_ptr<Runtime> runtime) : runtime_(std::move(runtime)) {
+    kernel_ = cl::Kernel(runtime_->program(sampling_program_files("shade.cl")), "om_shade");
+}
+
+cl::Event ShadePass::enqueue(const cl::Buffer& uv, const cl::Buffer& flags, const DeviceGBuffer& g,
+                             const DeviceHeightField& f, const DeviceImage* albedo,
+                             const PassSettings& settings, const ShadeSettings& s,
+                             const cl::Buffer& out_rgba, const std::vector<cl::Event>& wait,
+                             const cl::CommandQueue& queue) {
+    const cl::Context& context = runtime_->context();
+    const cl::CommandQueue& q = pass_queue(*runtime_, queue);
+    check_gbuffer(context, g);
+    check_field(context, f, true);
+    const size_t n = g.pixels();
+    check_shade_buffers(context, uv, flags, out_rgba, n);
+    if (albedo) {
+        if (albedo->width <= 0 || albedo->height <= 0)
+            throw Error("the albedo image's size is " + std::to_string(albedo->width) + "x" +
+                        std::to_string(albedo->height));
+        check_buffer(context, albedo->texels,
+                     {"the albedo image's texels", "float4", sizeof(cl_float4),
+                      static_cast<size_t>(albedo->width) * albedo->height});
+    }
+    OmShadeParams p = shade_params(settings, s, f.width, f.height, albedo);
+    p.pixel_count = static_cast<int>(g.pixels());
+    p.has_light = g.light() ? 1 : 0;
     kernel_.setArg(0, p);
     kernel_.setArg(1, uv);
     set_optional(kernel_, 2, flags);

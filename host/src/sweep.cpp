@@ -108,13 +108,14 @@ void write_sweep_csv(const std::string& path, const std::vector<SweepRecord>& re
     std::ofstream out(path);
     if (!out) throw Error("cannot write '" + path + "'");
     out << "method,setting,map,views,uv_mean,uv_p95,uv_max,wrong_share,depth_error,psnr_db,"
-           "fetches_mean,fetches_max,ns_per_pixel,kernel_ms,precomputed_bytes,precompute_ms\n";
+           "fetches_mean,fetches_max,ns_per_pixel,kernel_ms,precomputed_bytes,precompute_ms,"
+           "worst_material_p95\n";
     for (const auto& r : records)
         out << r.method << ",\"" << r.setting << "\"," << r.map << "," << r.views << ","
             << r.uv.mean << "," << r.uv.p95 << "," << r.uv.max << "," << r.uv.wrong_share << ","
             << r.depth_error << "," << r.psnr_db << "," << r.fetches_mean << "," << r.fetches_max
             << "," << r.ns_per_pixel << "," << r.kernel_ms << "," << r.precomputed_bytes << ","
-            << r.precompute_ms << "\n";
+            << r.precompute_ms << "," << r.worst_material_p95 << "\n";
 }
 
 void write_sweep_json(const std::string& path, const std::vector<SweepRecord>& records,
@@ -136,7 +137,8 @@ void write_sweep_json(const std::string& path, const std::vector<SweepRecord>& r
                         {"ns_per_pixel", r.ns_per_pixel},
                         {"kernel_ms", r.kernel_ms},
                         {"precomputed_bytes", r.precomputed_bytes},
-                        {"precompute_ms", r.precompute_ms}});
+                        {"precompute_ms", r.precompute_ms},
+                        {"worst_material_p95", r.worst_material_p95}});
     nlohmann::json doc = {{"device", device},
                           {"scale", settings.scale},
                           {"reference_plane", settings.reference_plane},

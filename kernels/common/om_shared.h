@@ -24,14 +24,14 @@ typedef std::uint32_t om_uint;
 #define OM_PARAM(P, name) ((P)->p[OM_SLOT_##name])
 
 // Per-pixel flags written by the offset pass (bit set).
-#define OM_FLAG_EMPTY 1u         // u or v is NaN: no surface at this pixel; uv passed through
-#define OM_FLAG_INVALID 2u       // non-finite V, zero V or infinite uv; uv passed through
-#define OM_FLAG_BACKFACING 4u    // V.z <= 0 after normalisation; uv passed through
-#define OM_FLAG_GRAZING 8u       // V.z was raised to min_vz (the grazing rule)
-#define OM_FLAG_RENORMALIZED 16u // |V| differed from 1 by more than 1e-3 and was normalised
-#define OM_FLAG_CAPPED 32u       // a marching loop reached its iteration cap
-#define OM_FLAG_LOD_FADED 64u    // past the LOD threshold: normal mapping only (uv' = uv)
-#define OM_FLAG_OUT_OF_TILE 128u // tile mask on and uv' outside [0,1]^2: discard (a silhouette)
+#define OM_FLAG_EMPTY 1u          // u or v is NaN: no surface at this pixel; uv passed through
+#define OM_FLAG_INVALID 2u        // non-finite V, zero V or infinite uv; uv passed through
+#define OM_FLAG_BACKFACING 4u     // V.z <= 0 after normalisation; uv passed through
+#define OM_FLAG_GRAZING 8u        // V.z was raised to min_vz (the grazing rule)
+#define OM_FLAG_RENORMALIZED 16u  // |V| differed from 1 by more than 1e-3 and was normalised
+#define OM_FLAG_CAPPED 32u        // a marching loop reached its iteration cap
+#define OM_FLAG_LOD_FADED 64u     // past the LOD threshold: normal mapping only (uv' = uv)
+#define OM_FLAG_OUT_OF_TILE 128u  // tile mask on and uv' outside [0,1]^2: discard (a silhouette)
 
 // Enums, one definition each for host and device: the kernels and the shared structs use the OM_*
 // constants (as om_int), the host's enum classes take their values from them.
@@ -68,20 +68,24 @@ enum class GrazingPolicy : om_int {
     Limit = OM_GRAZING_LIMIT,
     Cap = OM_GRAZING_CAP
 };
-enum class ShadowMode : om_int { None = OM_SHADOW_NONE, Hard = OM_SHADOW_HARD, Soft = OM_SHADOW_SOFT };
+enum class ShadowMode : om_int {
+    None = OM_SHADOW_NONE,
+    Hard = OM_SHADOW_HARD,
+    Soft = OM_SHADOW_SOFT
+};
 }  // namespace offsetmap
 #endif
 
 typedef struct {
-    om_int pixel_count;  // G-buffer pixels (width * height)
-    om_int hf_width;     // height-field texels along u
-    om_int hf_height;    // height-field texels along v
-    om_int address_mode; // OM_ADDRESS_*
-    om_float scale;      // depth scale s, in uv units
-    om_float ref_plane;  // reference plane r in [0,1]: the polygon sits at height r
-    om_float min_vz;     // grazing rule: V.z is raised to at least this (sin of min elevation)
-    om_int max_cells;    // hard cap on cells or steps any marching loop may visit
-    om_int mip_levels;   // levels in the height buffer: level 0, then each half the size
+    om_int pixel_count;       // G-buffer pixels (width * height)
+    om_int hf_width;          // height-field texels along u
+    om_int hf_height;         // height-field texels along v
+    om_int address_mode;      // OM_ADDRESS_*
+    om_float scale;           // depth scale s, in uv units
+    om_float ref_plane;       // reference plane r in [0,1]: the polygon sits at height r
+    om_float min_vz;          // grazing rule: V.z is raised to at least this (sin of min elevation)
+    om_int max_cells;         // hard cap on cells or steps any marching loop may visit
+    om_int mip_levels;        // levels in the height buffer: level 0, then each half the size
     om_float lod_threshold;   // mip level at and past which the pass is plain normal mapping
     om_float lod_fade;        // levels below the threshold over which the effect fades out
     om_float lod_min_detail;  // step-count factor at the threshold (1 at level 0)
@@ -116,10 +120,10 @@ typedef struct {
     om_float eye[3];             // world position of the eye
     om_float depth_scale;        // NDC z = depth_scale d + depth_offset: 2, -1 (GL); 1, 0
     om_float depth_offset;
-    om_float far_depth;          // d at the far plane: 1, or 0 (reversed)
-    om_float far_sign;           // sky where far_sign (d - far_depth) >= 0: +1, or -1 (reversed)
-    om_float row0_ndc_y;         // NDC y of pixel row 0's edge: +1 (D3D) or -1 (GL, Vulkan)
-    om_float light_vec[3];       // world direction toward the light (unit), or its position
+    om_float far_depth;     // d at the far plane: 1, or 0 (reversed)
+    om_float far_sign;      // sky where far_sign (d - far_depth) >= 0: +1, or -1 (reversed)
+    om_float row0_ndc_y;    // NDC y of pixel row 0's edge: +1 (D3D) or -1 (GL, Vulkan)
+    om_float light_vec[3];  // world direction toward the light (unit), or its position
 } OmReconstructParams;
 
 // Dimensions of mip level k of a W x H map: each level halves (rounding down, at least 1).
@@ -133,14 +137,53 @@ typedef struct {
     om_float light_x, light_y, light_z;  // global tangent-space light (used without per-pixel L)
     om_int has_light;                    // 1: read light_ts per pixel from the G-buffer
     om_float ambient, diffuse, specular, shininess;
-    om_int has_albedo;                   // 0: neutral procedural checker
+    om_int has_albedo;  // 0: neutral procedural checker
     om_int albedo_width, albedo_height;
-    om_int shadow_mode;                  // OM_SHADOW_*
-    om_int shadow_steps;                 // samples along the light ray
-    om_float light_size;                 // soft shadows: the light's angular diameter (radians)
-    om_float scale, ref_plane, min_vz;   // the relief and the grazing rule, as in OmOffsetParams
-    om_int grazing;                      // OM_GRAZING_*: the light's march obeys the view's rule
+    om_int shadow_mode;                 // OM_SHADOW_*
+    om_int shadow_steps;                // samples along the light ray
+    om_float light_size;                // soft shadows: the light's angular diameter (radians)
+    om_float scale, ref_plane, min_vz;  // the relief and the grazing rule, as in OmOffsetParams
+    om_int grazing;                     // OM_GRAZING_*: the light's march obeys the view's rule
 } OmShadeParams;
 
+// The material frame (offsetmap/material_frame.hpp): the screen in tiles of OM_TILE_W x tile_h
+// pixels (OM_TILE_W a multiple of every lane count, so a tile row is whole work-items), each
+// classified by the materials it holds into one entry (tile, material slot) per material present,
+// appended to the list of that material's method. Slots index the frame's material table (at most
+// OM_MAX_MATERIALS: a tile's materials fit one 32-bit mask).
+#define OM_TILE_W 16
+#define OM_MAX_MATERIALS 32
+
+typedef struct {
+    om_int width, height;  // the G-buffer
+    om_int tile_h;         // tile rows
+    om_int tiles_x;        // tiles per row of tiles
+    om_int tile_count;
+    om_int slot_count;    // materials in the table
+    om_int method_count;  // method dispatches (distinct methods in the table)
+    om_int id_limit;      // the id -> slot table's length (largest id + 1)
+    om_int entry_base;    // tile entry: the dispatched method's first entry
+    om_int entry_count;   // and how many it has
+} OmTileParams;
+
+typedef struct {
+    OmOffsetParams P;       // the material's pass parameters, its method's included
+    om_int id;              // its material id (>= 1)
+    om_int heights_offset;  // its pyramid's first float in the frame's heights buffer
+    om_int aux_offset;      // its precomputed data's first float in its method's aux buffer
+    om_int method;          // its method's dispatch
+    OmShadeParams shade;    // its shading (pixel_count unused)
+    om_int normals_offset;  // its normals' first float4 in the frame's normals buffer
+    om_int albedo_offset;   // its albedo's first float4 in the frame's albedo buffer
+} OmMaterialSlot;
+
+#ifdef __OPENCL_VERSION__
+// The slot of material value m (id -> slot table of id_limit entries), or -1 when m is not an
+// integer id the table holds.
+inline int om_slot_of(float m, int id_limit, __global const int* slot_of_id) {
+    const int id = m >= 1.0f && m < (float)id_limit ? (int)m : 0;
+    return id > 0 && (float)id == m ? slot_of_id[id] : -1;
+}
+#endif
 
 #endif

@@ -1,5 +1,6 @@
 #pragma once
 #include <cstdint>
+#include <functional>
 #include <vector>
 
 #include "offsetmap/passes.hpp"
@@ -25,6 +26,11 @@ OffsetResult run_offset(Runtime& runtime, OffsetPass& pass, const DeviceGBuffer&
                         const DeviceHeightField& field, const PassSettings& settings,
                         int repeats = 1);
 
+// The same for a material frame: each run's time is its classification's and dispatches' kernel
+// time together.
+OffsetResult run_material_frame(Runtime& runtime, MaterialFrame& frame,
+                                const DeviceGBuffer& gbuffer, int repeats = 1);
+
 // Shades uv' from `result` and returns linear RGBA per pixel.
 std::vector<cl_float4> run_shade(Runtime& runtime, ShadePass& pass, const OffsetResult& result,
                                  const DeviceGBuffer& gbuffer, const DeviceHeightField& field,
@@ -38,9 +44,14 @@ struct ErrorStats {
     double wrong_share = 0;  // share of pixels off by more than one texel
 };
 
-// Per-pixel |uv - uv_ref| in texels (NaN where either result passed the pixel through), and stats.
+// The statistics of per-pixel errors.
+ErrorStats error_stats(std::vector<double> errors);
+
+// Per-pixel |uv - uv_ref| in texels (NaN where either result passed the pixel through, or where
+// `include`, when given, refuses the pixel index), and stats.
 ErrorStats uv_error(const OffsetResult& result, const OffsetResult& reference, int field_width,
-                    int field_height, std::vector<float>* per_pixel = nullptr);
+                    int field_height, std::vector<float>* per_pixel = nullptr,
+                    const std::function<bool(size_t)>& include = nullptr);
 
 // True when the pixel was traced (not empty, invalid or back-facing).
 bool traced(std::uint32_t flags);

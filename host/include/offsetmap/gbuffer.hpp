@@ -22,10 +22,14 @@ struct GBuffer {
     std::vector<cl_float4> view;
     std::vector<cl_float4> light;  // empty, or width * height
     std::vector<float> lod;        // empty, or width * height
+    // empty, or width * height material ids: non-negative integers stored as floats, 0 for no
+    // relief (the material frame, offsetmap/material_frame.hpp)
+    std::vector<float> material;
 
     size_t pixels() const { return static_cast<size_t>(width) * height; }
     bool has_light() const { return !light.empty(); }
     bool has_lod() const { return !lod.empty(); }
+    bool has_material() const { return !material.empty(); }
     // Throws Error for a size check_gbuffer_size rejects, or when memory runs out.
     void resize(int w, int h, bool with_light, bool with_lod);
 };
@@ -38,10 +42,11 @@ void check_gbuffer_size(int width, int height, const std::string& what);
 struct DeviceGBuffer {
     int width = 0;
     int height = 0;
-    cl::Buffer uv;     // float2 per pixel
-    cl::Buffer view;   // float4 per pixel
-    cl::Buffer light;  // float4 per pixel, or a null buffer
-    cl::Buffer lod;    // float per pixel, or a null buffer
+    cl::Buffer uv;        // float2 per pixel
+    cl::Buffer view;      // float4 per pixel
+    cl::Buffer light;     // float4 per pixel, or a null buffer
+    cl::Buffer lod;       // float per pixel, or a null buffer
+    cl::Buffer material;  // float per pixel (integer material ids), or a null buffer
 
     size_t pixels() const { return static_cast<size_t>(width) * height; }
 };

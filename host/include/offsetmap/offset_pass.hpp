@@ -24,6 +24,10 @@ struct OffsetTargets {
     cl::Buffer flags;
 };
 
+// Throws Error naming the target that is missing, too small, read-only or of another context, for
+// a G-buffer of n pixels.
+void check_targets(const cl::Context& context, const OffsetTargets& targets, size_t n);
+
 // One method's offset pass. Enqueues on `queue` (any queue of the runtime's context; the runtime's
 // own when null) after `wait`, and returns the kernel's event. One runtime serves any number of
 // queues: programs are built once per runtime. A pass object keeps its kernels' arguments, so

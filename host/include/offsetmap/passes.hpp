@@ -1,6 +1,7 @@
 // The passes an engine runs, and their settings (one header each, gathered here).
 #pragma once
 #include "offsetmap/height_field.hpp"
+#include "offsetmap/material_frame.hpp"
 #include "offsetmap/offset_pass.hpp"
 #include "offsetmap/settings.hpp"
 #include "offsetmap/shade_pass.hpp"

@@ -56,10 +56,11 @@ struct EngineScene {
     EngineCamera camera;
     std::vector<float> depth;  // 1 value per pixel
     FrameForm frame = FrameForm::NormalTangent;
-    std::vector<float> normal;   // 4 per pixel (the quaternion in the quaternion form)
-    std::vector<float> tangent;  // 4 per pixel (empty in the quaternion form)
-    std::vector<float> uv;       // 2 per pixel
-    EngineLight light;           // the plane scene's light, directional, when it has one
+    std::vector<float> normal;    // 4 per pixel (the quaternion in the quaternion form)
+    std::vector<float> tangent;   // 4 per pixel (empty in the quaternion form)
+    std::vector<float> uv;        // 2 per pixel
+    EngineLight light;            // the plane scene's light, directional, when it has one
+    std::vector<float> material;  // empty, or 1 material id per pixel (files keep it)
 
     size_t pixels() const { return static_cast<size_t>(width) * height; }
 };

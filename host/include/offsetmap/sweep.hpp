@@ -25,6 +25,7 @@ struct SweepRecord {
     double kernel_ms = 0;     // median kernel time
     size_t precomputed_bytes = 0;
     double precompute_ms = 0;
+    double worst_material_p95 = 0;  // material frames: the largest of the materials' p95
 };
 
 struct NamedMap {

@@ -1,0 +1,98 @@
+// What the bench's parts share: timing in turns, the synthetic height map, camera G-buffers.
+#pragma once
+#include <algorithm>
+#include <cmath>
+#include <functional>
+#include <vector>
+
+#include "offsetmap/evaluation.hpp"
+
+namespace offsetmap::bench {
+
+struct Timing {
+    double median_ms = 0, min_ms = 0;
+    int runs = 0;
+};
+
+inline Timing time_launches(const std::function<cl::Event()>& launch, double target_ms) {
+    launch().wait();  // warm-up: PoCL compiles per local size on first launch
+    cl::Event first = launch();
+    first.wait();
+    double t0 = std::max(event_ms(first), 1e-3);
+    int runs = std::clamp(static_cast<int>(target_ms / t0), target_ms > 0 ? 3 : 1, 30);
+    std::vector<double> ts = {t0};
+    for (int r = 1; r < runs; ++r) {
+        cl::Event e = launch();
+        e.wait();
+        ts.push_back(event_ms(e));
+    }
+    std::sort(ts.begin(), ts.end());
+    return {ts[ts.size() / 2], ts.front(), static_cast<int>(ts.size())};
+}
+
+// Runs (each returns its milliseconds) timed in turns (a, b, c, a, b, c, ...), each after a
+// warm-up, at least 5 and at most 30 rounds within about `target_ms`: the machine's load changes
+// within seconds, so kernels compared as a ratio are timed in the same window (timed minutes apart,
+// the ratio of two fixed kernels moved by up to 2x on a shared machine).
+inline std::vector<Timing> time_interleaved_ms(const std::vector<std::function<double()>>& runs,
+                                               double target_ms) {
+    double round = 0;
+    for (const auto& run : runs) {
+        run();
+        round += std::max(run(), 1e-3);
+    }
+    int rounds = std::clamp(static_cast<int>(target_ms / round), target_ms > 0 ? 5 : 1, 30);
+    std::vector<std::vector<double>> ts(runs.size());
+    for (int r = 0; r < rounds; ++r)
+        for (size_t k = 0; k < runs.size(); ++k) ts[k].push_back(runs[k]());
+    std::vector<Timing> out;
+    for (auto& t : ts) {
+        std::sort(t.begin(), t.end());
+        out.push_back({t[t.size() / 2], t.front(), rounds});
+    }
+    return out;
+}
+
+inline std::vector<Timing> time_interleaved(const std::vector<std::function<cl::Event()>>& launches,
+                                            double target_ms) {
+    std::vector<std::function<double()>> runs;
+    for (const auto& launch : launches)
+        runs.push_back([&launch] {
+            cl::Event e = launch();
+            e.wait();
+            return event_ms(e);
+        });
+    return time_interleaved_ms(runs, target_ms);
+}
+
+// Several octaves of tiling sines: smooth at large scale, detailed at texel scale, so the access
+// pattern of a march is realistic for any size.
+inline HeightMap bench_map(int n) {
+    HeightMap m;
+    m.width = m.height = n;
+    m.h.resize(static_cast<size_t>(n) * n);
+    for (int j = 0; j < n; ++j)
+        for (int i = 0; i < n; ++i) {
+            double u = (i + 0.5) / n, v = (j + 0.5) / n, h = 0.5;
+            for (int k = 0; k < 5; ++k) {
+                double f = std::pow(2.0, k + 1), a = 0.22 / (k + 1);
+                h += a * std::sin(2 * M_PI * f * u + k) * std::sin(2 * M_PI * (f + 1) * v + 2 * k);
+            }
+            m.h[static_cast<size_t>(j) * n + i] = static_cast<float>(std::clamp(h, 0.0, 1.0));
+        }
+    return m;
+}
+
+struct Resolution {
+    const char* name;
+    int w, h;
+};
+
+inline GBuffer camera_gbuffer(const Resolution& r) {
+    PlaneScene p;
+    p.width = r.w;
+    p.height = r.h;
+    return make_scene(p);
+}
+
+}  // namespace offsetmap::bench

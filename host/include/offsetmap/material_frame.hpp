@@ -1,0 +1,108 @@
+// A deferred frame of many materials: per pixel a material id (the G-buffer's `material`), per id
+// a relief, its placement, the method that traces it and how it is shaded.
+#pragma once
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "offsetmap/cl.hpp"
+#include "offsetmap/gbuffer.hpp"
+#include "offsetmap/heightmap.hpp"
+#include "offsetmap/offset_pass.hpp"
+#include "offsetmap/registry.hpp"
+#include "offsetmap/runtime.hpp"
+#include "offsetmap/settings.hpp"
+#include "offsetmap/shade_pass.hpp"
+
+namespace offsetmap {
+
+// One material of a frame's table. Id 0 is reserved for pixels without relief (uv' = uv).
+struct FrameMaterial {
+    int id = 1;               // [1, kMaxMaterialId]
+    std::string name;         // for messages and reports: its height map's file, or a label
+    DeviceHeightField field;  // with normals, for the shading
+    PassSettings settings;    // scale, reference plane, address mode, grazing rule (no LOD)
+    MethodParams params;      // its method, resolved (resolve_params)
+    DeviceImage albedo;       // optional (null texels: the neutral checker)
+};
+
+inline constexpr int kMaxMaterialId = 65535;
+// Tile rows (tiles are OM_TILE_W = 16 pixels wide): the README's tile measurement chose it.
+inline constexpr int kDefaultTileRows = 8;
+
+// The materials' passes as one frame. Construction gathers every material's relief (and normals,
+// albedo) into one buffer each and each method's precomputed data into one, so that a method runs
+// as one dispatch over all its materials' tiles with each material's parameters; enqueued on the
+// runtime's queue, waited for by the first frame. Throws Error for an empty table, more than
+// OM_MAX_MATERIALS materials, an id out of range or given twice, a field without normals, LOD
+// settings, or settings validate() refuses, naming the material.
+class MaterialFrame {
+  public:
+    MaterialFrame(std::shared_ptr<Runtime> runtime, std::vector<FrameMaterial> materials,
+                  int tile_rows = kDefaultTileRows);
+
+    // Offsets every pixel by its material (`gbuffer.material` is required): classifies the tiles,
+    // reads the entry counts back (the one wait inside: OpenCL 1.2 has no indirect dispatch),
+    // throws Error naming a material id the table lacks before any pixel is traced, then enqueues
+    // one dispatch per method present over its tiles. Each pixel gets the bits its material's
+    // OffsetPass alone would give it (tested); id 0 gets uv' = uv, depth 0, no fetches. Returns an
+    // event complete when every dispatch is.
+    cl::Event enqueue(const DeviceGBuffer& gbuffer, const OffsetTargets& targets,
+                      const std::vector<cl::Event>& wait = {},
+                      const cl::CommandQueue& queue = cl::CommandQueue());
+
+    // Shades uv' (and the offset pass's flags, optional) with each pixel's material: its normals,
+    // albedo and self-shadows; id 0 flat with the checker. One dispatch.
+    cl::Event shade(const cl::Buffer& uv, const cl::Buffer& flags, const DeviceGBuffer& gbuffer,
+                    const ShadeSettings& shade, const cl::Buffer& out_rgba,
+                    const std::vector<cl::Event>& wait = {},
+                    const cl::CommandQueue& queue = cl::CommandQueue());
+
+    // The last enqueue's dispatches, one per method present on screen.
+    struct Dispatch {
+        const MethodInfo* method = nullptr;
+        size_t entries = 0;     // (tile, material) entries it traced
+        size_t work_items = 0;  // entries x tile rows x work-items per tile row
+        cl::Event event;
+    };
+    const std::vector<Dispatch>& dispatches() const { return dispatches_; }
+    const cl::Event& classify_event() const { return classify_event_; }
+    const std::vector<FrameMaterial>& materials() const { return materials_; }
+    int tile_rows() const { return tile_rows_; }
+
+  private:
+    struct Method {
+        MethodParams params;  // the first of its materials' (the program's slot defines)
+        cl::Buffer aux;       // its materials' precomputed data, concatenated (or null)
+        std::map<std::string, cl::Kernel> kernels;  // by the outputs bound
+    };
+    cl::Kernel& tile_kernel(Method& m, bool depth, bool fetches, bool flags);
+    // The queue to enqueue on, after the G-buffer's checks (a material buffer required).
+    const cl::CommandQueue& checked_queue(const DeviceGBuffer& g,
+                                          const cl::CommandQueue& queue) const;
+
+    std::shared_ptr<Runtime> runtime_;
+    std::vector<FrameMaterial> materials_;
+    int tile_rows_;
+    std::vector<Method> methods_;
+    std::vector<OmMaterialSlot> slots_;
+    cl::Buffer slot_table_, slot_of_id_, method_of_slot_;
+    // The slots again with the shading of the last ShadeSettings (written from slots_).
+    cl::Buffer shade_table_;
+    cl::Event shade_write_;
+    ShadeSettings shade_settings_;
+    bool shade_written_ = false;
+    cl::Buffer heights_, normals_, albedo_;
+    int id_limit_ = 1;
+    std::vector<cl::Event> setup_;  // the gathering copies and precomputed builds
+    cl::Kernel classify_, shade_;
+    // Per frame size: the classification's counts, lists and their bases.
+    size_t tiles_ = 0;
+    cl::Buffer counts_, entries_, list_base_;
+    std::vector<cl_uint> bases_;
+    std::vector<Dispatch> dispatches_;
+    cl::Event classify_event_;
+};
+
+}  // namespace offsetmap

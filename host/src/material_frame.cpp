@@ -1,0 +1,371 @@
+// The material frame: the table gathered on the device, tile classification, one dispatch per
+// method over its tiles, shading per material.
+#include "offsetmap/material_frame.hpp"
+
+#include <algorithm>
+#include <climits>
+#include <cmath>
+#include <cstring>
+#include <sstream>
+
+#include "launch.hpp"
+#include "precompute/precompute.hpp"
+#include "shade_params.hpp"
+
+namespace offsetmap {
+
+namespace {
+
+std::string label(const FrameMaterial& m) {
+    std::string s = "material " + std::to_string(m.id);
+    return m.name.empty() ? s : s + " (" + m.name + ")";
+}
+
+// Offsets within the gathered buffers start on 64-byte boundaries (16 floats, 4 float4s).
+size_t aligned(size_t n, size_t to) { return (n + to - 1) / to * to; }
+
+// Element offset for an int field of the slot table: refuses what an int cannot address.
+om_int element_offset(size_t n, const std::string& what) {
+    if (n > static_cast<size_t>(INT_MAX))
+        throw Error("the material table's " + what + " take more than 2^31 elements");
+    return static_cast<om_int>(n);
+}
+
+void check_material(const cl::Context& context, const FrameMaterial& m) {
+    if (m.id < 1 || m.id > kMaxMaterialId)
+        throw Error(label(m) + ": the id must be in [1, " + std::to_string(kMaxMaterialId) +
+                    "] (0 is the pixels without relief)");
+    try {
+        validate(m.settings);
+        check_field(context, m.field, true);
+    } catch (const Error& e) {
+        throw Error(label(m) + ": " + e.what());
+    }
+    if (m.settings.lod.enabled)
+        throw Error(label(m) + ": the LOD system is not available in a material frame");
+    if (!m.params.method || m.params.values.size() != m.params.method->params.size())
+        throw Error(label(m) + ": its method parameters are not resolved (resolve_params)");
+    if (m.albedo.texels() &&
+        (m.albedo.width <= 0 || m.albedo.height <= 0 ||
+         m.albedo.texels.getInfo<CL_MEM_SIZE>() <
+             static_cast<size_t>(m.albedo.width) * m.albedo.height * sizeof(cl_float4)))
+        throw Error(label(m) + ": its albedo image's texels do not match its size " +
+                    std::to_string(m.albedo.width) + "x" + std::to_string(m.albedo.height));
+}
+
+}  // namespace
+
+MaterialFrame::MaterialFrame(std::shared_ptr<Runtime> runtime, std::vector<FrameMaterial> materials,
+                             int tile_rows)
+    : runtime_(std::move(runtime)), materials_(std::move(materials)), tile_rows_(tile_rows) {
+    Runtime& rt = *runtime_;
+    const cl::Context& context = rt.context();
+    const cl::CommandQueue& queue = rt.queue();
+    if (materials_.empty()) throw Error("the material table is empty");
+    if (materials_.size() > OM_MAX_MATERIALS)
+        throw Error("the material table has " + std::to_string(materials_.size()) +
+                    " materials; a frame takes at most " + std::to_string(OM_MAX_MATERIALS));
+    if (tile_rows_ < 1 || tile_rows_ > 64)
+        throw Error("tile rows must be in [1, 64], got " + std::to_string(tile_rows_));
+    for (size_t s = 0; s < materials_.size(); ++s) {
+        check_material(context, materials_[s]);
+        for (size_t r = 0; r < s; ++r)
+            if (materials_[r].id == materials_[s].id)
+                throw Error("material id " + std::to_string(materials_[s].id) +
+                            " appears twice in the table: " + label(materials_[r]) + " and " +
+                            label(materials_[s]));
+        id_limit_ = std::max(id_limit_, materials_[s].id + 1);
+    }
+
+    // Slots, methods and where each material's data goes in the gathered buffers.
+    const size_t n_slots = materials_.size();
+    slots_.assign(n_slots, OmMaterialSlot{});
+    std::vector<size_t> heights_at(n_slots), normals_at(n_slots), albedo_at(n_slots);
+    size_t heights_total = 0, normals_total = 0, albedo_total = 0;
+    std::vector<int> method_of_slot(n_slots);
+    std::vector<PrecomputeSpec::Built> built(n_slots);
+    for (size_t s = 0; s < n_slots; ++s) {
+        const FrameMaterial& m = materials_[s];
+        const MethodInfo* info = m.params.method;
+        auto it = std::find_if(methods_.begin(), methods_.end(),
+                               [&](const Method& x) { return x.params.method == info; });
+        if (it == methods_.end()) it = methods_.insert(methods_.end(), Method{m.params, {}, {}});
+        method_of_slot[s] = static_cast<int>(it - methods_.begin());
+        const DeviceHeightField& f = m.field;
+        heights_at[s] = heights_total;
+        heights_total += aligned(mip_pyramid_floats(f.width, f.height, f.mip_levels), 16);
+        normals_at[s] = normals_total;
+        normals_total += aligned(static_cast<size_t>(f.width) * f.height, 4);
+        albedo_at[s] = albedo_total;
+        if (m.albedo.texels())
+            albedo_total += aligned(static_cast<size_t>(m.albedo.width) * m.albedo.height, 4);
+        if (info->precompute) {
+            try {
+                built[s] = info->precompute->build(rt, f, m.settings, m.params);
+            } catch (const cl::Error& e) {
+                throw Error(label(m) + ": cannot build the precomputed data of '" + info->name +
+                            "': " + describe_cl_error(e.err()));
+            }
+        }
+        OmMaterialSlot& slot = slots_[s];
+        slot.P = offset_params(m.settings, 0, f.width, f.height);
+        slot.P.mip_levels = f.mip_levels;
+        std::copy(m.params.values.begin(), m.params.values.end(), slot.P.p);
+        slot.id = m.id;
+        slot.heights_offset = element_offset(heights_at[s], "reliefs");
+        slot.normals_offset = element_offset(normals_at[s], "normals");
+        slot.albedo_offset = element_offset(albedo_at[s], "albedo images");
+        slot.method = method_of_slot[s];
+    }
+
+    // Gather: each material's relief, normals, albedo and precomputed data copied into the frame's
+    // buffers (device copies, after each field's upload and each build).
+    auto gather = [&](const cl::Buffer& from, size_t bytes, cl::Buffer& to, size_t to_bytes,
+                      size_t at, const std::vector<cl::Event>& after, const std::string& what) {
+        if (!to()) to = device_buffer(context, CL_MEM_READ_ONLY, to_bytes, what);
+        cl::Event copied;
+        queue.enqueueCopyBuffer(from, to, 0, at, bytes, &after, &copied);
+        setup_.push_back(copied);
+    };
+    try {
+        for (size_t s = 0; s < n_slots; ++s) {
+            const FrameMaterial& m = materials_[s];
+            const DeviceHeightField& f = m.field;
+            const std::vector<cl::Event> ready = field_ready(f);
+            const size_t texels = static_cast<size_t>(f.width) * f.height;
+            gather(f.heights, mip_pyramid_floats(f.width, f.height, f.mip_levels) * sizeof(float),
+                   heights_, heights_total * sizeof(float), heights_at[s] * sizeof(float), ready,
+                   "the material table's reliefs");
+            gather(f.normals, texels * sizeof(cl_float4), normals_,
+                   normals_total * sizeof(cl_float4), normals_at[s] * sizeof(cl_float4), ready,
+                   "the material table's normals");
+            if (m.albedo.texels())
+                gather(m.albedo.texels,
+                       static_cast<size_t>(m.albedo.width) * m.albedo.height * sizeof(cl_float4),
+                       albedo_, albedo_total * sizeof(cl_float4), albedo_at[s] * sizeof(cl_float4),
+                       {}, "the material table's albedo images");
+        }
+        // Each method's precomputed data: its materials' in slot order.
+        for (size_t k = 0; k < methods_.size(); ++k) {
+            size_t total = 0;
+            std::vector<size_t> at(n_slots);
+            for (size_t s = 0; s < n_slots; ++s)
+                if (method_of_slot[s] == static_cast<int>(k) && built[s].data()) {
+                    at[s] = total;
+                    total += aligned(built[s].data.getInfo<CL_MEM_SIZE>() / sizeof(float), 16);
+                }
+            if (total == 0) continue;
+            for (size_t s = 0; s < n_slots; ++s)
+                if (method_of_slot[s] == static_cast<int>(k) && built[s].data()) {
+                    slots_[s].aux_offset = element_offset(at[s], "precomputed data");
+                    gather(built[s].data, built[s].data.getInfo<CL_MEM_SIZE>(), methods_[k].aux,
+                           total * sizeof(float), at[s] * sizeof(float), built[s].events,
+                           "the precomputed data of '" + methods_[k].params.method->name + "'");
+                }
+        }
+        std::vector<cl_int> slot_of_id(id_limit_, -1);
+        for (size_t s = 0; s < n_slots; ++s) slot_of_id[materials_[s].id] = static_cast<int>(s);
+        auto table = [&](const void* data, size_t bytes, const char* what) {
+            return device_buffer(context, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, bytes, what,
+                                 data);
+        };
+        slot_table_ = table(slots_.data(), slots_.size() * sizeof(OmMaterialSlot),
+                            "the material table's slots");
+        shade_table_ = table(slots_.data(), slots_.size() * sizeof(OmMaterialSlot),
+                             "the material table's shading slots");
+        slot_of_id_ = table(slot_of_id.data(), slot_of_id.size() * sizeof(cl_int),
+                            "the material table's ids");
+        method_of_slot_ = table(method_of_slot.data(), method_of_slot.size() * sizeof(cl_int),
+                                "the material table's methods");
+    } catch (const cl::Error& e) {
+        throw Error("cannot gather the material table on the device: " +
+                    describe_cl_error(e.err()));
+    }
+    classify_ = cl::Kernel(rt.program({"frame/classify.cl"}), "om_classify");
+    shade_ = cl::Kernel(rt.program(sampling_program_files("shade.cl")), "om_shade_materials");
+    // Compile the usual variant now, so a method's build errors surface here.
+    for (Method& m : methods_) tile_kernel(m, true, true, true);
+}
+
+cl::Kernel& MaterialFrame::tile_kernel(Method& m, bool depth, bool fetches, bool flags) {
+    const int lanes = runtime_->lanes();
+    std::string defines = lanes > 1 ? "#define OM_LANES " + std::to_string(lanes) + "\n" : "";
+    if (depth) defines += "#define OM_OUT_DEPTH\n";
+    if (fetches) defines += "#define OM_OUT_FETCHES\n";
+    if (flags) defines += "#define OM_OUT_FLAGS\n";
+    auto it = m.kernels.find(defines);
+    if (it == m.kernels.end()) {
+        std::vector<std::string> files = offset_program_files(*m.params.method);
+        files.push_back("frame/tiles.cl");
+        const std::string all = defines + param_slot_defines(*m.params.method);
+        it =
+            m.kernels.emplace(defines, cl::Kernel(runtime_->program(files, all), "om_offset_tiles"))
+                .first;
+    }
+    return it->second;
+}
+
+const cl::CommandQueue& MaterialFrame::checked_queue(const DeviceGBuffer& g,
+                                                     const cl::CommandQueue& queue) const {
+    const cl::CommandQueue& q = pass_queue(*runtime_, queue);
+    check_gbuffer(runtime_->context(), g);
+    if (!g.material())
+        throw Error(
+            "the G-buffer has no material buffer: a material frame needs each pixel's material id");
+    return q;
+}
+
+cl::Event MaterialFrame::enqueue(const DeviceGBuffer& g, const OffsetTargets& t,
+                                 const std::vector<cl::Event>& wait,
+                                 const cl::CommandQueue& queue_given) {
+    Runtime& rt = *runtime_;
+    const cl::Context& context = rt.context();
+    const cl::CommandQueue& queue = checked_queue(g, queue_given);
+    check_targets(context, t, g.pixels());
+
+    OmTileParams T{};
+    T.width = g.width;
+    T.height = g.height;
+    T.tile_h = tile_rows_;
+    T.tiles_x = (g.width + OM_TILE_W - 1) / OM_TILE_W;
+    T.tile_count = T.tiles_x * ((g.height + tile_rows_ - 1) / tile_rows_);
+    T.slot_count = static_cast<om_int>(materials_.size());
+    T.method_count = static_cast<om_int>(methods_.size());
+    T.id_limit = id_limit_;
+    const size_t n_methods = methods_.size();
+    std::vector<cl_uint> counts(n_methods + 2);
+    dispatches_.clear();
+    try {
+        if (tiles_ != static_cast<size_t>(T.tile_count)) {
+            // Method k's list holds up to one entry per tile for each of its materials.
+            tiles_ = static_cast<size_t>(T.tile_count);
+            bases_.assign(n_methods, 0);
+            size_t total = 0;
+            for (size_t k = 0; k < n_methods; ++k) {
+                bases_[k] = static_cast<cl_uint>(total);
+                for (const OmMaterialSlot& s : slots_)
+                    if (s.method == static_cast<int>(k)) total += tiles_;
+            }
+            if (2 * total > UINT_MAX) throw Error("the G-buffer has too many tiles");
+            counts_ = device_buffer(context, CL_MEM_READ_WRITE, counts.size() * sizeof(cl_uint),
+                                    "the tile counts");
+            entries_ = device_buffer(context, CL_MEM_READ_WRITE, 2 * total * sizeof(cl_uint),
+                                     "the tile lists");
+            list_base_ = device_buffer(context, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR,
+                                       bases_.size() * sizeof(cl_uint), "the tile list bases",
+                                       bases_.data());
+        }
+        cl::Event zeroed, unset;
+        queue.enqueueFillBuffer(counts_, cl_uint(0), 0, (n_methods + 1) * sizeof(cl_uint), &wait,
+                                &zeroed);
+        queue.enqueueFillBuffer(counts_, cl_uint(0xffffffffu), (n_methods + 1) * sizeof(cl_uint),
+                                sizeof(cl_uint), &wait, &unset);
+        std::vector<cl::Event> deps = wait;
+        deps.insert(deps.end(), setup_.begin(), setup_.end());
+        deps.push_back(zeroed);
+        deps.push_back(unset);
+        set_args(classify_, T, g.material, g.uv, slot_of_id_, method_of_slot_, list_base_, counts_,
+                 entries_, t.uv);
+        set_optional(classify_, 9, t.depth);
+        set_optional(classify_, 10, t.fetches);
+        set_optional(classify_, 11, t.flags);
+        queue.enqueueNDRangeKernel(classify_, cl::NullRange, padded(tiles_),
+                                   cl::NDRange(kLocalSize), &deps, &classify_event_);
+        const std::vector<cl::Event> classified{classify_event_};
+        queue.enqueueReadBuffer(counts_, CL_TRUE, 0, counts.size() * sizeof(cl_uint), counts.data(),
+                                &classified);
+        if (counts[n_methods] > 0) {
+            const size_t p = counts[n_methods + 1];
+            float id = 0.0f;
+            queue.enqueueReadBuffer(g.material, CL_TRUE, p * sizeof(float), sizeof(float), &id);
+            std::ostringstream text;
+            text << "the G-buffer's material id " << id << " at pixel (" << p % g.width << ", "
+                 << p / g.width << ") has no entry in the material table";
+            if (counts[n_methods] > 1)
+                text << " (" << counts[n_methods] << " pixels have ids without one)";
+            throw Error(text.str());
+        }
+        const int lanes = rt.lanes();
+        const size_t per_entry = static_cast<size_t>(tile_rows_) * (OM_TILE_W / lanes);
+        std::vector<cl::Event> done;
+        for (size_t k = 0; k < n_methods; ++k) {
+            if (counts[k] == 0) continue;
+            Dispatch d;
+            d.method = methods_[k].params.method;
+            d.entries = counts[k];
+            d.work_items = d.entries * per_entry;
+            T.entry_base = static_cast<om_int>(bases_[k]);
+            T.entry_count = static_cast<om_int>(counts[k]);
+            cl::Kernel& kernel = tile_kernel(methods_[k], t.depth() != nullptr,
+                                             t.fetches() != nullptr, t.flags() != nullptr);
+            set_args(kernel, T, slot_table_, entries_, g.material, g.uv, g.view, heights_);
+            set_optional(kernel, 7, methods_[k].aux);
+            kernel.setArg(8, t.uv);
+            set_optional(kernel, 9, t.depth);
+            set_optional(kernel, 10, t.fetches);
+            set_optional(kernel, 11, t.flags);
+            queue.enqueueNDRangeKernel(kernel, cl::NullRange, padded(d.work_items),
+                                       cl::NDRange(kLocalSize), &classified, &d.event);
+            done.push_back(d.event);
+            dispatches_.push_back(d);
+        }
+        if (done.empty()) return classify_event_;
+        if (done.size() == 1) return done.front();
+        cl::Event all;
+        queue.enqueueMarkerWithWaitList(&done, &all);
+        return all;
+    } catch (const cl::Error& e) {
+        throw Error("cannot run the material frame: " + describe_cl_error(e.err()));
+    }
+}
+
+cl::Event MaterialFrame::shade(const cl::Buffer& uv, const cl::Buffer& flags,
+                               const DeviceGBuffer& g, const ShadeSettings& s,
+                               const cl::Buffer& out_rgba, const std::vector<cl::Event>& wait,
+                               const cl::CommandQueue& queue_given) {
+    Runtime& rt = *runtime_;
+    const cl::Context& context = rt.context();
+    const cl::CommandQueue& queue = checked_queue(g, queue_given);
+    const size_t n = g.pixels();
+    check_shade_buffers(context, uv, flags, out_rgba, n);
+    // The frame's parameters (id 0: flat, the checker, no shadows), then each slot's.
+    PassSettings flat;
+    OmShadeParams frame = shade_params(flat, s, 1, 1, nullptr);
+    frame.pixel_count = static_cast<om_int>(n);
+    frame.has_light = g.light() ? 1 : 0;
+    frame.shadow_mode = OM_SHADOW_NONE;
+    std::vector<cl::Event> deps = wait;
+    deps.insert(deps.end(), setup_.begin(), setup_.end());
+    try {
+        if (!shade_written_ || std::memcmp(&shade_settings_, &s, sizeof s) != 0) {
+            if (shade_write_()) shade_write_.wait();  // slots_ is its source
+            for (size_t k = 0; k < slots_.size(); ++k) {
+                const FrameMaterial& m = materials_[k];
+                slots_[k].shade = shade_params(m.settings, s, m.field.width, m.field.height,
+                                               m.albedo.texels() ? &m.albedo : nullptr);
+            }
+            queue.enqueueWriteBuffer(shade_table_, CL_FALSE, 0,
+                                     slots_.size() * sizeof(OmMaterialSlot), slots_.data(), nullptr,
+                                     &shade_write_);
+            shade_settings_ = s;
+            shade_written_ = true;
+        }
+        deps.push_back(shade_write_);
+        set_args(shade_, frame, shade_table_, slot_of_id_, static_cast<cl_int>(id_limit_),
+                 g.material, uv);
+        set_optional(shade_, 6, flags);
+        shade_.setArg(7, g.view);
+        set_optional(shade_, 8, g.light);
+        set_args_from(shade_, 9, normals_, heights_);
+        set_optional(shade_, 11, albedo_);
+        shade_.setArg(12, out_rgba);
+        cl::Event event;
+        queue.enqueueNDRangeKernel(shade_, cl::NullRange, padded(n), cl::NDRange(kLocalSize), &deps,
+                                   &event);
+        return event;
+    } catch (const cl::Error& e) {
+        throw Error("cannot shade the material frame: " + describe_cl_error(e.err()));
+    }
+}
+
+}  // namespace offsetmap

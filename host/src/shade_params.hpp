@@ -1,0 +1,17 @@
+// The shade kernels' parameters, for the shade pass and the material frame's slots.
+#pragma once
+#include "offsetmap/settings.hpp"
+#include "offsetmap/shade_pass.hpp"
+
+namespace offsetmap {
+
+// Everything but pixel_count and has_light (the G-buffer's), over a map_w x map_h relief; throws
+// Error for shadow steps or a light size out of range.
+OmShadeParams shade_params(const PassSettings& settings, const ShadeSettings& shade, int map_w,
+                           int map_h, const DeviceImage* albedo);
+
+// The checks of a shade pass's uv input, optional flags and colour output for n pixels.
+void check_shade_buffers(const cl::Context& context, const cl::Buffer& uv, const cl::Buffer& flags,
+                         const cl::Buffer& out_rgba, size_t n);
+
+}  // namespace offsetmap

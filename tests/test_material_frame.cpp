@@ -1,0 +1,294 @@
+// The material frame: tiles classified by material, one dispatch per method, each pixel with the
+// bits its material's pass alone gives it; shading per material; bad tables and ids refused.
+#include <cstring>
+
+#include "support.hpp"
+
+namespace omtest {
+namespace {
+
+struct TableRow {
+    int id;
+    std::string method;
+    std::map<std::string, std::string> params;
+    HeightMap map;
+    PassSettings settings;
+    bool albedo = false;
+};
+
+// Five materials, two pairs sharing a method with other parameters, maps of odd and unequal sizes,
+// both address modes, and a method with precomputed data (gathered per method).
+std::vector<TableRow> table_rows() {
+    std::vector<TableRow> rows;
+    PassSettings a;
+    rows.push_back({1, "pom", {{"min_samples", "8"}}, smooth_map(64), a, true});
+    PassSettings b;
+    b.scale = 0.08f;
+    b.reference_plane = 0.7f;
+    b.address = AddressMode::Clamp;
+    rows.push_back(
+        {5,
+         "pom",
+         {{"min_samples", "4"}, {"max_samples", "16"}},
+         make_map(37, 29, [](int i, int j) { return 0.5f + 0.4f * std::sin(i * 0.7f + j); }),
+         b});
+    PassSettings c;
+    c.scale = 0.03f;
+    rows.push_back({2, "cone", {}, cliff_map(32), c});
+    PassSettings d;
+    d.grazing = GrazingPolicy::Limit;
+    rows.push_back({9, "relief", {}, noisy_map(48), d, true});
+    // A second cone material: the method's precomputed data gathered from two maps.
+    PassSettings e;
+    e.scale = 0.06f;
+    rows.push_back({7, "cone", {{"max_ratio", "16"}},
+                    make_map(24, 16, [](int i, int j) { return (i / 3 + j / 2) % 3 * 0.4f; }), e});
+    return rows;
+}
+
+Image4 checker_albedo(int w, int h) {
+    Image4 img;
+    img.width = w;
+    img.height = h;
+    for (int j = 0; j < h; ++j)
+        for (int i = 0; i < w; ++i) {
+            float c = ((i / 4 + j / 4) & 1) ? 0.9f : 0.2f;
+            img.texels.push_back({{c, 0.5f, 1.0f - c, 1.0f}});
+        }
+    return img;
+}
+
+// Random views and uv over a w x h frame whose material ids mix: blocks of one material, a band
+// where every pixel picks one of all ids at random (tiles of three and more materials), id 0 and
+// empty pixels (NaN uv) scattered through both.
+GBuffer mixed_gbuffer(int w, int h, const std::vector<int>& ids, unsigned seed = 3) {
+    std::mt19937 rng(seed);
+    std::uniform_real_distribution<float> unit(0.0f, 1.0f);
+    GBuffer gb;
+    gb.resize(w, h, true, false);
+    gb.material.resize(gb.pixels());
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            const size_t k = static_cast<size_t>(y) * w + x;
+            const double elev = 5.0 + 85.0 * unit(rng), az = 360.0 * unit(rng);
+            const auto v = view_dir(elev, az);
+            gb.view[k] = {{v[0], v[1], v[2], 0.0f}};
+            gb.light[k] = {{0.4f, -0.3f, 0.85f, 0.0f}};
+            gb.uv[k] = {{3.0f * unit(rng) - 1.0f, 3.0f * unit(rng) - 1.0f}};
+            int id;
+            if (y < h / 3)
+                id = ids[(x / 21) % ids.size()];  // blocks wider than a tile
+            else if (y < 2 * h / 3)
+                id = rng() % 5 == 0 ? 0 : ids[rng() % ids.size()];
+            else
+                id = x < w / 2 ? ids[0] : 0;
+            if (rng() % 23 == 0) gb.uv[k].s[0] = std::nanf("");
+            gb.material[k] = static_cast<float>(id);
+        }
+    return gb;
+}
+
+struct Table {
+    std::vector<TableRow> rows;
+    std::vector<DeviceHeightField> fields;
+    std::vector<DeviceImage> albedos;
+    std::vector<FrameMaterial> materials;
+};
+
+Table make_table(Runtime& rt, std::vector<TableRow> rows) {
+    Table t;
+    t.rows = std::move(rows);
+    for (const TableRow& r : t.rows) {
+        FrameMaterial m;
+        m.id = r.id;
+        m.name = r.method + " map";
+        m.field = upload(rt, r.map, r.settings);
+        m.settings = r.settings;
+        m.params = resolve_params(find_method(r.method), r.params);
+        if (r.albedo) m.albedo = upload(rt, checker_albedo(r.map.width / 2 + 3, r.map.height / 2));
+        t.fields.push_back(m.field);
+        t.albedos.push_back(m.albedo);
+        t.materials.push_back(m);
+    }
+    return t;
+}
+
+template <typename T>
+bool same_bits(const T& a, const T& b) {
+    return std::memcmp(&a, &b, sizeof(T)) == 0;
+}
+
+// Every pixel of the frame against its material's pass alone, bit for bit.
+void expect_each_material_alone(const Table& table, const GBuffer& gb, const OffsetResult& frame) {
+    auto rt = runtime();
+    DeviceGBuffer g = upload(*rt, gb);
+    std::map<int, size_t> checked;
+    for (size_t s = 0; s < table.rows.size(); ++s) {
+        const TableRow& row = table.rows[s];
+        OffsetPass alone(rt, row.method, row.params);
+        const OffsetResult ref = run_offset(*rt, alone, g, table.fields[s], row.settings);
+        size_t bad = 0;
+        for (size_t k = 0; k < gb.pixels(); ++k) {
+            if (gb.material[k] != static_cast<float>(row.id)) continue;
+            ++checked[row.id];
+            if (!same_bits(ref.uv[k], frame.uv[k]) || !same_bits(ref.depth[k], frame.depth[k]) ||
+                ref.fetches[k] != frame.fetches[k] || ref.flags[k] != frame.flags[k]) {
+                if (++bad <= 3)
+                    ADD_FAILURE() << "material " << row.id << " pixel " << k << ": frame uv ("
+                                  << frame.uv[k].s[0] << ", " << frame.uv[k].s[1] << ") alone ("
+                                  << ref.uv[k].s[0] << ", " << ref.uv[k].s[1] << "), fetches "
+                                  << frame.fetches[k] << " vs " << ref.fetches[k];
+            }
+        }
+        EXPECT_EQ(bad, 0u) << "material " << row.id;
+        EXPECT_GT(checked[row.id], 0u) << "material " << row.id << " has no pixels";
+    }
+    size_t none = 0;
+    for (size_t k = 0; k < gb.pixels(); ++k) {
+        if (gb.material[k] != 0.0f) continue;
+        ++none;
+        ASSERT_TRUE(same_bits(gb.uv[k], frame.uv[k])) << "id 0 pixel " << k << ": uv' = uv";
+        ASSERT_EQ(frame.depth[k], 0.0f);
+        ASSERT_EQ(frame.fetches[k], 0u);
+        ASSERT_EQ(frame.flags[k], std::isnan(gb.uv[k].s[0]) ? OM_FLAG_EMPTY : 0u);
+    }
+    EXPECT_GT(none, 0u);
+}
+
+TEST(MaterialFrame, EachPixelGetsItsMaterialsPassAloneBitForBit) {
+    auto rt = runtime();
+    const int lanes = rt->lanes();
+    Table table = make_table(*rt, table_rows());
+    // 77 x 45: partial tiles at the right and bottom, rows that end inside a work-item.
+    const GBuffer gb = mixed_gbuffer(77, 45, {1, 5, 2, 9, 7});
+    DeviceGBuffer g = upload(*rt, gb);
+    for (int lane_count : {lanes, 1}) {
+        rt->set_lanes(lane_count);
+        for (int rows : {kDefaultTileRows, 3}) {
+            SCOPED_TRACE("lanes " + std::to_string(lane_count) + ", tile rows " +
+                         std::to_string(rows));
+            MaterialFrame frame(rt, table.materials, rows);
+            const OffsetResult r = run_material_frame(*rt, frame, g);
+            expect_each_material_alone(table, gb, r);
+            // pom, cone and relief: one dispatch each, pom's over both its materials' tiles.
+            ASSERT_EQ(frame.dispatches().size(), 3u);
+            EXPECT_EQ(frame.dispatches()[0].method->name, "pom");
+        }
+    }
+    rt->set_lanes(lanes);
+}
+
+// A material on a tenth of the screen costs a tenth: its dispatch covers only its tiles.
+TEST(MaterialFrame, DispatchCoversOnlyTheTilesAMaterialTouches) {
+    auto rt = runtime();
+    Table table = make_table(*rt, table_rows());
+    GBuffer gb = mixed_gbuffer(160, 80, {1});
+    for (int y = 0; y < gb.height; ++y)
+        for (int x = 0; x < gb.width; ++x)  // material 9 on columns 16..31: 10 % of the screen
+            gb.material[static_cast<size_t>(y) * gb.width + x] = x >= 16 && x < 32 ? 9.0f : 1.0f;
+    DeviceGBuffer g = upload(*rt, gb);
+    MaterialFrame frame(rt, table.materials);
+    run_material_frame(*rt, frame, g);
+    ASSERT_EQ(frame.dispatches().size(), 2u);
+    const size_t tiles = (160 / OM_TILE_W) * (80 / kDefaultTileRows);
+    EXPECT_EQ(frame.dispatches()[0].entries, tiles - tiles / 10);  // pom: every other column
+    EXPECT_EQ(frame.dispatches()[1].method->name, "relief");
+    EXPECT_EQ(frame.dispatches()[1].entries, tiles / 10);
+}
+
+TEST(MaterialFrame, ShadesEachMaterialWithItsOwnMaps) {
+    auto rt = runtime();
+    Table table = make_table(*rt, table_rows());
+    const GBuffer gb = mixed_gbuffer(64, 40, {1, 5, 2, 9, 7});
+    DeviceGBuffer g = upload(*rt, gb);
+    MaterialFrame frame(rt, table.materials);
+    const OffsetResult r = run_material_frame(*rt, frame, g);
+    ShadeSettings shade;
+    shade.shadow = ShadowMode::Soft;
+    const size_t n = gb.pixels();
+    cl::Buffer uv(rt->context(), CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, n * sizeof(cl_float2),
+                  const_cast<cl_float2*>(r.uv.data()));
+    cl::Buffer flags(rt->context(), CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, n * sizeof(cl_uint),
+                     const_cast<std::uint32_t*>(r.flags.data()));
+    cl::Buffer rgba(rt->context(), CL_MEM_WRITE_ONLY, n * sizeof(cl_float4));
+    std::vector<cl_float4> color(n);
+    frame.shade(uv, flags, g, shade, rgba).wait();
+    rt->queue().enqueueReadBuffer(rgba, CL_TRUE, 0, n * sizeof(cl_float4), color.data());
+    ShadePass alone(rt);
+    for (size_t s = 0; s < table.rows.size(); ++s) {
+        const TableRow& row = table.rows[s];
+        const DeviceImage* albedo = table.albedos[s].texels() ? &table.albedos[s] : nullptr;
+        const auto ref = run_shade(*rt, alone, r, g, table.fields[s], albedo, row.settings, shade);
+        for (size_t k = 0; k < n; ++k) {
+            if (gb.material[k] != static_cast<float>(row.id)) continue;
+            ASSERT_TRUE(same_bits(ref[k], color[k])) << "material " << row.id << " pixel " << k;
+        }
+    }
+    // Id 0: flat, as a constant relief without shadows shades it.
+    PassSettings flat;
+    DeviceHeightField level = upload(*rt, constant_map(0.5f), flat);
+    shade.shadow = ShadowMode::None;
+    const auto ref = run_shade(*rt, alone, r, g, level, nullptr, flat, shade);
+    for (size_t k = 0; k < n; ++k) {
+        if (gb.material[k] != 0.0f) continue;
+        ASSERT_TRUE(same_bits(ref[k], color[k])) << "id 0 pixel " << k;
+    }
+}
+
+// Every step chained by events: an out-of-order queue of the context gives the same frame.
+TEST(MaterialFrame, AnOutOfOrderQueueGivesTheSameFrame) {
+    auto rt = runtime();
+    Table table = make_table(*rt, table_rows());
+    const GBuffer gb = mixed_gbuffer(50, 30, {1, 5, 2, 9, 7}, 8);
+    DeviceGBuffer g = upload(*rt, gb);
+    MaterialFrame frame(rt, table.materials);
+    const OffsetResult in_order = run_material_frame(*rt, frame, g);
+    cl::CommandQueue ooo(rt->context(), rt->device(), CL_QUEUE_OUT_OF_ORDER_EXEC_MODE_ENABLE);
+    const size_t n = gb.pixels();
+    OffsetTargets t;
+    t.uv = cl::Buffer(rt->context(), CL_MEM_READ_WRITE, n * sizeof(cl_float2));
+    t.flags = cl::Buffer(rt->context(), CL_MEM_READ_WRITE, n * sizeof(cl_uint));
+    cl::Event done = frame.enqueue(g, t, {}, ooo);
+    std::vector<cl_float2> uv(n);
+    std::vector<std::uint32_t> flags(n);
+    const std::vector<cl::Event> after{done};
+    ooo.enqueueReadBuffer(t.uv, CL_TRUE, 0, n * sizeof(cl_float2), uv.data(), &after);
+    ooo.enqueueReadBuffer(t.flags, CL_TRUE, 0, n * sizeof(cl_uint), flags.data(), &after);
+    for (size_t k = 0; k < n; ++k) {
+        ASSERT_TRUE(same_bits(uv[k], in_order.uv[k])) << "pixel " << k;
+        ASSERT_EQ(flags[k], in_order.flags[k]) << "pixel " << k;
+    }
+}
+
+TEST(MaterialFrame, RefusesBadTablesAndUnknownIds) {
+    auto rt = runtime();
+    Table table = make_table(*rt, table_rows());
+    auto with = [&](auto change) {
+        std::vector<FrameMaterial> m = table.materials;
+        change(m);
+        return error_of([&] { MaterialFrame frame(rt, m); });
+    };
+    EXPECT_TRUE(contains(with([](auto& m) { m[2].id = 5; }), "material id 5 appears twice"));
+    EXPECT_TRUE(contains(with([](auto& m) { m[1].id = 0; }), "material 0 (pom map): the id"));
+    EXPECT_TRUE(contains(with([](auto& m) { m[0].settings.scale = -1; }), "material 1"));
+    EXPECT_TRUE(contains(with([](auto& m) { m.clear(); }), "the material table is empty"));
+    EXPECT_TRUE(contains(with([](auto& m) { m[3].field = DeviceHeightField(); }),
+                         "material 9 (relief map): the height field has not been uploaded"));
+
+    GBuffer gb = mixed_gbuffer(40, 20, {1, 5, 2, 9, 7});
+    gb.material[17 * 40 + 33] = 8.0f;
+    gb.material[18 * 40 + 2] = 2.5f;
+    MaterialFrame frame(rt, table.materials);
+    DeviceGBuffer g = upload(*rt, gb);
+    OffsetTargets t;
+    t.uv = cl::Buffer(rt->context(), CL_MEM_READ_WRITE, gb.pixels() * sizeof(cl_float2));
+    EXPECT_TRUE(contains(error_of([&] { frame.enqueue(g, t); }),
+                         "material id 8 at pixel (33, 17) has no entry in the material table (2 "
+                         "pixels"));
+    EXPECT_TRUE(frame.dispatches().empty()) << "nothing is traced";
+    g.material = cl::Buffer();
+    EXPECT_TRUE(contains(error_of([&] { frame.enqueue(g, t); }), "no material buffer"));
+}
+
+}  // namespace
+}  // namespace omtest
