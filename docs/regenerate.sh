@@ -3,7 +3,7 @@
 # docs/img/ (about 20 minutes on 2 cores; run it on a quiet machine, timings are in the data).
 # Then `/usr/bin/python3 tests/readme_figures.py --write` rewrites the README's marked figures
 # and generated tables from these files, and `./run test` checks that they agree.
-#   docs/regenerate.sh [demo|sweep|failure|temporal|bench ...]   (default: all of them)
+#   docs/regenerate.sh [demo|sweep|failure|temporal|bench|materials ...]   (default: all of them)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 ./run build >/dev/null
@@ -14,7 +14,7 @@ tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 
 parts=("$@")
-[ ${#parts[@]} -gt 0 ] || parts=(demo sweep failure temporal bench)
+[ ${#parts[@]} -gt 0 ] || parts=(demo sweep failure temporal bench materials)
 for part in "${parts[@]}"; do
     case $part in
     demo)  # the README's first table: every method on the demo scene
@@ -49,6 +49,14 @@ for part in "${parts[@]}"; do
         cp "$tmp/bench1/bench.json" "$DATA/bench-run1.json"
         cp "$tmp/bench2/bench.json" "$DATA/bench.json"
         cp "$tmp/bench2/bench-growth.png" "$IMG/"
+        ;;
+    materials)  # the demo's frame of four materials, and the material frame's bench part
+        $OM render --materials data/materials.json --width 640 --height 360 --camera-height 0.9 \
+            --pitch 28 --shadows soft --explain --report "$tmp/materials"
+        cp "$tmp/materials/materials.json" "$DATA/materials-demo.json"
+        cp "$tmp/materials/materials-sheet.png" "$IMG/materials-sheet.png"
+        ./build/release/offsetmap_bench --materials --out "$tmp/bench-materials"
+        cp "$tmp/bench-materials/bench-materials.json" "$DATA/bench-materials.json"
         ;;
     *) echo "regenerate.sh: unknown part '$part'" >&2; exit 2 ;;
     esac

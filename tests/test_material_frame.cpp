@@ -41,8 +41,11 @@ std::vector<TableRow> table_rows() {
     // A second cone material: the method's precomputed data gathered from two maps.
     PassSettings e;
     e.scale = 0.06f;
-    rows.push_back({7, "cone", {{"max_ratio", "16"}},
-                    make_map(24, 16, [](int i, int j) { return (i / 3 + j / 2) % 3 * 0.4f; }), e});
+    rows.push_back({7,
+                    "cone",
+                    {{"max_ratio", "16"}},
+                    make_map(24, 16, [](int i, int j) { return (i / 3 + j / 2) % 3 * 0.4f; }),
+                    e});
     return rows;
 }
 

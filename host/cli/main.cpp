@@ -208,6 +208,10 @@ int main(int argc, char** argv) {
                      "--materials: tile height (tiles are 16 pixels wide)")
         ->check(CLI::Range(1, 64))
         ->capture_default_str();
+    cmd_render->add_option("--report", materials.out_dir,
+                           "--materials: write materials-frame.png, materials-sheet.png (frame, "
+                           "ids, method per pixel, error) and materials.json here; implies "
+                           "--compare-single");
     cmd_render->add_option("--ids-out", materials.ids_out,
                            "--materials: the material ids as a picture (PNG)");
     cmd_render->add_option("--set", req.sets, "method parameter key=value (repeatable)");
@@ -345,6 +349,7 @@ int main(int argc, char** argv) {
                      {std::pair{materials.explain, "--explain"},
                       {materials.compare_single, "--compare-single"},
                       {!materials.ids_out.empty(), "--ids-out"},
+                      {!materials.out_dir.empty(), "--report"},
                       {cmd_render->count("--tile-rows") > 0, "--tile-rows"}})
                     if (given) throw UsageError(std::string(name) + " applies to --materials");
                 return render(relief, shading, scene, req);

@@ -7,6 +7,7 @@
 #include <fstream>
 #include <limits>
 #include <nlohmann/json.hpp>
+#include <set>
 
 #include "cli.hpp"
 
@@ -20,8 +21,8 @@ const std::uint8_t kPalette[][3] = {{230, 159, 0},   {86, 180, 233}, {0, 158, 11
                                     {240, 228, 66},  {0, 114, 178},  {213, 94, 0},
                                     {204, 121, 167}, {150, 150, 150}};
 
-const char* const kPaletteNames[] = {"orange", "sky blue", "green",   "yellow",
-                                     "blue",   "red",      "magenta", "grey"};
+const char* const kPaletteNames[] = {"orange", "sky", "green", "yellow",
+                                     "blue",   "red", "pink",  "grey"};
 
 Rgb8 index_image(int w, int h, const std::vector<int>& index) {
     Rgb8 img;
@@ -77,6 +78,14 @@ int run_materials_job(const MaterialsJob& job, const ReliefOptions& relief,
         std::vector<int> ids;
         for (const auto& s : specs) ids.push_back(s.id);
         lay_out_materials(gb, ids);
+    }
+    {  // every id known before anything is traced (auto's calibration included)
+        std::set<float> known = {0.0f};
+        for (const auto& s : specs) known.insert(static_cast<float>(s.id));
+        size_t unknown = 0, first = 0;
+        for (size_t k = 0; k < gb.pixels(); ++k)
+            if (!known.count(gb.material[k]) && unknown++ == 0) first = k;
+        if (unknown) throw Error(unknown_material(gb.material[first], first, gb.width, unknown));
     }
     if (shading.light.size() == 3) gb.light.clear();  // an explicit light wins
     if (!job.out_dir.empty()) {
@@ -193,10 +202,10 @@ int run_materials_job(const MaterialsJob& job, const ReliefOptions& relief,
             std::printf("    runner-up: %s\n",
                         a.runner_up.params.method ? describe(a.runner_up).c_str() : "none");
             std::printf(
-                "    %zu candidates on %zu of its pixels (%zu against the exact hit), "
-                "cheapest by %s%s\n",
+                "    %zu candidates on %zu of its pixels (%zu against the exact hit), cheapest by "
+                "%s%s; %zu not tried (precomputed data over 4x the map's pyramid)\n",
                 a.candidates.size(), a.pixels, a.samples, a.by_time ? "kernel time" : "fetches",
-                a.cached ? "; from the cache" : "");
+                a.cached ? "; from the cache" : "", a.skipped);
         }
     }
 
@@ -205,10 +214,14 @@ int run_materials_job(const MaterialsJob& job, const ReliefOptions& relief,
     nlohmann::json single;
     if (job.compare_single || !job.out_dir.empty()) {
         const bool terminal = isatty(fileno(stderr));
-        const auto records = sweep_material_frame(rt, table, chosen, gb, scene.describe(),
-                                                  job.repeats, [&](const std::string& line) {
-                                                      if (terminal) progress_line(line);
-                                                  });
+        // Among the settings auto may choose: precomputed data within its bound.
+        const AutoOptions bound;
+        const auto records = sweep_material_frame(
+            rt, table, chosen, gb, scene.describe(), job.repeats,
+            [&](const std::string& line) {
+                if (terminal) progress_line(line);
+            },
+            {}, &bound);
         if (terminal) progress_line("");
         const SweepRecord& mix = records.front();
         const SweepRecord* best = nullptr;
@@ -282,13 +295,13 @@ int run_materials_job(const MaterialsJob& job, const ReliefOptions& relief,
     if (!job.ids_out.empty()) write_image(job.ids_out, index_image(gb.width, gb.height, id_index));
     if (!job.out_dir.empty()) {
         const std::string d = job.out_dir + "/materials";
-        std::string ids_label = "material ids:", methods_label = "method per pixel:";
+        std::string ids_label = "ids:", methods_label = "method per pixel:";
         for (size_t s = 0; s < table.size(); ++s)
             ids_label += std::string(s ? "," : "") + " " + kPaletteNames[s % 8] + " " +
                          std::to_string(table[s].spec.id) + " " + table[s].spec.name;
         for (size_t k = 0; k < method_list.size(); ++k)
-            methods_label += std::string(k ? "," : "") + " " + kPaletteNames[k % 8] + " " +
-                             method_list[k]->name;
+            methods_label +=
+                std::string(k ? "," : "") + " " + kPaletteNames[k % 8] + " " + method_list[k]->name;
         std::vector<std::pair<std::string, Rgb8>> tiles = {
             {"the frame, each material its own method", to_srgb8(gb.width, gb.height, rgba)},
             {ids_label, index_image(gb.width, gb.height, id_index)},

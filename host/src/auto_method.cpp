@@ -102,6 +102,20 @@ std::string views_signature(const GBuffer& g) {
 
 }  // namespace
 
+bool precomputed_within_bound(const MethodInfo& info,
+                              const std::map<std::string, std::string>& setting,
+                              const HeightMap& map, const PassSettings& settings,
+                              const AutoOptions& o) {
+    if (!info.precompute) return true;
+    const size_t pyramid =
+        mip_pyramid_floats(map.width, map.height, mip_level_count(map.width, map.height)) *
+        sizeof(float);
+    const size_t most = std::max(static_cast<size_t>(o.precomputed_per_pyramid * pyramid),
+                                 o.precomputed_floor_bytes);
+    return info.precompute->bytes(resolve_params(info, setting), settings, map.width, map.height) <=
+           most;
+}
+
 double budget_statistic(const ErrorBudget& b, const ErrorStats& e) {
     return b.statistic == ErrorBudget::Statistic::P95 ? e.p95 : e.mean;
 }
@@ -136,7 +150,13 @@ AutoChoice choose_method(std::shared_ptr<Runtime> rt, const LoadedMaterial& m, c
     for (const MethodInfo& info : methods()) {
         auto settings_of =
             info.sweep.empty() ? std::vector<std::map<std::string, std::string>>{{}} : info.sweep;
-        for (const auto& s : settings_of) grid.emplace_back(&info, s);
+        for (const auto& s : settings_of) {
+            if (!precomputed_within_bound(info, s, map, settings, o)) {
+                ++out.skipped;
+                continue;
+            }
+            grid.emplace_back(&info, s);
+        }
     }
 
     if (!cache_file.empty()) {

@@ -84,23 +84,29 @@ std::vector<double> material_ns_per_pixel(Runtime& rt, MaterialFrame& frame, con
     if (!rt.profiling()) return out;
     OffsetTargets t;
     t.uv = cl::Buffer(rt.context(), CL_MEM_READ_WRITE, gb.pixels() * sizeof(cl_float2));
+    // Each material alone (every other pixel id 0), the materials timed in turns.
+    std::vector<DeviceGBuffer> alone(table.size());
+    std::vector<size_t> pixels(table.size(), 0);
     for (size_t s = 0; s < table.size(); ++s) {
-        GBuffer alone = gb;
+        GBuffer only = gb;
         const float id = static_cast<float>(table[s].id);
-        size_t pixels = 0;
-        for (float& m : alone.material) {
+        for (float& m : only.material) {
             if (m != id) m = 0.0f;
-            pixels += m == id;
+            pixels[s] += m == id;
         }
-        if (pixels == 0) continue;
-        const DeviceGBuffer g = upload(rt, alone);
-        std::vector<double> ms;
-        for (int r = 0; r <= std::max(1, repeats); ++r) {
-            frame.enqueue(g, t).wait();
-            if (r > 0) ms.push_back(event_ms(frame.dispatches().at(0).event));  // after a warm-up
+        if (pixels[s]) alone[s] = upload(rt, only);
+    }
+    std::vector<std::vector<double>> ms(table.size());
+    for (int r = 0; r <= std::max(1, repeats); ++r)
+        for (size_t s = 0; s < table.size(); ++s) {
+            if (!pixels[s]) continue;
+            frame.enqueue(alone[s], t).wait();
+            if (r > 0) ms[s].push_back(event_ms(frame.dispatches().at(0).event));  // r = 0: warm-up
         }
-        std::nth_element(ms.begin(), ms.begin() + ms.size() / 2, ms.end());
-        out[s] = ms[ms.size() / 2] * 1e6 / static_cast<double>(pixels);
+    for (size_t s = 0; s < table.size(); ++s) {
+        if (ms[s].empty()) continue;
+        std::nth_element(ms[s].begin(), ms[s].begin() + ms[s].size() / 2, ms[s].end());
+        out[s] = ms[s][ms[s].size() / 2] * 1e6 / static_cast<double>(pixels[s]);
     }
     return out;
 }
@@ -109,7 +115,7 @@ std::vector<SweepRecord> sweep_material_frame(
     std::shared_ptr<Runtime> rt, const std::vector<LoadedMaterial>& table,
     const std::vector<MethodParams>& chosen, const GBuffer& gb, const std::string& views_name,
     int repeats, const std::function<void(const std::string&)>& progress,
-    const std::vector<std::string>& only) {
+    const std::vector<std::string>& only, const AutoOptions* bound) {
     DeviceGBuffer g = upload(*rt, gb);
     const OffsetResult exact = run_materials_exact(rt, table, g);
     std::vector<std::pair<std::string, std::vector<MethodParams>>> cases;
@@ -118,10 +124,16 @@ std::vector<SweepRecord> sweep_material_frame(
         const MethodInfo& info = *m;
         auto grid =
             info.sweep.empty() ? std::vector<std::map<std::string, std::string>>{{}} : info.sweep;
-        for (const auto& setting : grid)
+        for (const auto& setting : grid) {
+            bool within = true;
+            for (const auto& t : table)
+                within = within && (!bound || precomputed_within_bound(info, setting, t.map,
+                                                                       t.spec.settings, *bound));
+            if (!within) continue;
             cases.emplace_back(
                 info.name + " " + describe_setting(setting),
                 std::vector<MethodParams>(table.size(), resolve_params(info, setting)));
+        }
     }
     std::vector<SweepRecord> out;
     for (size_t c = 0; c < cases.size(); ++c) {

@@ -55,6 +55,14 @@ void check_material(const cl::Context& context, const FrameMaterial& m) {
 
 }  // namespace
 
+std::string unknown_material(float id, size_t pixel, int width, size_t count) {
+    std::ostringstream text;
+    text << "the G-buffer's material id " << id << " at pixel (" << pixel % width << ", "
+         << pixel / width << ") has no entry in the material table";
+    if (count > 1) text << " (" << count << " pixels have ids without one)";
+    return text.str();
+}
+
 MaterialFrame::MaterialFrame(std::shared_ptr<Runtime> runtime, std::vector<FrameMaterial> materials,
                              int tile_rows)
     : runtime_(std::move(runtime)), materials_(std::move(materials)), tile_rows_(tile_rows) {
@@ -234,6 +242,9 @@ cl::Event MaterialFrame::enqueue(const DeviceGBuffer& g, const OffsetTargets& t,
     T.id_limit = id_limit_;
     const size_t n_methods = methods_.size();
     std::vector<cl_uint> counts(n_methods + 2);
+    // The last frame's dispatches read the lists this classification rewrites.
+    std::vector<cl::Event> previous;
+    for (const Dispatch& d : dispatches_) previous.push_back(d.event);
     dispatches_.clear();
     try {
         if (tiles_ != static_cast<size_t>(T.tile_count)) {
@@ -262,6 +273,7 @@ cl::Event MaterialFrame::enqueue(const DeviceGBuffer& g, const OffsetTargets& t,
                                 sizeof(cl_uint), &wait, &unset);
         std::vector<cl::Event> deps = wait;
         deps.insert(deps.end(), setup_.begin(), setup_.end());
+        deps.insert(deps.end(), previous.begin(), previous.end());
         deps.push_back(zeroed);
         deps.push_back(unset);
         set_args(classify_, T, g.material, g.uv, slot_of_id_, method_of_slot_, list_base_, counts_,
@@ -278,12 +290,7 @@ cl::Event MaterialFrame::enqueue(const DeviceGBuffer& g, const OffsetTargets& t,
             const size_t p = counts[n_methods + 1];
             float id = 0.0f;
             queue.enqueueReadBuffer(g.material, CL_TRUE, p * sizeof(float), sizeof(float), &id);
-            std::ostringstream text;
-            text << "the G-buffer's material id " << id << " at pixel (" << p % g.width << ", "
-                 << p / g.width << ") has no entry in the material table";
-            if (counts[n_methods] > 1)
-                text << " (" << counts[n_methods] << " pixels have ids without one)";
-            throw Error(text.str());
+            throw Error(unknown_material(id, p, g.width, counts[n_methods]));
         }
         const int lanes = rt.lanes();
         const size_t per_entry = static_cast<size_t>(tile_rows_) * (OM_TILE_W / lanes);

@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "offsetmap/auto_method.hpp"
 #include "offsetmap/material_table.hpp"
 #include "offsetmap/sweep.hpp"
 
@@ -44,12 +45,14 @@ std::vector<MaterialError> material_errors(const GBuffer& gbuffer, const OffsetR
 // Frames timed in turns (one warm-up each, then `rounds` rounds running every frame once): the
 // median kernel time of each (classification and dispatches), so that frames compared as a ratio
 // share the machine's load. Needs a profiling queue (zeros without).
-std::vector<double> time_frames_in_turns(Runtime& runtime, const std::vector<MaterialFrame*>& frames,
+std::vector<double> time_frames_in_turns(Runtime& runtime,
+                                         const std::vector<MaterialFrame*>& frames,
                                          const DeviceGBuffer& gbuffer, int rounds = 7);
 
 // Each material's cost in the frame: `frame` run over `gbuffer` with every other material's pixels
-// set to id 0, the median over `repeats` runs of its one dispatch's kernel time per pixel of that
-// material (ns; 0 for a material without pixels, or without a profiling queue).
+// set to id 0, the median over `repeats` runs (the materials in turns) of its one dispatch's kernel
+// time per pixel of that material (ns; 0 for a material without pixels, or without a profiling
+// queue).
 std::vector<double> material_ns_per_pixel(Runtime& runtime, MaterialFrame& frame,
                                           const GBuffer& gbuffer, int repeats = 5);
 
@@ -57,11 +60,13 @@ std::vector<double> material_ns_per_pixel(Runtime& runtime, MaterialFrame& frame
 // the registry's grids, run for
 // every material at once, and one for the table's own methods (method "per-material"). Map
 // "materials", views `views_name`; the uv error pools every material's pixels in their own
-// texels; worst_material_p95 is the largest of the materials' p95.
+// texels; worst_material_p95 is the largest of the materials' p95. With `bound`, a setting whose
+// precomputed data exceeds it on any material (precomputed_within_bound) is left out, as auto
+// leaves it out.
 std::vector<SweepRecord> sweep_material_frame(
     std::shared_ptr<Runtime> runtime, const std::vector<LoadedMaterial>& table,
     const std::vector<MethodParams>& chosen, const GBuffer& gbuffer, const std::string& views_name,
     int repeats = 5, const std::function<void(const std::string&)>& progress = nullptr,
-    const std::vector<std::string>& only = {});
+    const std::vector<std::string>& only = {}, const AutoOptions* bound = nullptr);
 
 }  // namespace offsetmap

@@ -31,6 +31,10 @@ inline constexpr int kMaxMaterialId = 65535;
 // Tile rows (tiles are OM_TILE_W = 16 pixels wide): the README's tile measurement chose it.
 inline constexpr int kDefaultTileRows = 8;
 
+// The message for a G-buffer id without a table entry: the first such pixel (index in a row-major
+// frame `width` wide) and how many there are.
+std::string unknown_material(float id, size_t pixel, int width, size_t count);
+
 // The materials' passes as one frame. Construction gathers every material's relief (and normals,
 // albedo) into one buffer each and each method's precomputed data into one, so that a method runs
 // as one dispatch over all its materials' tiles with each material's parameters; enqueued on the
