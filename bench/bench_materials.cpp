@@ -40,8 +40,7 @@ FrameTime run_frame(MaterialFrame& frame, const DeviceGBuffer& g, const OffsetTa
     FrameTime f;
     f.wall_ms =
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-    f.kernel_ms = event_ms(frame.classify_event());
-    for (const auto& d : frame.dispatches()) f.kernel_ms += event_ms(d.event);
+    f.kernel_ms = frame.kernel_ms();
     return f;
 }
 

@@ -92,9 +92,7 @@ OffsetResult run_material_frame(Runtime& rt, MaterialFrame& frame, const DeviceG
     for (int k = 0; k < std::max(1, repeats); ++k) {
         frame.enqueue(g, t).wait();
         if (!rt.profiling()) continue;
-        double ms = event_ms(frame.classify_event());
-        for (const auto& d : frame.dispatches()) ms += event_ms(d.event);
-        r.kernel_ms.push_back(ms);
+        r.kernel_ms.push_back(frame.kernel_ms());
     }
     read_back(rt, t, r);
     return r;

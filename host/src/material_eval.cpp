@@ -66,9 +66,7 @@ std::vector<double> time_frames_in_turns(Runtime& rt, const std::vector<Material
         for (size_t f = 0; f < frames.size(); ++f) {
             frames[f]->enqueue(g, t).wait();
             if (r == 0) continue;  // the warm-up round
-            double sum = event_ms(frames[f]->classify_event());
-            for (const auto& d : frames[f]->dispatches()) sum += event_ms(d.event);
-            ms[f].push_back(sum);
+            ms[f].push_back(frames[f]->kernel_ms());
         }
     for (size_t f = 0; f < frames.size(); ++f) {
         std::nth_element(ms[f].begin(), ms[f].begin() + ms[f].size() / 2, ms[f].end());

@@ -90,7 +90,6 @@ MaterialFrame::MaterialFrame(std::shared_ptr<Runtime> runtime, std::vector<Frame
     slots_.assign(n_slots, OmMaterialSlot{});
     std::vector<size_t> heights_at(n_slots), normals_at(n_slots), albedo_at(n_slots);
     size_t heights_total = 0, normals_total = 0, albedo_total = 0;
-    std::vector<int> method_of_slot(n_slots);
     std::vector<PrecomputeSpec::Built> built(n_slots);
     for (size_t s = 0; s < n_slots; ++s) {
         const FrameMaterial& m = materials_[s];
@@ -98,7 +97,7 @@ MaterialFrame::MaterialFrame(std::shared_ptr<Runtime> runtime, std::vector<Frame
         auto it = std::find_if(methods_.begin(), methods_.end(),
                                [&](const Method& x) { return x.params.method == info; });
         if (it == methods_.end()) it = methods_.insert(methods_.end(), Method{m.params, {}, {}});
-        method_of_slot[s] = static_cast<int>(it - methods_.begin());
+        slots_[s].method = static_cast<int>(it - methods_.begin());
         const DeviceHeightField& f = m.field;
         heights_at[s] = heights_total;
         heights_total += aligned(mip_pyramid_floats(f.width, f.height, f.mip_levels), 16);
@@ -123,7 +122,6 @@ MaterialFrame::MaterialFrame(std::shared_ptr<Runtime> runtime, std::vector<Frame
         slot.heights_offset = element_offset(heights_at[s], "reliefs");
         slot.normals_offset = element_offset(normals_at[s], "normals");
         slot.albedo_offset = element_offset(albedo_at[s], "albedo images");
-        slot.method = method_of_slot[s];
     }
 
     // Gather: each material's relief, normals, albedo and precomputed data copied into the frame's
@@ -158,21 +156,24 @@ MaterialFrame::MaterialFrame(std::shared_ptr<Runtime> runtime, std::vector<Frame
             size_t total = 0;
             std::vector<size_t> at(n_slots);
             for (size_t s = 0; s < n_slots; ++s)
-                if (method_of_slot[s] == static_cast<int>(k) && built[s].data()) {
+                if (slots_[s].method == static_cast<int>(k) && built[s].data()) {
                     at[s] = total;
                     total += aligned(built[s].data.getInfo<CL_MEM_SIZE>() / sizeof(float), 16);
                 }
             if (total == 0) continue;
             for (size_t s = 0; s < n_slots; ++s)
-                if (method_of_slot[s] == static_cast<int>(k) && built[s].data()) {
+                if (slots_[s].method == static_cast<int>(k) && built[s].data()) {
                     slots_[s].aux_offset = element_offset(at[s], "precomputed data");
                     gather(built[s].data, built[s].data.getInfo<CL_MEM_SIZE>(), methods_[k].aux,
                            total * sizeof(float), at[s] * sizeof(float), built[s].events,
                            "the precomputed data of '" + methods_[k].params.method->name + "'");
                 }
         }
-        std::vector<cl_int> slot_of_id(id_limit_, -1);
-        for (size_t s = 0; s < n_slots; ++s) slot_of_id[materials_[s].id] = static_cast<int>(s);
+        std::vector<cl_int> slot_of_id(id_limit_, -1), method_of_slot(n_slots);
+        for (size_t s = 0; s < n_slots; ++s) {
+            slot_of_id[materials_[s].id] = static_cast<int>(s);
+            method_of_slot[s] = slots_[s].method;
+        }
         auto table = [&](const void* data, size_t bytes, const char* what) {
             return device_buffer(context, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, bytes, what,
                                  data);
@@ -211,6 +212,12 @@ cl::Kernel& MaterialFrame::tile_kernel(Method& m, bool depth, bool fetches, bool
                 .first;
     }
     return it->second;
+}
+
+double MaterialFrame::kernel_ms() const {
+    double ms = event_ms(classify_event_);
+    for (const Dispatch& d : dispatches_) ms += event_ms(d.event);
+    return ms;
 }
 
 const cl::CommandQueue& MaterialFrame::checked_queue(const DeviceGBuffer& g,

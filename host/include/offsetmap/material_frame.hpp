@@ -72,6 +72,9 @@ class MaterialFrame {
     };
     const std::vector<Dispatch>& dispatches() const { return dispatches_; }
     const cl::Event& classify_event() const { return classify_event_; }
+    // The last enqueue's kernel time: classification and dispatches, once complete (profiling
+    // events; needs a profiling queue).
+    double kernel_ms() const;
     const std::vector<FrameMaterial>& materials() const { return materials_; }
     int tile_rows() const { return tile_rows_; }
 
