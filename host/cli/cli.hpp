@@ -119,6 +119,25 @@ void progress_line(const std::string& line);
 // run for half a second; otherwise a line every ten seconds once it has run for two.
 void show_progress(Runtime& runtime);
 
+// `offsetmap frame`: a rasterized frame around the pass (and the forward peer).
+struct FrameCommand {
+    std::string scene = "room";
+    std::string materials;  // default: the scene's table
+    std::string camera;
+    int width = 1920, height = 1080;
+    std::string method;
+    std::vector<std::string> sets;
+    bool forward = false;
+    std::string out_dir = "out/frame";
+    int repeats = 3;
+    std::string shadows = "none";
+    std::string device;
+    std::string data_dir;
+
+    void add_to(CLI::App& app);
+};
+int run_frame(const FrameCommand& cmd);
+
 // A frame of many materials (render --materials, the demo): the table, the outputs asked for.
 struct MaterialsJob {
     std::string table;  // the JSON file

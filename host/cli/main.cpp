@@ -279,6 +279,12 @@ int main(int argc, char** argv) {
         ->check(CLI::Range(2, 1000))
         ->capture_default_str();
 
+    auto* cmd_frame = app.add_subcommand(
+        "frame", "a rasterized deferred frame (OpenGL G-buffer) around the pass; --forward: the "
+                 "fragment-shader peer");
+    FrameCommand frame;
+    frame.add_to(*cmd_frame);
+
     auto* cmd_demo = app.add_subcommand(
         "demo",
         "compare + quick sweep + failure map + material frame on the default data -> one folder");
@@ -339,6 +345,7 @@ int main(int argc, char** argv) {
                 save_engine_gbuffer(gb_out, e);
             }
         }
+        if (*cmd_frame) return run_frame(frame);
         if (*cmd_render) {
             if (materials.table.empty()) {
                 if (relief.height_map.empty())
@@ -401,7 +408,24 @@ int main(int argc, char** argv) {
             mscene.plane.height = 360;
             mscene.plane.camera_height = 0.9;  // high enough to see a dozen material tiles
             mscene.plane.pitch_deg = 28.0;
-            return run_materials_job(mj, mrelief, mshading, mscene);
+            run_materials_job(mj, mrelief, mshading, mscene);
+            // The rasterized room around the pass, deferred and forward (frame/).
+            FrameCommand fc;
+            fc.data_dir = demo_data;
+            fc.out_dir = demo_out + "/frame";
+            fc.width = 960;
+            fc.height = 540;
+            fc.forward = true;
+            fc.shadows = "hard";
+            fc.device = demo_relief.device;
+            try {
+                return run_frame(fc);
+            } catch (const UsageError&) {
+                throw;
+            } catch (const offsetmap::Error& e) {  // the rest of the demo stands without GL
+                std::printf("demo: no rendered frame: %s\n", e.what());
+                return 0;
+            }
         }
     } catch (const UsageError& e) {
         return fail(kExitUsage, e.what());

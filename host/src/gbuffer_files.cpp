@@ -1,4 +1,5 @@
 // G-buffer files: the OpenEXR contract (channels found by name) read and written.
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <functional>
@@ -56,6 +57,8 @@ void save_engine_gbuffer(const std::string& path, const EngineScene& e) {
     if (!quaternion) names.insert(names.end(), {"Tx", "Ty", "Tz", "Tw"});
     const bool ids = !e.material.empty();
     if (ids) names.push_back("material");
+    const bool derivatives = !e.uv_derivatives.empty();
+    if (derivatives) names.insert(names.end(), {"dudx", "dvdx", "dudy", "dvdy"});
     const int nc = static_cast<int>(names.size());
     std::vector<float> data(e.pixels() * nc);
     for (size_t k = 0; k < e.pixels(); ++k) {
@@ -68,6 +71,8 @@ void save_engine_gbuffer(const std::string& path, const EngineScene& e) {
         if (!quaternion)
             for (int a = 0; a < 4; ++a) px[c++] = e.tangent[4 * k + a];
         if (ids) px[c++] = e.material[k];
+        if (derivatives)
+            for (int a = 0; a < 4; ++a) px[c++] = e.uv_derivatives[4 * k + a];
     }
     std::map<std::string, std::string> attributes = {
         {"offsetmap:inverseViewProjection", numbers(e.camera.inverse_view_projection.data(), 16)},
@@ -193,6 +198,10 @@ EngineScene read_engine_form(GBufferFile& g, size_t max_bytes) {
     e.normal.assign(4 * n, 0.0f);
     if (!quaternion) e.tangent.resize(4 * n);
     auto ch = [&](size_t k, const char* name) { return data[k * nc + index[name]]; };
+    const char* const derivative[] = {"dudx", "dvdx", "dudy", "dvdy"};
+    const bool derivatives = std::all_of(std::begin(derivative), std::end(derivative),
+                                         [&](const char* d) { return index.count(d) != 0; });
+    if (derivatives) e.uv_derivatives.resize(4 * n);
     for (size_t k = 0; k < n; ++k) {
         e.depth[k] = ch(k, "depth");
         e.uv[2 * k] = ch(k, "u");
@@ -205,6 +214,8 @@ EngineScene read_engine_form(GBufferFile& g, size_t max_bytes) {
             for (int a = 0; a < 3; ++a) e.normal[4 * k + a] = ch(k, frame[a]);
             for (int a = 0; a < 4; ++a) e.tangent[4 * k + a] = ch(k, frame[3 + a]);
         }
+        if (derivatives)
+            for (int a = 0; a < 4; ++a) e.uv_derivatives[4 * k + a] = ch(k, derivative[a]);
     }
     return e;
 }

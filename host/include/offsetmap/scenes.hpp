@@ -61,6 +61,9 @@ struct EngineScene {
     std::vector<float> uv;        // 2 per pixel
     EngineLight light;            // the plane scene's light, directional, when it has one
     std::vector<float> material;  // empty, or 1 material id per pixel (files keep it)
+    // empty, or 4 per pixel: du/dx, dv/dx per pixel step right, du/dy, dv/dy per row step in file
+    // order (a rasterizer's uv derivatives; files keep them)
+    std::vector<float> uv_derivatives;
 
     size_t pixels() const { return static_cast<size_t>(width) * height; }
 };

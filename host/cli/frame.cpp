@@ -1,0 +1,243 @@
+// `offsetmap frame`: a rasterized deferred frame around the pass (OpenGL through EGL for the
+// G-buffer, the OpenCL passes for offset and shading, the depth offset written back), and with
+// --forward the forward peer: the same methods in the G-buffer pass's fragment shader.
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+
+#include "cli.hpp"
+#ifdef OFFSETMAP_HAVE_RENDERER
+#include "offsetmap/renderer/frame.hpp"
+#endif
+
+namespace offsetmap::cli {
+
+void FrameCommand::add_to(CLI::App& app) {
+    app.add_option("--scene", scene, "the built-in scene")
+        ->check(CLI::IsMember({"room"}))
+        ->capture_default_str();
+    app.add_option("--materials", materials,
+                   "material table (JSON) for the scene's ids (default: the scene's, "
+                   "data/room.json)");
+    app.add_option("--camera", camera,
+                   "eye and target (and vertical field of view): ex,ey,ez,tx,ty,tz[,fov]");
+    app.add_option("--width", width, "frame width")
+        ->check(CLI::Range(1, 16384))
+        ->capture_default_str();
+    app.add_option("--height", height, "frame height")
+        ->check(CLI::Range(1, 16384))
+        ->capture_default_str();
+    app.add_option("--method", method,
+                   "one method for every material (else each entry's own; see 'offsetmap "
+                   "methods')");
+    app.add_option("--set", sets, "--method's parameter key=value (repeatable)");
+    app.add_flag("--forward", forward,
+                 "also render the forward peer: each material's method in the G-buffer "
+                 "fragment shader (GLSL), with and without a depth pre-pass");
+    app.add_option("-o,--out", out_dir, "output folder")->capture_default_str();
+    app.add_option("--repeats", repeats, "timed frames per mode (median reported)")
+        ->check(CLI::Range(1, 100))
+        ->capture_default_str();
+    app.add_option("--shadows", shadows, "self-shadows of the relief in the shading")
+        ->check(CLI::IsMember({"none", "hard", "soft"}))
+        ->capture_default_str();
+    app.add_option("--device", device, "OpenCL device (substring of its name)");
+    app.add_option("--data", data_dir,
+                   "folder of the default data (default: the data/ found "
+                   "beside the program)");
+}
+
+#ifndef OFFSETMAP_HAVE_RENDERER
+
+int run_frame(const FrameCommand&) {
+    throw Error(
+        "frame: this offsetmap was built without the renderer (EGL and OpenGL were not found; "
+        "Debian: libegl-dev libopengl-dev libgl1-mesa-dri); rebuild with them");
+}
+
+#else
+
+namespace {
+
+using namespace offsetmap::renderer;
+
+nlohmann::json pass_json(const FrameRun& r) {
+    return {{"gbuffer_ms", r.ms.gbuffer},
+            {"to_device_ms", r.ms.to_device},
+            {"reconstruct_ms", r.ms.reconstruct},
+            {"offset_ms", r.ms.offset},
+            {"shade_ms", r.ms.shade},
+            {"to_gl_ms", r.ms.to_gl},
+            {"depth_offset_ms", r.ms.depth_offset},
+            {"total_ms", r.ms.total}};
+}
+
+// Depth offset as a picture: grey where unchanged, darker where pushed away from the eye.
+Rgb8 depth_change_image(int w, int h, const std::vector<float>& before,
+                        const std::vector<float>& after) {
+    std::vector<float> change(before.size());
+    for (size_t k = 0; k < change.size(); ++k)
+        change[k] = before[k] >= 1.0f ? std::nanf("") : std::abs(after[k] - before[k]) * 1e4f;
+    return heat_map(w, h, change, 16.0f);
+}
+
+}  // namespace
+
+int run_frame(const FrameCommand& cmd) {
+    // Options first: nothing is read or rendered before they are checked.
+    if (!cmd.method.empty() || !cmd.sets.empty()) {
+        if (cmd.method.empty()) throw UsageError("--set needs --method");
+    }
+    Scene scene = builtin_room(cmd.data_dir.empty() ? default_data_dir() : cmd.data_dir);
+    if (!cmd.camera.empty()) scene.camera = as_usage([&] { return parse_camera(cmd.camera); });
+    MethodParams override_params;
+    if (!cmd.method.empty()) {
+        std::map<std::string, std::string> kv;
+        for (const std::string& s : cmd.sets) {
+            const size_t eq = s.find('=');
+            if (eq == std::string::npos)
+                throw UsageError("--set expects key=value, got '" + s + "'");
+            kv[s.substr(0, eq)] = s.substr(eq + 1);
+        }
+        override_params = as_usage([&] { return resolve_params(find_method(cmd.method), kv); });
+        if (cmd.forward)
+            if (const std::string why = forward_method_unsupported(override_params); !why.empty())
+                throw UsageError("--forward: " + why);
+    }
+    const std::string table_file = cmd.materials.empty() ? scene.material_table : cmd.materials;
+    const std::vector<MaterialSpec> specs = read_material_table(table_file);
+    std::vector<MethodParams> methods;
+    for (const MaterialSpec& s : specs) {
+        if (override_params.method) {
+            methods.push_back(override_params);
+            continue;
+        }
+        if (s.method == "auto")
+            throw Error("material " + std::to_string(s.id) + " (" + s.name +
+                        "): frame takes named methods, not auto (or give --method)");
+        methods.push_back(resolve_params(find_method(s.method), s.params));
+        if (cmd.forward)
+            if (const std::string why = forward_method_unsupported(methods.back()); !why.empty())
+                throw Error("material " + std::to_string(s.id) + " (" + s.name +
+                            "): --forward: " + why);
+    }
+    for (const Mesh& m : scene.meshes) {
+        bool known = m.material == 0;
+        for (const MaterialSpec& s : specs) known |= s.id == m.material;
+        if (!known)
+            throw Error("mesh '" + m.name + "' has material id " + std::to_string(m.material) +
+                        ", which " + table_file + " does not list");
+    }
+    const std::vector<LoadedMaterial> table = load_materials(specs);
+    std::error_code ec;
+    std::filesystem::create_directories(cmd.out_dir, ec);
+    if (ec) throw Error("cannot create output folder '" + cmd.out_dir + "': " + ec.message());
+
+    auto rt = Runtime::create(cmd.device);
+    show_progress(*rt);
+    ShadeSettings shading;
+    shading.shadow = cmd.shadows == "none"   ? ShadowMode::None
+                     : cmd.shadows == "hard" ? ShadowMode::Hard
+                                             : ShadowMode::Soft;
+    FrameRenderer renderer(rt, scene, table, methods, cmd.width, cmd.height, shading);
+    const FrameRun deferred = renderer.render(FrameMode::Deferred, false, cmd.repeats);
+    const int w = cmd.width, h = cmd.height;
+    const OffsetResult exact = renderer.exact();
+    const GBuffer& gb = renderer.explicit_gbuffer();
+    const size_t covered = renderer.covered_pixels();
+
+    std::vector<FrameRun> runs = {deferred};
+    if (cmd.forward) {
+        runs.push_back(renderer.render(FrameMode::Forward, false, cmd.repeats));
+        runs.push_back(renderer.render(FrameMode::Forward, true, cmd.repeats));
+    }
+    std::printf("frame: %s scene %dx%d, %zu materials; GL: %s; OpenCL: %s; %s\n",
+                scene.name.c_str(), w, h, table.size(), renderer.gl_renderer().c_str(),
+                rt->device_name().c_str(), renderer.interop().c_str());
+    std::printf("%-22s %9s %9s %9s %9s %9s %9s %9s %9s %10s\n", "mode", "G-buffer", "to CL",
+                "reconstr", "offset", "shade", "to GL", "depth off", "total", "frag/px");
+    nlohmann::json modes = nlohmann::json::array();
+    std::vector<std::vector<float> > errors;
+    for (const FrameRun& r : runs) {
+        const std::string name = r.mode == FrameMode::Deferred
+                                     ? "deferred"
+                                     : (r.prepass ? "forward + pre-pass" : "forward");
+        const double overdraw = covered ? double(r.shaded_fragments) / double(covered) : 0.0;
+        std::printf("%-22s %9.2f %9.2f %9.2f %9.2f %9.2f %9.2f %9.2f %9.2f %10.2f\n", name.c_str(),
+                    r.ms.gbuffer, r.ms.to_device, r.ms.reconstruct, r.ms.offset, r.ms.shade,
+                    r.ms.to_gl, r.ms.depth_offset, r.ms.total, overdraw);
+        std::vector<float> err;
+        const std::vector<MaterialError> stats = material_errors(gb, r.offset, exact, table, &err);
+        errors.push_back(err);
+        nlohmann::json mats = nlohmann::json::array();
+        for (size_t s = 0; s < table.size(); ++s)
+            mats.push_back({{"id", table[s].spec.id},
+                            {"name", table[s].spec.name},
+                            {"method", methods[s].method->name},
+                            {"pixels", stats[s].pixels},
+                            {"fetches_per_pixel", stats[s].fetches},
+                            {"mean_err_texels", stats[s].error.mean},
+                            {"p95_err_texels", stats[s].error.p95},
+                            {"max_err_texels", stats[s].error.max}});
+        modes.push_back({{"mode", name},
+                         {"passes", pass_json(r)},
+                         {"offset_kernel_ms", r.offset_kernel_ms},
+                         {"shaded_fragments", r.shaded_fragments},
+                         {"shaded_fragments_per_covered_pixel", overdraw},
+                         {"materials", mats}});
+    }
+    std::printf("%4s %-10s %-10s %8s", "id", "material", "method", "pixels");
+    for (const FrameRun& r : runs)
+        std::printf("  %s", r.mode == FrameMode::Deferred ? "deferred mean/p95"
+                            : r.prepass                   ? "fwd+pre mean/p95"
+                                                          : "forward mean/p95");
+    std::printf("  (texels vs exact)\n");
+    for (size_t s = 0; s < table.size(); ++s) {
+        std::printf("%4d %-10s %-10s %8zu", table[s].spec.id, table[s].spec.name.c_str(),
+                    methods[s].method->name.c_str(),
+                    modes[0]["materials"][s]["pixels"].get<size_t>());
+        for (size_t r = 0; r < runs.size(); ++r)
+            std::printf("  %8.4f /%7.4f", modes[r]["materials"][s]["mean_err_texels"].get<double>(),
+                        modes[r]["materials"][s]["p95_err_texels"].get<double>());
+        std::printf("\n");
+    }
+
+    const std::string d = cmd.out_dir + "/";
+    write_image(d + "final.png", to_srgb8(w, h, deferred.color));
+    save_engine_gbuffer(d + "gbuffer.exr", renderer.gbuffer());
+    write_depth_exr(d + "depth-before.exr", w, h, renderer.depth_before());
+    write_depth_exr(d + "depth-after.exr", w, h, deferred.depth_after);
+    std::vector<std::pair<std::string, Rgb8> > tiles = {
+        {"deferred frame (offset pass on the OpenCL device)", to_srgb8(w, h, deferred.color)},
+        {"uv error vs exact (log, white = 16 texels)", heat_map(w, h, errors[0], 16.0f)},
+        {"depth offset written back (log, white = 16e-4)",
+         depth_change_image(w, h, renderer.depth_before(), deferred.depth_after)}};
+    if (cmd.forward) {
+        write_image(d + "final-forward.png", to_srgb8(w, h, runs[1].color));
+        tiles.push_back(
+            {"forward frame (the methods in the fragment shader)", to_srgb8(w, h, runs[1].color)});
+        tiles.push_back({"forward uv error vs exact", heat_map(w, h, errors[1], 16.0f)});
+    }
+    write_image(d + "frame-sheet.png", contact_sheet(tiles, 2));
+    nlohmann::json doc = {{"scene", scene.name},
+                          {"width", w},
+                          {"height", h},
+                          {"gl_renderer", renderer.gl_renderer()},
+                          {"opencl_device", rt->device_name()},
+                          {"interop", renderer.interop()},
+                          {"covered_pixels", covered},
+                          {"repeats", cmd.repeats},
+                          {"table", table_file},
+                          {"modes", modes}};
+    std::ofstream(d + "frame.json") << doc.dump(2) << "\n";
+    std::printf(
+        "wrote %s{final%s.png,frame-sheet.png,gbuffer.exr,depth-before.exr,"
+        "depth-after.exr,frame.json}\n",
+        d.c_str(), cmd.forward ? ",final-forward" : "");
+    return 0;
+}
+
+#endif
+
+}  // namespace offsetmap::cli

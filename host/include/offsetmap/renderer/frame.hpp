@@ -1,0 +1,90 @@
+// A rendered deferred frame around the pass: the scene rasterized by OpenGL into the engine-shaped
+// G-buffer, the reconstruct, offset (the material frame) and shade passes on the OpenCL device,
+// the pixel depth offset written back into the depth buffer. Or the forward peer: the same scene
+// with each material's method in the G-buffer pass's fragment shader and the same shading.
+#pragma once
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "offsetmap/evaluate.hpp"
+#include "offsetmap/material_table.hpp"
+#include "offsetmap/renderer/scene.hpp"
+#include "offsetmap/scenes.hpp"
+#include "offsetmap/shade_pass.hpp"
+
+namespace offsetmap::renderer {
+
+enum class FrameMode { Deferred, Forward };
+
+// Wall-clock milliseconds of each pass of one frame (each ends in a finish), medians over the
+// timed frames. GL -> CL and CL -> GL go through the host (see FrameRenderer::interop).
+struct PassTimes {
+    double gbuffer = 0;       // the G-buffer pass (forward: with the methods traced in it)
+    double to_device = 0;     // G-buffer planes read back from GL and written to the CL device
+    double reconstruct = 0;   // tangent-space V and L
+    double offset = 0;        // the material frame (classification, count read-back, dispatches)
+    double shade = 0;         // per-material shading
+    double to_gl = 0;         // uv', t and colour read back; t written to a GL texture
+    double depth_offset = 0;  // the depth offset pass
+    double total = 0;         // the whole frame, end to end
+};
+
+struct FrameRun {
+    FrameMode mode = FrameMode::Deferred;
+    bool prepass = false;
+    PassTimes ms;
+    double offset_kernel_ms = 0;  // deferred: the material frame's kernel time (profiling)
+    // Fragments the G-buffer pass's shader ran on (depth-tested first; forward: each one traced)
+    std::int64_t shaded_fragments = 0;
+    OffsetResult offset;             // uv', depth t, fetches, flags (forward: flags EMPTY or 0)
+    std::vector<cl_float4> color;    // linear RGBA
+    std::vector<float> depth_after;  // window depth after the offset (GL convention)
+};
+
+class FrameRenderer {
+  public:
+    // Creates the GL context (throws Error naming what is missing), uploads the scene and the
+    // materials (`methods`: one per table entry). Rows of every output are top first.
+    FrameRenderer(std::shared_ptr<Runtime> runtime, const Scene& scene,
+                  const std::vector<LoadedMaterial>& table,
+                  const std::vector<MethodParams>& methods, int width, int height,
+                  const ShadeSettings& shading);
+    ~FrameRenderer();
+
+    // One warm-up frame, then `repeats` timed ones; the last frame's outputs. Forward needs every
+    // material's method to have a GLSL version (forward_method_supported).
+    FrameRun render(FrameMode mode, bool prepass, int repeats);
+
+    // After a render: the G-buffer as the engine wrote it (depth GL, rows top first, with ids and
+    // uv derivatives), its reconstruction, and the depth before the offset.
+    const EngineScene& gbuffer() const { return engine_; }
+    const GBuffer& explicit_gbuffer() const { return explicit_; }
+    const std::vector<float>& depth_before() const { return engine_.depth; }
+    size_t covered_pixels() const;
+    // "host copies" (and why) or the sharing used between GL and CL.
+    const std::string& interop() const { return interop_; }
+    std::string gl_renderer() const;
+    // The table traced exactly over the deferred G-buffer: every method's reference.
+    OffsetResult exact() const;
+
+  private:
+    struct Impl;
+    std::unique_ptr<Impl> impl_;
+    EngineScene engine_;
+    GBuffer explicit_;
+    std::string interop_;
+};
+
+// Methods the forward shader has (shaders/relief.glsl): none, parallax, pom, steep (lod 0),
+// relief. Empty when supported, else why not.
+std::string forward_method_unsupported(const MethodParams& params);
+
+}  // namespace offsetmap::renderer
+
+namespace offsetmap::renderer {
+// One float channel "depth" (rows top first); throws Error naming the file.
+void write_depth_exr(const std::string& path, int width, int height,
+                     const std::vector<float>& depth);
+}  // namespace offsetmap::renderer

@@ -1,0 +1,52 @@
+// Triangle meshes as the renderer draws them: world-space vertices with a normal, a tangent frame
+// (tangent along +u, w the handedness: B = w N x T, as the engine G-buffer stores it), uv and the
+// uv density (world units per uv unit, which turns the offset pass's depth into a depth offset).
+#pragma once
+#include <array>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace offsetmap::renderer {
+
+using Vec3 = std::array<float, 3>;
+
+struct Vertex {
+    Vec3 position{};
+    Vec3 normal{};
+    std::array<float, 4> tangent{};
+    std::array<float, 2> uv{};
+    float uv_density = 1.0f;
+};
+
+struct Mesh {
+    std::string name;
+    int material = 0;  // the material table's id; 0 for no relief
+    std::vector<Vertex> vertices;
+    std::vector<std::uint32_t> indices;  // triangles, counter-clockwise seen from the front
+};
+
+// Tangents and uv densities from the triangles' uv gradients (Lengyel's per-triangle tangent and
+// bitangent, area-weighted per vertex): the tangent is dP/du made orthogonal to the vertex normal,
+// w = -1 where (N x T) points against dP/dv (mirrored uv), the density sqrt(world area / uv area).
+// Vertices on a uv seam are separate vertices, so each side keeps its own frame. A vertex whose
+// triangles give no usable dP/du (degenerate uv) gets any unit tangent orthogonal to its normal.
+void derive_tangents(Mesh& mesh);
+
+// A parallelogram from `origin` spanning `edge_u` (uv u from 0 to tiles_u) and `edge_v` (v from 0
+// to tiles_v), facing cross(edge_u, edge_v); mirror_u runs u the other way (a mirrored frame).
+Mesh make_quad(const std::string& name, int material, Vec3 origin, Vec3 edge_u, Vec3 edge_v,
+               float tiles_u, float tiles_v, bool mirror_u = false);
+// An axis-aligned box, faces outward, each face its own uv square of `tiles` tiles a side (uv
+// seams at every edge); the -x face mirrored.
+Mesh make_box(const std::string& name, int material, Vec3 center, Vec3 half, float tiles);
+// An upright cylinder with caps: the side's u runs tiles_u times around (a seam at angle 0), its
+// v tiles_v times up.
+Mesh make_cylinder(const std::string& name, int material, Vec3 base, float radius, float height,
+                   int segments, float tiles_u, float tiles_v);
+// A uv sphere: u tiles_u times around (a seam at angle 0), v tiles_v times from the north pole to
+// the south, as image rows run (so its frames are mirrored, w = -1).
+Mesh make_sphere(const std::string& name, int material, Vec3 center, float radius, int segments,
+                 int rings, float tiles_u, float tiles_v);
+
+}  // namespace offsetmap::renderer

@@ -1,0 +1,329 @@
+#include "offsetmap/renderer/frame.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+
+#include "offsetmap/error.hpp"
+#include "offsetmap/material_eval.hpp"
+#include "offsetmap/renderer/context.hpp"
+#include "offsetmap/settings.hpp"
+#include "raster.hpp"
+
+namespace offsetmap::renderer {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double ms_since(Clock::time_point t0) {
+    return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+}
+
+double median(std::vector<double> v) {
+    if (v.empty()) return 0.0;
+    std::sort(v.begin(), v.end());
+    const size_t n = v.size();
+    return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+// Rows bottom first (GL) to top first, `c` floats per pixel.
+std::vector<float> flip_rows(const std::vector<float>& in, int width, int height, int c) {
+    std::vector<float> out(in.size());
+    const size_t row = static_cast<size_t>(width) * c;
+    for (int y = 0; y < height; ++y)
+        std::copy_n(in.begin() + row * (height - 1 - y), row, out.begin() + row * y);
+    return out;
+}
+
+int glsl_method(const std::string& name) {
+    if (name == "none") return 0;
+    if (name == "parallax") return 1;
+    if (name == "pom") return 2;
+    if (name == "steep") return 3;
+    if (name == "relief") return 4;
+    return -1;
+}
+
+}  // namespace
+
+std::string forward_method_unsupported(const MethodParams& p) {
+    const int m = glsl_method(p.method->name);
+    if (m < 0)
+        return "method '" + p.method->name +
+               "' has no forward (GLSL) version; forward has none, parallax, pom, steep and relief";
+    if (m == 3 && p["lod"] != 0.0f)
+        return "forward steep traces level 0 only (lod=" + std::to_string(int(p["lod"])) + ")";
+    return "";
+}
+
+struct FrameRenderer::Impl {
+    std::shared_ptr<Runtime> rt;
+    std::unique_ptr<GlContext> gl;
+    std::unique_ptr<Raster> raster;
+    View view;
+    EngineLight light;
+    int width = 0, height = 0;
+    std::vector<LoadedMaterial> table;
+    std::vector<MethodParams> methods;
+    std::vector<ForwardMaterial> forward;
+    std::unique_ptr<MaterialFrame> frame;
+    std::unique_ptr<ReconstructPass> reconstruct;
+    ShadeSettings shading;
+    // Device buffers: the engine G-buffer's planes, the explicit G-buffer, the outputs.
+    cl::Buffer depth, normal, tangent, uv, ids;
+    DeviceGBuffer dg;
+    OffsetTargets targets;
+    cl::Buffer rgba;
+};
+
+FrameRenderer::FrameRenderer(std::shared_ptr<Runtime> runtime, const Scene& scene,
+                             const std::vector<LoadedMaterial>& table,
+                             const std::vector<MethodParams>& methods, int width, int height,
+                             const ShadeSettings& shading)
+    : impl_(std::make_unique<Impl>()) {
+    check_gbuffer_size(width, height, "the frame");
+    Impl& m = *impl_;
+    m.rt = runtime;
+    m.gl = GlContext::create();
+    m.width = width;
+    m.height = height;
+    m.table = table;
+    m.methods = methods;
+    m.shading = shading;
+    m.light = scene.light;
+    m.view = make_view(scene.camera, width, height);
+    m.raster = std::make_unique<Raster>(scene, width, height);
+    for (size_t s = 0; s < table.size(); ++s) {
+        ForwardMaterial f;
+        const LoadedMaterial& lm = table[s];
+        f.id = lm.spec.id;
+        f.method = glsl_method(methods[s].method->name);
+        for (size_t k = 0; k < methods[s].values.size() && k < 4; ++k)
+            f.params[k] = methods[s].values[k];
+        const PassSettings& ps = lm.spec.settings;
+        f.scale = ps.scale;
+        f.ref = ps.reference_plane;
+        f.min_vz = grazing_rule(ps, lm.map.width, lm.map.height).min_vz;
+        f.limit = ps.grazing == GrazingPolicy::Limit;
+        f.heights = make_texture(GL_R32F, lm.map.width, lm.map.height);
+        glTextureSubImage2D(f.heights.get(), 0, 0, 0, lm.map.width, lm.map.height, GL_RED, GL_FLOAT,
+                            lm.map.h.data());
+        const GLint address = ps.address == AddressMode::Wrap ? GL_REPEAT : GL_CLAMP_TO_EDGE;
+        glTextureParameteri(f.heights.get(), GL_TEXTURE_WRAP_S, address);
+        glTextureParameteri(f.heights.get(), GL_TEXTURE_WRAP_T, address);
+        glTextureParameteri(f.heights.get(), GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+        glTextureParameteri(f.heights.get(), GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+        check_gl("the height texture of material " + std::to_string(f.id));
+        m.forward.push_back(std::move(f));
+    }
+    Runtime& rt = *runtime;
+    const size_t n = static_cast<size_t>(width) * height;
+    auto buffer = [&](size_t bytes, cl_mem_flags flags) {
+        return cl::Buffer(rt.context(), flags, bytes);
+    };
+    m.depth = buffer(n * sizeof(float), CL_MEM_READ_ONLY);
+    m.normal = buffer(4 * n * sizeof(float), CL_MEM_READ_ONLY);
+    m.tangent = buffer(4 * n * sizeof(float), CL_MEM_READ_ONLY);
+    m.uv = buffer(2 * n * sizeof(float), CL_MEM_READ_ONLY);
+    m.ids = buffer(n * sizeof(float), CL_MEM_READ_ONLY);
+    m.dg = allocate_gbuffer(rt, width, height, scene.light.kind != LightKind::None, false);
+    m.dg.material = m.ids;
+    m.targets.uv = buffer(n * sizeof(cl_float2), CL_MEM_READ_WRITE);
+    m.targets.depth = buffer(n * sizeof(float), CL_MEM_READ_WRITE);
+    m.targets.fetches = buffer(n * sizeof(cl_uint), CL_MEM_READ_WRITE);
+    m.targets.flags = buffer(n * sizeof(cl_uint), CL_MEM_READ_WRITE);
+    m.rgba = buffer(n * sizeof(cl_float4), CL_MEM_WRITE_ONLY);
+    m.frame = std::make_unique<MaterialFrame>(runtime, upload_materials(rt, table, methods));
+    m.reconstruct = std::make_unique<ReconstructPass>(runtime);
+    interop_ = "host copies (the OpenCL platform offers no cl_khr_gl_sharing)";
+    if (rt.device().getInfo<CL_DEVICE_EXTENSIONS>().find("cl_khr_gl_sharing") != std::string::npos)
+        interop_ = "host copies (cl_khr_gl_sharing is offered; sharing is not implemented yet)";
+}
+
+FrameRenderer::~FrameRenderer() = default;
+
+std::string FrameRenderer::gl_renderer() const { return impl_->gl->renderer(); }
+
+size_t FrameRenderer::covered_pixels() const {
+    size_t c = 0;
+    for (float d : engine_.depth) c += d < 1.0f;
+    return c;
+}
+
+FrameRun FrameRenderer::render(FrameMode mode, bool prepass, int repeats) {
+    Impl& m = *impl_;
+    const bool forward = mode == FrameMode::Forward;
+    if (forward)
+        for (size_t s = 0; s < m.methods.size(); ++s)
+            if (const std::string why = forward_method_unsupported(m.methods[s]); !why.empty())
+                throw Error("material " + std::to_string(m.table[s].spec.id) + " (" +
+                            m.table[s].spec.name + "): " + why);
+    m.gl->make_current();
+    Runtime& rt = *m.rt;
+    const cl::CommandQueue& q = rt.queue();
+    const int w = m.width, h = m.height;
+    const size_t n = static_cast<size_t>(w) * h;
+    FrameRun run;
+    run.mode = mode;
+    run.prepass = prepass;
+    std::vector<PassTimes> times;
+    std::vector<double> kernel;
+    for (int rep = 0; rep <= std::max(1, repeats); ++rep) {
+        PassTimes t;
+        const auto start = Clock::now();
+        auto t0 = start;
+        m.raster->draw(m.view, forward ? &m.forward : nullptr, prepass);
+        t.gbuffer = ms_since(t0);
+
+        t0 = Clock::now();
+        const RasterPlanes planes = m.raster->read(forward);
+        engine_.width = w;
+        engine_.height = h;
+        engine_.camera.inverse_view_projection = m.view.inverse_view_projection;
+        engine_.camera.eye = m.view.eye;
+        engine_.camera.depth = DepthConvention::GL;
+        engine_.camera.first_row = FirstRow::Top;
+        engine_.frame = FrameForm::NormalTangent;
+        engine_.light = m.light;
+        engine_.depth = flip_rows(planes.depth, w, h, 1);
+        engine_.normal = flip_rows(planes.normal, w, h, 4);
+        engine_.tangent = flip_rows(planes.tangent, w, h, 4);
+        engine_.uv = flip_rows(planes.uv, w, h, 2);
+        const std::vector<float> material = flip_rows(planes.material, w, h, 2);
+        engine_.material.resize(n);
+        for (size_t k = 0; k < n; ++k) engine_.material[k] = material[2 * k];
+        // Per pixel right and per row down (rows now top first: GL's dFdy flips sign).
+        engine_.uv_derivatives = flip_rows(planes.uv_derivatives, w, h, 4);
+        for (size_t k = 0; k < n; ++k) {
+            engine_.uv_derivatives[4 * k + 2] *= -1.0f;
+            engine_.uv_derivatives[4 * k + 3] *= -1.0f;
+        }
+        q.enqueueWriteBuffer(m.depth, CL_FALSE, 0, n * sizeof(float), engine_.depth.data());
+        q.enqueueWriteBuffer(m.normal, CL_FALSE, 0, 4 * n * sizeof(float), engine_.normal.data());
+        q.enqueueWriteBuffer(m.tangent, CL_FALSE, 0, 4 * n * sizeof(float), engine_.tangent.data());
+        q.enqueueWriteBuffer(m.uv, CL_FALSE, 0, 2 * n * sizeof(float), engine_.uv.data());
+        q.enqueueWriteBuffer(m.ids, CL_FALSE, 0, n * sizeof(float), engine_.material.data());
+        std::vector<cl_float2> forward_uv;
+        std::vector<float> forward_t;
+        std::vector<std::uint32_t> forward_fetches;
+        if (forward) {
+            const std::vector<float> off = flip_rows(planes.offset, w, h, 4);
+            forward_uv.resize(n);
+            forward_t.resize(n);
+            forward_fetches.resize(n);
+            for (size_t k = 0; k < n; ++k) {
+                forward_uv[k] = {{off[4 * k], off[4 * k + 1]}};
+                forward_t[k] = off[4 * k + 2];
+                forward_fetches[k] = static_cast<std::uint32_t>(off[4 * k + 3]);
+            }
+            q.enqueueWriteBuffer(m.targets.uv, CL_FALSE, 0, n * sizeof(cl_float2),
+                                 forward_uv.data());
+        }
+        q.finish();
+        t.to_device = ms_since(t0);
+
+        t0 = Clock::now();
+        EngineGBuffer g;
+        g.width = w;
+        g.height = h;
+        g.camera = engine_.camera;
+        g.depth.buffer = m.depth;
+        g.normal.buffer = m.normal;
+        g.tangent.buffer = m.tangent;
+        g.uv.buffer = m.uv;
+        g.light = m.light;
+        m.reconstruct->enqueue(g, m.dg);
+        q.finish();
+        t.reconstruct = ms_since(t0);
+
+        if (!forward) {
+            t0 = Clock::now();
+            m.frame->enqueue(m.dg, m.targets);
+            q.finish();
+            t.offset = ms_since(t0);
+            kernel.push_back(m.frame->kernel_ms());
+        }
+
+        t0 = Clock::now();
+        m.frame->shade(m.targets.uv, forward ? cl::Buffer() : m.targets.flags, m.dg, m.shading,
+                       m.rgba);
+        q.finish();
+        t.shade = ms_since(t0);
+
+        t0 = Clock::now();
+        run.offset.width = w;
+        run.offset.height = h;
+        run.color.resize(n);
+        q.enqueueReadBuffer(m.rgba, CL_FALSE, 0, n * sizeof(cl_float4), run.color.data());
+        if (forward) {
+            run.offset.uv = std::move(forward_uv);
+            run.offset.depth = std::move(forward_t);
+            run.offset.fetches = std::move(forward_fetches);
+            run.offset.flags.assign(n, 0u);
+            for (size_t k = 0; k < n; ++k)
+                if (std::isnan(engine_.uv[2 * k])) run.offset.flags[k] = OM_FLAG_EMPTY;
+        } else {
+            run.offset.uv.resize(n);
+            run.offset.depth.resize(n);
+            run.offset.fetches.resize(n);
+            run.offset.flags.resize(n);
+            q.enqueueReadBuffer(m.targets.uv, CL_FALSE, 0, n * sizeof(cl_float2),
+                                run.offset.uv.data());
+            q.enqueueReadBuffer(m.targets.depth, CL_FALSE, 0, n * sizeof(float),
+                                run.offset.depth.data());
+            q.enqueueReadBuffer(m.targets.fetches, CL_FALSE, 0, n * sizeof(cl_uint),
+                                run.offset.fetches.data());
+            q.enqueueReadBuffer(m.targets.flags, CL_FALSE, 0, n * sizeof(cl_uint),
+                                run.offset.flags.data());
+        }
+        q.finish();
+        const std::vector<float> t_gl = flip_rows(run.offset.depth, w, h, 1);
+        t.to_gl = ms_since(t0);
+
+        t0 = Clock::now();
+        m.raster->write_depth_offset(m.view, t_gl);
+        t.depth_offset = ms_since(t0);
+        t.total = ms_since(start);
+        if (rep > 0) times.push_back(t);  // the first frame warms up
+    }
+    run.depth_after = flip_rows(m.raster->depth_after(), w, h, 1);
+    run.shaded_fragments =
+        m.raster->count_fragments(m.view, forward ? &m.forward : nullptr, prepass);
+    auto med = [&](double PassTimes::*field) {
+        std::vector<double> v;
+        for (const PassTimes& t : times) v.push_back(t.*field);
+        return median(v);
+    };
+    for (double PassTimes::*f :
+         {&PassTimes::gbuffer, &PassTimes::to_device, &PassTimes::reconstruct, &PassTimes::offset,
+          &PassTimes::shade, &PassTimes::to_gl, &PassTimes::depth_offset, &PassTimes::total})
+        run.ms.*f = med(f);
+    run.offset_kernel_ms = median(kernel);
+    if (!forward) run.offset.kernel_ms = kernel;
+
+    // The explicit G-buffer, as the passes saw it.
+    explicit_.resize(w, h, m.dg.light(), false);
+    q.enqueueReadBuffer(m.dg.uv, CL_TRUE, 0, n * sizeof(cl_float2), explicit_.uv.data());
+    q.enqueueReadBuffer(m.dg.view, CL_TRUE, 0, n * sizeof(cl_float4), explicit_.view.data());
+    if (m.dg.light())
+        q.enqueueReadBuffer(m.dg.light, CL_TRUE, 0, n * sizeof(cl_float4), explicit_.light.data());
+    explicit_.material = engine_.material;
+    return run;
+}
+
+OffsetResult FrameRenderer::exact() const {
+    return run_materials_exact(impl_->rt, impl_->table, impl_->dg);
+}
+
+}  // namespace offsetmap::renderer
+
+#include "exr.hpp"
+
+namespace offsetmap::renderer {
+void write_depth_exr(const std::string& path, int width, int height,
+                     const std::vector<float>& depth) {
+    write_float_exr(path, "depth", width, height, {"depth"}, depth, {{"offsetmap:depth", "gl"}});
+}
+}  // namespace offsetmap::renderer

@@ -1,0 +1,240 @@
+#include "raster.hpp"
+
+#include <cstddef>
+#include <glm/glm.hpp>
+#include <glm/gtc/matrix_transform.hpp>
+#include <glm/gtc/type_ptr.hpp>
+
+#include "offsetmap/error.hpp"
+
+namespace offsetmap::renderer {
+
+namespace {
+
+std::array<float, 16> to_array(const glm::mat4& m) {
+    std::array<float, 16> a{};
+    const float* p = glm::value_ptr(m);
+    std::copy(p, p + 16, a.begin());
+    return a;
+}
+
+const GLenum kTargets[] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1, GL_COLOR_ATTACHMENT2,
+                           GL_COLOR_ATTACHMENT3, GL_COLOR_ATTACHMENT4, GL_COLOR_ATTACHMENT5};
+
+}  // namespace
+
+View make_view(const Camera& c, int width, int height) {
+    const glm::vec3 eye(c.eye[0], c.eye[1], c.eye[2]),
+        target(c.target[0], c.target[1], c.target[2]);
+    // Both matrices in double: the inverse is what the reconstruct pass places pixels with.
+    const glm::dmat4 view = glm::lookAt(glm::dvec3(eye), glm::dvec3(target), glm::dvec3(0, 1, 0));
+    const glm::dmat4 projection =
+        glm::perspective(glm::radians(double(c.fov_y_deg)), double(width) / double(height),
+                         double(c.near_plane), double(c.far_plane));
+    const glm::dmat4 vp = projection * view;
+    View v;
+    v.view_projection = to_array(glm::mat4(vp));
+    v.inverse_view_projection = to_array(glm::mat4(glm::inverse(vp)));
+    v.eye = c.eye;
+    return v;
+}
+
+Raster::Raster(const Scene& scene, int width, int height) : width_(width), height_(height) {
+    for (const Mesh& m : scene.meshes) {
+        DrawMesh d;
+        d.material = m.material;
+        GLuint ids[3];
+        glCreateVertexArrays(1, ids);
+        glCreateBuffers(2, ids + 1);
+        d.vao = VertexArray(ids[0]);
+        d.vertices = BufferObject(ids[1]);
+        d.indices = BufferObject(ids[2]);
+        glNamedBufferStorage(ids[1], m.vertices.size() * sizeof(Vertex), m.vertices.data(), 0);
+        glNamedBufferStorage(ids[2], m.indices.size() * sizeof(std::uint32_t), m.indices.data(), 0);
+        glVertexArrayVertexBuffer(ids[0], 0, ids[1], 0, sizeof(Vertex));
+        glVertexArrayElementBuffer(ids[0], ids[2]);
+        const struct {
+            GLint size;
+            size_t offset;
+        } attributes[] = {{3, offsetof(Vertex, position)},
+                          {3, offsetof(Vertex, normal)},
+                          {4, offsetof(Vertex, tangent)},
+                          {2, offsetof(Vertex, uv)},
+                          {1, offsetof(Vertex, uv_density)}};
+        for (GLuint a = 0; a < 5; ++a) {
+            glEnableVertexArrayAttrib(ids[0], a);
+            glVertexArrayAttribFormat(ids[0], a, attributes[a].size, GL_FLOAT, GL_FALSE,
+                                      static_cast<GLuint>(attributes[a].offset));
+            glVertexArrayAttribBinding(ids[0], a, 0);
+        }
+        d.count = static_cast<GLsizei>(m.indices.size());
+        meshes_.push_back(std::move(d));
+    }
+    deferred_ = make_program("gbuffer_vert.glsl", "gbuffer_frag.glsl");
+    forward_ = make_program("gbuffer_vert.glsl", "gbuffer_frag.glsl", "#define OM_FORWARD 1\n");
+    deferred_count_ =
+        make_program("gbuffer_vert.glsl", "gbuffer_frag.glsl", "#define OM_COUNT 1\n");
+    forward_count_ = make_program("gbuffer_vert.glsl", "gbuffer_frag.glsl",
+                                  "#define OM_FORWARD 1\n#define OM_COUNT 1\n");
+    depth_only_ = make_program("gbuffer_vert.glsl", "depth_only_frag.glsl");
+    depth_offset_ = make_program("fullscreen_vert.glsl", "depth_offset_frag.glsl");
+
+    depth_ = make_texture(GL_DEPTH_COMPONENT32F, width, height);
+    normal_ = make_texture(GL_RGBA32F, width, height);
+    tangent_ = make_texture(GL_RGBA32F, width, height);
+    uv_ = make_texture(GL_RG32F, width, height);
+    derivatives_ = make_texture(GL_RGBA32F, width, height);
+    material_ = make_texture(GL_RG32F, width, height);
+    offset_ = make_texture(GL_RGBA32F, width, height);
+    t_ = make_texture(GL_R32F, width, height);
+    depth_after_ = make_texture(GL_DEPTH_COMPONENT32F, width, height);
+    GLuint f[2];
+    glCreateFramebuffers(2, f);
+    fbo_ = Framebuffer(f[0]);
+    depth_fbo_ = Framebuffer(f[1]);
+    const GLuint colour[] = {normal_.get(),      tangent_.get(),  uv_.get(),
+                             derivatives_.get(), material_.get(), offset_.get()};
+    for (int i = 0; i < 6; ++i) glNamedFramebufferTexture(f[0], kTargets[i], colour[i], 0);
+    glNamedFramebufferTexture(f[0], GL_DEPTH_ATTACHMENT, depth_.get(), 0);
+    glNamedFramebufferTexture(f[1], GL_DEPTH_ATTACHMENT, depth_after_.get(), 0);
+    glNamedFramebufferDrawBuffer(f[1], GL_NONE);
+    glNamedFramebufferReadBuffer(f[1], GL_NONE);
+    glNamedFramebufferDrawBuffers(f[0], 6, kTargets);
+    for (GLuint fb : f)
+        if (glCheckNamedFramebufferStatus(fb, GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
+            throw Error("OpenGL: the G-buffer's render targets are not complete at " +
+                        std::to_string(width) + "x" + std::to_string(height));
+    GLuint vao = 0;
+    glCreateVertexArrays(1, &vao);
+    empty_vao_ = VertexArray(vao);
+    GLuint counter = 0;
+    glCreateBuffers(1, &counter);
+    counter_ = BufferObject(counter);
+    glNamedBufferStorage(counter, sizeof(GLuint), nullptr,
+                         GL_DYNAMIC_STORAGE_BIT | GL_MAP_READ_BIT);
+    check_gl("setting up the G-buffer pass");
+}
+
+void Raster::draw(const View& view, const std::vector<ForwardMaterial>* forward, bool prepass) {
+    draw_with(view, forward, prepass, forward ? forward_ : deferred_);
+}
+
+std::int64_t Raster::count_fragments(const View& view, const std::vector<ForwardMaterial>* forward,
+                                     bool prepass) {
+    const GLuint zero = 0;
+    glNamedBufferSubData(counter_.get(), 0, sizeof zero, &zero);
+    glBindBufferBase(GL_ATOMIC_COUNTER_BUFFER, 0, counter_.get());
+    draw_with(view, forward, prepass, forward ? forward_count_ : deferred_count_);
+    GLuint count = 0;
+    glGetNamedBufferSubData(counter_.get(), 0, sizeof count, &count);
+    check_gl("counting the G-buffer pass's fragments");
+    return count;
+}
+
+void Raster::draw_with(const View& view, const std::vector<ForwardMaterial>* forward, bool prepass,
+                       const Program& program) {
+    glViewport(0, 0, width_, height_);
+    glBindFramebuffer(GL_DRAW_FRAMEBUFFER, fbo_.get());
+    const float nan = std::numeric_limits<float>::quiet_NaN();
+    const float sky_uv[4] = {nan, nan, 0.0f, 0.0f}, zero[4] = {0, 0, 0, 0};
+    for (int i = 0; i < 6; ++i)
+        glClearNamedFramebufferfv(fbo_.get(), GL_COLOR, i, i == 2 || i == 5 ? sky_uv : zero);
+    glClearNamedFramebufferfi(fbo_.get(), GL_DEPTH_STENCIL, 0, 1.0f, 0);
+    glEnable(GL_DEPTH_TEST);
+    glEnable(GL_CULL_FACE);
+    glCullFace(GL_BACK);
+    glFrontFace(GL_CCW);
+    auto draw_meshes = [&](const Program& p, bool with_materials) {
+        glUseProgram(p.get());
+        glUniformMatrix4fv(uniform(p, "u_view_projection"), 1, GL_FALSE,
+                           view.view_projection.data());
+        if (with_materials && forward)
+            glUniform3f(uniform(p, "u_eye"), view.eye[0], view.eye[1], view.eye[2]);
+        for (const DrawMesh& m : meshes_) {
+            if (with_materials) {
+                glUniform1f(uniform(p, "u_material"), float(m.material));
+                if (forward) {
+                    const ForwardMaterial* fm = nullptr;
+                    for (const ForwardMaterial& f : *forward)
+                        if (f.id == m.material) fm = &f;
+                    glUniform1i(uniform(p, "u_method"), fm ? fm->method : 0);
+                    if (fm) {
+                        glBindTextureUnit(0, fm->heights.get());
+                        glUniform1i(uniform(p, "u_heights"), 0);
+                        glUniform4fv(uniform(p, "u_params"), 1, fm->params.data());
+                        glUniform1f(uniform(p, "u_scale"), fm->scale);
+                        glUniform1f(uniform(p, "u_ref"), fm->ref);
+                        glUniform1f(uniform(p, "u_min_vz"), fm->min_vz);
+                        glUniform1i(uniform(p, "u_limit"), fm->limit ? 1 : 0);
+                    }
+                }
+            }
+            glBindVertexArray(m.vao.get());
+            glDrawElements(GL_TRIANGLES, m.count, GL_UNSIGNED_INT, nullptr);
+        }
+    };
+    if (prepass) {
+        glDepthFunc(GL_LESS);
+        glDepthMask(GL_TRUE);
+        glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
+        draw_meshes(depth_only_, false);
+        glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+        glDepthFunc(GL_EQUAL);
+        glDepthMask(GL_FALSE);
+    } else {
+        glDepthFunc(GL_LESS);
+        glDepthMask(GL_TRUE);
+    }
+    draw_meshes(program, true);
+    glDepthMask(GL_TRUE);
+    glDepthFunc(GL_LESS);
+    glFinish();
+    check_gl(forward ? "the forward G-buffer pass" : "the G-buffer pass");
+}
+
+RasterPlanes Raster::read(bool forward) const {
+    RasterPlanes p;
+    const GLuint f = fbo_.get();
+    p.depth = read_pixels(f, GL_NONE, GL_DEPTH_COMPONENT, 1, width_, height_);
+    p.normal = read_pixels(f, GL_COLOR_ATTACHMENT0, GL_RGBA, 4, width_, height_);
+    p.tangent = read_pixels(f, GL_COLOR_ATTACHMENT1, GL_RGBA, 4, width_, height_);
+    p.uv = read_pixels(f, GL_COLOR_ATTACHMENT2, GL_RG, 2, width_, height_);
+    p.uv_derivatives = read_pixels(f, GL_COLOR_ATTACHMENT3, GL_RGBA, 4, width_, height_);
+    p.material = read_pixels(f, GL_COLOR_ATTACHMENT4, GL_RG, 2, width_, height_);
+    if (forward) p.offset = read_pixels(f, GL_COLOR_ATTACHMENT5, GL_RGBA, 4, width_, height_);
+    return p;
+}
+
+void Raster::write_depth_offset(const View& view, const std::vector<float>& t) {
+    glTextureSubImage2D(t_.get(), 0, 0, 0, width_, height_, GL_RED, GL_FLOAT, t.data());
+    glBindFramebuffer(GL_DRAW_FRAMEBUFFER, depth_fbo_.get());
+    glViewport(0, 0, width_, height_);
+    glDisable(GL_CULL_FACE);
+    glEnable(GL_DEPTH_TEST);
+    glDepthFunc(GL_ALWAYS);
+    glDepthMask(GL_TRUE);
+    const Program& p = depth_offset_;
+    glUseProgram(p.get());
+    glBindTextureUnit(0, depth_.get());
+    glBindTextureUnit(1, t_.get());
+    glBindTextureUnit(2, material_.get());
+    glUniform1i(uniform(p, "u_depth"), 0);
+    glUniform1i(uniform(p, "u_t"), 1);
+    glUniform1i(uniform(p, "u_material"), 2);
+    glUniformMatrix4fv(uniform(p, "u_inverse_view_projection"), 1, GL_FALSE,
+                       view.inverse_view_projection.data());
+    glUniformMatrix4fv(uniform(p, "u_view_projection"), 1, GL_FALSE, view.view_projection.data());
+    glUniform3f(uniform(p, "u_eye"), view.eye[0], view.eye[1], view.eye[2]);
+    glUniform2f(uniform(p, "u_size"), float(width_), float(height_));
+    glBindVertexArray(empty_vao_.get());
+    glDrawArrays(GL_TRIANGLES, 0, 3);
+    glDepthFunc(GL_LESS);
+    glFinish();
+    check_gl("the depth offset pass");
+}
+
+std::vector<float> Raster::depth_after() const {
+    return read_pixels(depth_fbo_.get(), GL_NONE, GL_DEPTH_COMPONENT, 1, width_, height_);
+}
+
+}  // namespace offsetmap::renderer

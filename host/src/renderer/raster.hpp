@@ -1,0 +1,80 @@
+// The GL side of a frame: the scene's meshes on the GPU (or llvmpipe), the G-buffer pass into
+// float render targets (deferred, or forward with each material's method in the fragment shader),
+// an optional depth pre-pass, fragment-shader invocation counts, and the depth offset pass.
+#pragma once
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include "gl.hpp"
+#include "offsetmap/renderer/scene.hpp"
+
+namespace offsetmap::renderer {
+
+// A material as the forward shader traces it (uniforms and the height texture).
+struct ForwardMaterial {
+    int id = 0;
+    Texture heights;  // R32F, level 0, linear filtering, repeat or clamp-to-edge
+    int method = 0;   // OM_GLSL_* (shaders/relief.glsl)
+    std::array<float, 4> params{};
+    float scale = 0.0f, ref = 1.0f, min_vz = 0.0f;
+    bool limit = false;
+};
+
+// The G-buffer's planes as read back: rows bottom first (GL's), floats.
+struct RasterPlanes {
+    std::vector<float> depth;           // window depth, 1 per pixel
+    std::vector<float> normal;          // 4 (world normal, 0)
+    std::vector<float> tangent;         // 4 (world tangent, handedness)
+    std::vector<float> uv;              // 2
+    std::vector<float> uv_derivatives;  // 4: du/dx, dv/dx, du/dy, dv/dy
+    std::vector<float> material;        // 2: id, uv density
+    std::vector<float> offset;          // forward: 4 (uv', t, fetches); empty otherwise
+};
+
+struct View {
+    std::array<float, 16> view_projection{};          // column-major
+    std::array<float, 16> inverse_view_projection{};  // column-major
+    Vec3 eye{};
+};
+View make_view(const Camera& camera, int width, int height);
+
+class Raster {
+  public:
+    Raster(const Scene& scene, int width, int height);
+
+    // Draws the G-buffer (forward: with `materials` traced per fragment; a material missing from
+    // the list is drawn without relief). With `prepass`, depth first and then the G-buffer at
+    // GL_EQUAL. Blocks until GL is done.
+    void draw(const View& view, const std::vector<ForwardMaterial>* forward, bool prepass);
+    // The same draw with the fragments that pass the depth test counted (an atomic counter in a
+    // variant of the shader, so the timed draws carry no counter): the fragments the G-buffer
+    // shader, and forward the method, runs on.
+    std::int64_t count_fragments(const View& view, const std::vector<ForwardMaterial>* forward,
+                                 bool prepass);
+    // The last draw's planes (forward's offset plane only after a forward draw).
+    RasterPlanes read(bool forward) const;
+    // Writes the pixel depth offset of `t` (rows bottom first) into the second depth target and
+    // blocks until done; depth_after() reads it.
+    void write_depth_offset(const View& view, const std::vector<float>& t);
+    std::vector<float> depth_after() const;
+
+  private:
+    struct DrawMesh {
+        int material = 0;
+        VertexArray vao;
+        BufferObject vertices, indices;
+        GLsizei count = 0;
+    };
+    int width_, height_;
+    std::vector<DrawMesh> meshes_;
+    void draw_with(const View& view, const std::vector<ForwardMaterial>* forward, bool prepass,
+                   const Program& program);
+    Program deferred_, forward_, deferred_count_, forward_count_, depth_only_, depth_offset_;
+    Texture depth_, normal_, tangent_, uv_, derivatives_, material_, offset_, t_, depth_after_;
+    Framebuffer fbo_, depth_fbo_;
+    VertexArray empty_vao_;
+    BufferObject counter_;
+};
+
+}  // namespace offsetmap::renderer

@@ -1,0 +1,71 @@
+#include "offsetmap/renderer/scene.hpp"
+
+#include <cmath>
+#include <sstream>
+
+#include "offsetmap/error.hpp"
+
+namespace offsetmap::renderer {
+
+Camera parse_camera(const std::string& text) {
+    std::vector<float> v;
+    std::stringstream in(text);
+    std::string item;
+    while (std::getline(in, item, ',')) {
+        size_t used = 0;
+        float x = 0.0f;
+        try {
+            x = std::stof(item, &used);
+        } catch (const std::exception&) {
+            used = 0;
+        }
+        if (used == 0 || item.find_first_not_of(" \t", used) != std::string::npos ||
+            !std::isfinite(x))
+            throw Error("--camera: '" + item +
+                        "' is not a number (expected ex,ey,ez,tx,ty,tz[,fov])");
+        v.push_back(x);
+    }
+    if (v.size() != 6 && v.size() != 7)
+        throw Error("--camera needs 6 or 7 numbers (ex,ey,ez,tx,ty,tz[,fov]), got " +
+                    std::to_string(v.size()));
+    Camera c;
+    c.eye = {v[0], v[1], v[2]};
+    c.target = {v[3], v[4], v[5]};
+    if (v.size() == 7) c.fov_y_deg = v[6];
+    const float dx = v[3] - v[0], dy = v[4] - v[1], dz = v[5] - v[2];
+    const float len = std::sqrt(dx * dx + dy * dy + dz * dz);
+    if (!(len > 1e-6f)) throw Error("--camera: the eye and the target are the same point");
+    if (std::abs(dy) > 0.9999f * len)
+        throw Error("--camera: the view is straight up or down (up is +y); tilt it a little");
+    if (!(c.fov_y_deg >= 1.0f && c.fov_y_deg <= 170.0f))
+        throw Error("--camera: the field of view must be in [1, 170] degrees, got " +
+                    std::to_string(c.fov_y_deg));
+    return c;
+}
+
+Scene builtin_room(const std::string& data_dir) {
+    Scene s;
+    s.name = "room";
+    s.material_table = data_dir + "/room.json";
+    // The room: x in [-3, 3], z in [-4, 2.5], walls 3 high, no ceiling; one brick tile a metre.
+    const float x0 = -3.0f, x1 = 3.0f, z0 = -4.0f, z1 = 2.5f, h = 3.0f;
+    s.meshes.push_back(make_quad("floor", 2, {x0, 0, z1}, {x1 - x0, 0, 0}, {0, 0, z0 - z1},
+                                 (x1 - x0) / 1.5f, (z1 - z0) / 1.5f));
+    s.meshes.push_back(
+        make_quad("back wall", 1, {x0, 0, z0}, {x1 - x0, 0, 0}, {0, h, 0}, x1 - x0, h));
+    s.meshes.push_back(
+        make_quad("left wall", 1, {x0, 0, z1}, {0, 0, z0 - z1}, {0, h, 0}, z1 - z0, h));
+    s.meshes.push_back(
+        make_quad("right wall", 1, {x1, 0, z0}, {0, 0, z1 - z0}, {0, h, 0}, z1 - z0, h));
+    s.meshes.push_back(
+        make_quad("front wall", 1, {x1, 0, z1}, {x0 - x1, 0, 0}, {0, h, 0}, x1 - x0, h));
+    s.meshes.push_back(make_box("box", 3, {-1.3f, 0.5f, -1.9f}, {0.5f, 0.5f, 0.5f}, 1.0f));
+    s.meshes.push_back(
+        make_cylinder("cylinder", 4, {1.45f, 0.0f, -2.3f}, 0.45f, 1.4f, 64, 3.0f, 1.5f));
+    s.meshes.push_back(make_sphere("sphere", 5, {0.25f, 0.55f, -1.0f}, 0.55f, 64, 32, 4.0f, 2.0f));
+    s.light.kind = LightKind::Point;
+    s.light.vector = {1.2f, 2.7f, 0.8f};
+    return s;
+}
+
+}  // namespace offsetmap::renderer

@@ -1,0 +1,2 @@
+// The depth pre-pass: depth only.
+void main() {}

@@ -1,0 +1,50 @@
+// The G-buffer pass's fragment stage: the engine-shaped G-buffer (world normal, tangent with its
+// handedness, uv, uv derivatives per pixel step, material id and uv density). With OM_FORWARD it
+// is the forward peer: the material's method traced here, in the fragment shader, as engines do
+// it, and uv' (with the depth t and the fetch count) written beside the rest.
+in vec3 v_position;
+in vec3 v_normal;
+in vec4 v_tangent;
+in vec2 v_uv;
+in float v_uv_density;
+
+uniform float u_material;
+
+layout(location = 0) out vec4 o_normal;
+layout(location = 1) out vec4 o_tangent;
+layout(location = 2) out vec2 o_uv;
+layout(location = 3) out vec4 o_uv_derivatives;  // du/dx, dv/dx, du/dy, dv/dy (y up, GL's rows)
+layout(location = 4) out vec2 o_material;         // id, uv density (world units per uv unit)
+#ifdef OM_COUNT
+// Counting fragments shaded: depth tested before the shader, as a driver does for a shader that
+// writes no depth, so the count is what the method's cost is paid on.
+layout(early_fragment_tests) in;
+layout(binding = 0, offset = 0) uniform atomic_uint om_shaded;
+#endif
+#ifdef OM_FORWARD
+#include "relief.glsl"
+uniform vec3 u_eye;
+layout(location = 5) out vec4 o_offset;  // uv', t, fetches
+#endif
+
+void main() {
+#ifdef OM_COUNT
+    atomicCounterIncrement(om_shaded);
+#endif
+    vec3 n = normalize(v_normal);
+    float handedness = v_tangent.w < 0.0 ? -1.0 : 1.0;
+    o_normal = vec4(n, 0.0);
+    o_tangent = vec4(v_tangent.xyz, handedness);
+    o_uv = v_uv;
+    o_uv_derivatives = vec4(dFdx(v_uv), dFdy(v_uv));
+    o_material = vec2(u_material, v_uv_density);
+#ifdef OM_FORWARD
+    // Tangent-space V as the reconstruct pass builds it: the tangent made orthogonal to the
+    // normal, B = h N x T, V = (V.T, V.B, V.N).
+    vec3 t = normalize(v_tangent.xyz - n * dot(n, v_tangent.xyz));
+    vec3 b = handedness * cross(n, t);
+    vec3 view = normalize(u_eye - v_position);
+    vec3 tv = vec3(dot(view, t), dot(view, b), dot(view, n));
+    o_offset = u_material == 0.0 ? vec4(v_uv, 0.0, 0.0) : om_offset(v_uv, tv);
+#endif
+}

@@ -1,0 +1,26 @@
+// The G-buffer pass's vertex stage: world-space meshes (the renderer bakes placements), so the
+// only transform is the camera's.
+layout(location = 0) in vec3 a_position;
+layout(location = 1) in vec3 a_normal;
+layout(location = 2) in vec4 a_tangent;
+layout(location = 3) in vec2 a_uv;
+layout(location = 4) in float a_uv_density;
+
+uniform mat4 u_view_projection;
+
+invariant gl_Position;  // the depth pre-pass and the G-buffer pass meet at GL_EQUAL
+
+out vec3 v_position;
+out vec3 v_normal;
+out vec4 v_tangent;
+out vec2 v_uv;
+out float v_uv_density;
+
+void main() {
+    v_position = a_position;
+    v_normal = a_normal;
+    v_tangent = a_tangent;
+    v_uv = a_uv;
+    v_uv_density = a_uv_density;
+    gl_Position = u_view_projection * vec4(a_position, 1.0);
+}
