@@ -82,6 +82,9 @@ struct ShadingOptions {
     std::vector<CLI::Option*> options_;
 };
 
+// --shadows' value (none, hard, soft) as the shade pass takes it.
+ShadowMode shadow_mode(const std::string& name);
+
 // Where the G-buffer comes from: a built-in scene, or (with `file`) a G-buffer EXR.
 struct SceneOptions {
     std::string scene = "plane";

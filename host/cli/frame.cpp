@@ -86,21 +86,16 @@ Rgb8 depth_change_image(int w, int h, const std::vector<float>& before,
 
 int run_frame(const FrameCommand& cmd) {
     // Options first: nothing is read or rendered before they are checked.
-    if (!cmd.method.empty() || !cmd.sets.empty()) {
-        if (cmd.method.empty()) throw UsageError("--set needs --method");
-    }
+    if (!cmd.sets.empty() && cmd.method.empty()) throw UsageError("--set needs --method");
     Scene scene = builtin_room(cmd.data_dir.empty() ? default_data_dir() : cmd.data_dir);
     if (!cmd.camera.empty()) scene.camera = as_usage([&] { return parse_camera(cmd.camera); });
     MethodParams override_params;
     if (!cmd.method.empty()) {
-        std::map<std::string, std::string> kv;
-        for (const std::string& s : cmd.sets) {
-            const size_t eq = s.find('=');
-            if (eq == std::string::npos)
-                throw UsageError("--set expects key=value, got '" + s + "'");
-            kv[s.substr(0, eq)] = s.substr(eq + 1);
-        }
-        override_params = as_usage([&] { return resolve_params(find_method(cmd.method), kv); });
+        override_params = as_usage([&] {
+            std::map<std::string, std::string> overrides;
+            for (const std::string& s : cmd.sets) parse_assignment(s, overrides);
+            return resolve_params(find_method(cmd.method), overrides);
+        });
         if (cmd.forward)
             if (const std::string why = forward_method_unsupported(override_params); !why.empty())
                 throw UsageError("--forward: " + why);
@@ -117,10 +112,10 @@ int run_frame(const FrameCommand& cmd) {
             throw Error("material " + std::to_string(s.id) + " (" + s.name +
                         "): frame takes named methods, not auto (or give --method)");
         methods.push_back(resolve_params(find_method(s.method), s.params));
+        // Checked here too, before any map is read or a context made.
         if (cmd.forward)
-            if (const std::string why = forward_method_unsupported(methods.back()); !why.empty())
-                throw Error("material " + std::to_string(s.id) + " (" + s.name +
-                            "): --forward: " + why);
+            if (const std::string why = forward_unsupported(s, methods.back()); !why.empty())
+                throw Error(why);
     }
     for (const Mesh& m : scene.meshes) {
         bool known = m.material == 0;
@@ -137,9 +132,7 @@ int run_frame(const FrameCommand& cmd) {
     auto rt = Runtime::create(cmd.device);
     show_progress(*rt);
     ShadeSettings shading;
-    shading.shadow = cmd.shadows == "none"   ? ShadowMode::None
-                     : cmd.shadows == "hard" ? ShadowMode::Hard
-                                             : ShadowMode::Soft;
+    shading.shadow = shadow_mode(cmd.shadows);
     FrameRenderer renderer(rt, scene, table, methods, cmd.width, cmd.height, shading);
     const FrameRun deferred = renderer.render(FrameMode::Deferred, false, cmd.repeats);
     const int w = cmd.width, h = cmd.height;

@@ -95,10 +95,12 @@ void ShadingOptions::add_to(CLI::App& app) {
 ShadeSettings ShadingOptions::shade_settings() const {
     ShadeSettings s = shade;
     if (light.size() == 3) std::copy(light.begin(), light.end(), s.light);
-    s.shadow = shadows == "hard"   ? ShadowMode::Hard
-               : shadows == "soft" ? ShadowMode::Soft
-                                   : ShadowMode::None;
+    s.shadow = shadow_mode(shadows);
     return s;
+}
+
+ShadowMode shadow_mode(const std::string& name) {
+    return name == "hard" ? ShadowMode::Hard : name == "soft" ? ShadowMode::Soft : ShadowMode::None;
 }
 
 ShadingOptions::Files ShadingOptions::read_files() const {

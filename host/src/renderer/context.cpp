@@ -71,12 +71,4 @@ std::string GlContext::version() const {
     return reinterpret_cast<const char*>(glGetString(GL_VERSION));
 }
 
-bool GlContext::has_extension(const std::string& name) const {
-    GLint n = 0;
-    glGetIntegerv(GL_NUM_EXTENSIONS, &n);
-    for (GLint i = 0; i < n; ++i)
-        if (name == reinterpret_cast<const char*>(glGetStringi(GL_EXTENSIONS, i))) return true;
-    return false;
-}
-
 }  // namespace offsetmap::renderer

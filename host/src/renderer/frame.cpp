@@ -28,13 +28,22 @@ double median(std::vector<double> v) {
     return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
 }
 
-// Rows bottom first (GL) to top first, `c` floats per pixel.
-std::vector<float> flip_rows(const std::vector<float>& in, int width, int height, int c) {
-    std::vector<float> out(in.size());
+// Rows bottom first (GL) to top first, `c` values per pixel (an empty plane stays empty).
+template <typename T>
+std::vector<T> flip_rows(const std::vector<T>& in, int width, int height, int c) {
+    std::vector<T> out(in.size());
     const size_t row = static_cast<size_t>(width) * c;
+    if (in.empty()) return out;
     for (int y = 0; y < height; ++y)
         std::copy_n(in.begin() + row * (height - 1 - y), row, out.begin() + row * y);
     return out;
+}
+
+void flip_result(OffsetResult& r) {
+    r.uv = flip_rows(r.uv, r.width, r.height, 1);
+    r.depth = flip_rows(r.depth, r.width, r.height, 1);
+    r.fetches = flip_rows(r.fetches, r.width, r.height, 1);
+    r.flags = flip_rows(r.flags, r.width, r.height, 1);
 }
 
 int glsl_method(const std::string& name) {
@@ -47,6 +56,13 @@ int glsl_method(const std::string& name) {
 }
 
 }  // namespace
+
+std::string forward_unsupported(const MaterialSpec& material, const MethodParams& params) {
+    const std::string why = forward_method_unsupported(params);
+    return why.empty() ? why
+                       : "material " + std::to_string(material.id) + " (" + material.name +
+                             "): --forward: " + why;
+}
 
 std::string forward_method_unsupported(const MethodParams& p) {
     const int m = glsl_method(p.method->name);
@@ -155,19 +171,29 @@ size_t FrameRenderer::covered_pixels() const {
 FrameRun FrameRenderer::render(FrameMode mode, bool prepass, int repeats) {
     Impl& m = *impl_;
     const bool forward = mode == FrameMode::Forward;
-    if (forward)
-        for (size_t s = 0; s < m.methods.size(); ++s)
-            if (const std::string why = forward_method_unsupported(m.methods[s]); !why.empty())
-                throw Error("material " + std::to_string(m.table[s].spec.id) + " (" +
-                            m.table[s].spec.name + "): " + why);
+    for (size_t s = 0; forward && s < m.methods.size(); ++s)
+        if (const std::string why = forward_unsupported(m.table[s].spec, m.methods[s]);
+            !why.empty())
+            throw Error(why);
     m.gl->make_current();
     Runtime& rt = *m.rt;
     const cl::CommandQueue& q = rt.queue();
     const int w = m.width, h = m.height;
     const size_t n = static_cast<size_t>(w) * h;
+    // The device passes take GL's rows as they are (bottom first, as the reconstruct pass allows);
+    // the outputs are flipped to top first once, after the timed frames.
+    EngineCamera gl_camera;
+    gl_camera.inverse_view_projection = m.view.inverse_view_projection;
+    gl_camera.eye = m.view.eye;
+    gl_camera.depth = DepthConvention::GL;
+    gl_camera.first_row = FirstRow::Bottom;
     FrameRun run;
     run.mode = mode;
     run.prepass = prepass;
+    RasterPlanes planes;
+    std::vector<float> ids(n), t_gl(n);
+    std::vector<cl_float2> forward_uv;
+    std::vector<std::uint32_t> forward_fetches;
     std::vector<PassTimes> times;
     std::vector<double> kernel;
     for (int rep = 0; rep <= std::max(1, repeats); ++rep) {
@@ -178,44 +204,20 @@ FrameRun FrameRenderer::render(FrameMode mode, bool prepass, int repeats) {
         t.gbuffer = ms_since(t0);
 
         t0 = Clock::now();
-        const RasterPlanes planes = m.raster->read(forward);
-        engine_.width = w;
-        engine_.height = h;
-        engine_.camera.inverse_view_projection = m.view.inverse_view_projection;
-        engine_.camera.eye = m.view.eye;
-        engine_.camera.depth = DepthConvention::GL;
-        engine_.camera.first_row = FirstRow::Top;
-        engine_.frame = FrameForm::NormalTangent;
-        engine_.light = m.light;
-        engine_.depth = flip_rows(planes.depth, w, h, 1);
-        engine_.normal = flip_rows(planes.normal, w, h, 4);
-        engine_.tangent = flip_rows(planes.tangent, w, h, 4);
-        engine_.uv = flip_rows(planes.uv, w, h, 2);
-        const std::vector<float> material = flip_rows(planes.material, w, h, 2);
-        engine_.material.resize(n);
-        for (size_t k = 0; k < n; ++k) engine_.material[k] = material[2 * k];
-        // Per pixel right and per row down (rows now top first: GL's dFdy flips sign).
-        engine_.uv_derivatives = flip_rows(planes.uv_derivatives, w, h, 4);
-        for (size_t k = 0; k < n; ++k) {
-            engine_.uv_derivatives[4 * k + 2] *= -1.0f;
-            engine_.uv_derivatives[4 * k + 3] *= -1.0f;
-        }
-        q.enqueueWriteBuffer(m.depth, CL_FALSE, 0, n * sizeof(float), engine_.depth.data());
-        q.enqueueWriteBuffer(m.normal, CL_FALSE, 0, 4 * n * sizeof(float), engine_.normal.data());
-        q.enqueueWriteBuffer(m.tangent, CL_FALSE, 0, 4 * n * sizeof(float), engine_.tangent.data());
-        q.enqueueWriteBuffer(m.uv, CL_FALSE, 0, 2 * n * sizeof(float), engine_.uv.data());
-        q.enqueueWriteBuffer(m.ids, CL_FALSE, 0, n * sizeof(float), engine_.material.data());
-        std::vector<cl_float2> forward_uv;
-        std::vector<float> forward_t;
-        std::vector<std::uint32_t> forward_fetches;
+        planes = m.raster->read(forward);
+        for (size_t k = 0; k < n; ++k) ids[k] = planes.material[2 * k];
+        q.enqueueWriteBuffer(m.depth, CL_FALSE, 0, n * sizeof(float), planes.depth.data());
+        q.enqueueWriteBuffer(m.normal, CL_FALSE, 0, 4 * n * sizeof(float), planes.normal.data());
+        q.enqueueWriteBuffer(m.tangent, CL_FALSE, 0, 4 * n * sizeof(float), planes.tangent.data());
+        q.enqueueWriteBuffer(m.uv, CL_FALSE, 0, 2 * n * sizeof(float), planes.uv.data());
+        q.enqueueWriteBuffer(m.ids, CL_FALSE, 0, n * sizeof(float), ids.data());
         if (forward) {
-            const std::vector<float> off = flip_rows(planes.offset, w, h, 4);
             forward_uv.resize(n);
-            forward_t.resize(n);
             forward_fetches.resize(n);
+            const std::vector<float>& off = planes.offset;
             for (size_t k = 0; k < n; ++k) {
                 forward_uv[k] = {{off[4 * k], off[4 * k + 1]}};
-                forward_t[k] = off[4 * k + 2];
+                t_gl[k] = off[4 * k + 2];
                 forward_fetches[k] = static_cast<std::uint32_t>(off[4 * k + 3]);
             }
             q.enqueueWriteBuffer(m.targets.uv, CL_FALSE, 0, n * sizeof(cl_float2),
@@ -228,7 +230,7 @@ FrameRun FrameRenderer::render(FrameMode mode, bool prepass, int repeats) {
         EngineGBuffer g;
         g.width = w;
         g.height = h;
-        g.camera = engine_.camera;
+        g.camera = gl_camera;
         g.depth.buffer = m.depth;
         g.normal.buffer = m.normal;
         g.tangent.buffer = m.tangent;
@@ -252,34 +254,13 @@ FrameRun FrameRenderer::render(FrameMode mode, bool prepass, int repeats) {
         q.finish();
         t.shade = ms_since(t0);
 
+        // What GL needs back: the colour and, for the depth offset, t.
         t0 = Clock::now();
-        run.offset.width = w;
-        run.offset.height = h;
         run.color.resize(n);
         q.enqueueReadBuffer(m.rgba, CL_FALSE, 0, n * sizeof(cl_float4), run.color.data());
-        if (forward) {
-            run.offset.uv = std::move(forward_uv);
-            run.offset.depth = std::move(forward_t);
-            run.offset.fetches = std::move(forward_fetches);
-            run.offset.flags.assign(n, 0u);
-            for (size_t k = 0; k < n; ++k)
-                if (std::isnan(engine_.uv[2 * k])) run.offset.flags[k] = OM_FLAG_EMPTY;
-        } else {
-            run.offset.uv.resize(n);
-            run.offset.depth.resize(n);
-            run.offset.fetches.resize(n);
-            run.offset.flags.resize(n);
-            q.enqueueReadBuffer(m.targets.uv, CL_FALSE, 0, n * sizeof(cl_float2),
-                                run.offset.uv.data());
-            q.enqueueReadBuffer(m.targets.depth, CL_FALSE, 0, n * sizeof(float),
-                                run.offset.depth.data());
-            q.enqueueReadBuffer(m.targets.fetches, CL_FALSE, 0, n * sizeof(cl_uint),
-                                run.offset.fetches.data());
-            q.enqueueReadBuffer(m.targets.flags, CL_FALSE, 0, n * sizeof(cl_uint),
-                                run.offset.flags.data());
-        }
+        if (!forward)
+            q.enqueueReadBuffer(m.targets.depth, CL_FALSE, 0, n * sizeof(float), t_gl.data());
         q.finish();
-        const std::vector<float> t_gl = flip_rows(run.offset.depth, w, h, 1);
         t.to_gl = ms_since(t0);
 
         t0 = Clock::now();
@@ -288,9 +269,50 @@ FrameRun FrameRenderer::render(FrameMode mode, bool prepass, int repeats) {
         t.total = ms_since(start);
         if (rep > 0) times.push_back(t);  // the first frame warms up
     }
+
+    // The last frame's outputs, rows top first.
+    OffsetResult& out = run.offset;
+    out.width = w;
+    out.height = h;
+    out.depth = t_gl;
+    if (forward) {
+        out.uv = std::move(forward_uv);
+        out.fetches = std::move(forward_fetches);
+        out.flags.assign(n, 0u);
+        for (size_t k = 0; k < n; ++k)
+            if (std::isnan(planes.uv[2 * k])) out.flags[k] = OM_FLAG_EMPTY;
+    } else {
+        out.uv.resize(n);
+        out.fetches.resize(n);
+        out.flags.resize(n);
+        q.enqueueReadBuffer(m.targets.uv, CL_FALSE, 0, n * sizeof(cl_float2), out.uv.data());
+        q.enqueueReadBuffer(m.targets.fetches, CL_FALSE, 0, n * sizeof(cl_uint),
+                            out.fetches.data());
+        q.enqueueReadBuffer(m.targets.flags, CL_TRUE, 0, n * sizeof(cl_uint), out.flags.data());
+    }
+    flip_result(out);
+    run.color = flip_rows(run.color, w, h, 1);
     run.depth_after = flip_rows(m.raster->depth_after(), w, h, 1);
     run.shaded_fragments =
         m.raster->count_fragments(m.view, forward ? &m.forward : nullptr, prepass);
+
+    engine_.width = w;
+    engine_.height = h;
+    engine_.camera = gl_camera;
+    engine_.camera.first_row = FirstRow::Top;
+    engine_.frame = FrameForm::NormalTangent;
+    engine_.light = m.light;
+    engine_.depth = flip_rows(planes.depth, w, h, 1);
+    engine_.normal = flip_rows(planes.normal, w, h, 4);
+    engine_.tangent = flip_rows(planes.tangent, w, h, 4);
+    engine_.uv = flip_rows(planes.uv, w, h, 2);
+    engine_.material = flip_rows(ids, w, h, 1);
+    // Per pixel right and per row down (rows now top first: GL's dFdy flips sign).
+    engine_.uv_derivatives = flip_rows(m.raster->read_uv_derivatives(), w, h, 4);
+    for (size_t k = 0; k < n; ++k) {
+        engine_.uv_derivatives[4 * k + 2] *= -1.0f;
+        engine_.uv_derivatives[4 * k + 3] *= -1.0f;
+    }
     auto med = [&](double PassTimes::*field) {
         std::vector<double> v;
         for (const PassTimes& t : times) v.push_back(t.*field);
@@ -303,18 +325,23 @@ FrameRun FrameRenderer::render(FrameMode mode, bool prepass, int repeats) {
     run.offset_kernel_ms = median(kernel);
     if (!forward) run.offset.kernel_ms = kernel;
 
-    // The explicit G-buffer, as the passes saw it.
+    // The explicit G-buffer, as the passes saw it (rows top first).
     explicit_.resize(w, h, m.dg.light(), false);
     q.enqueueReadBuffer(m.dg.uv, CL_TRUE, 0, n * sizeof(cl_float2), explicit_.uv.data());
     q.enqueueReadBuffer(m.dg.view, CL_TRUE, 0, n * sizeof(cl_float4), explicit_.view.data());
     if (m.dg.light())
         q.enqueueReadBuffer(m.dg.light, CL_TRUE, 0, n * sizeof(cl_float4), explicit_.light.data());
+    explicit_.uv = flip_rows(explicit_.uv, w, h, 1);
+    explicit_.view = flip_rows(explicit_.view, w, h, 1);
+    explicit_.light = flip_rows(explicit_.light, w, h, 1);
     explicit_.material = engine_.material;
     return run;
 }
 
 OffsetResult FrameRenderer::exact() const {
-    return run_materials_exact(impl_->rt, impl_->table, impl_->dg);
+    OffsetResult r = run_materials_exact(impl_->rt, impl_->table, impl_->dg);
+    flip_result(r);
+    return r;
 }
 
 }  // namespace offsetmap::renderer

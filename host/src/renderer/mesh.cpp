@@ -14,6 +14,30 @@ void add_quad(Mesh& m, std::uint32_t a0, std::uint32_t a1, std::uint32_t a2, std
     m.indices.insert(m.indices.end(), {a0, a1, a2, a0, a2, a3});
 }
 
+const float kTwoPi = 6.28318530718f;
+
+// A surface of revolution about the y axis: rows + 1 rings of segments + 1 vertices (the seam:
+// a ring's first and last vertex coincide, at u = 0 and tiles_u; u runs counter-clockwise seen
+// from above), joined by quads. place(j, phi, v) sets ring j's vertex at angle phi: its position,
+// normal and v.
+template <typename Place>
+void add_revolution(Mesh& m, int rows, int segments, float tiles_u, Place place) {
+    const std::uint32_t base = static_cast<std::uint32_t>(m.vertices.size());
+    for (int j = 0; j <= rows; ++j)
+        for (int i = 0; i <= segments; ++i) {
+            Vertex v;
+            place(j, kTwoPi * float(i) / float(segments), v);
+            v.uv[0] = tiles_u * float(i) / float(segments);
+            m.vertices.push_back(v);
+        }
+    const std::uint32_t row = static_cast<std::uint32_t>(segments + 1);
+    for (std::uint32_t j = 0; j < std::uint32_t(rows); ++j)
+        for (std::uint32_t i = 0; i < std::uint32_t(segments); ++i) {
+            const std::uint32_t k = base + j * row + i;
+            add_quad(m, k, k + 1, k + row + 1, k + row);
+        }
+}
+
 }  // namespace
 
 void derive_tangents(Mesh& mesh) {
@@ -103,20 +127,12 @@ Mesh make_cylinder(const std::string& name, int material, Vec3 base, float radiu
                    int segments, float tiles_u, float tiles_v) {
     Mesh m{name, material, {}, {}};
     const glm::vec3 b = g(base);
-    const float two_pi = 6.28318530718f;
-    for (int j = 0; j <= 1; ++j)
-        for (int i = 0; i <= segments; ++i) {  // the seam: i = 0 and i = segments coincide
-            const float phi = two_pi * float(i) / float(segments);
-            const glm::vec3 r(std::cos(phi), 0.0f, -std::sin(phi));  // u runs counter-clockwise
-            Vertex v;
-            v.position = a(b + radius * r + glm::vec3(0.0f, height * float(j), 0.0f));
-            v.normal = a(r);
-            v.uv = {tiles_u * float(i) / float(segments), tiles_v * float(j)};
-            m.vertices.push_back(v);
-        }
-    const std::uint32_t row = static_cast<std::uint32_t>(segments + 1);
-    for (std::uint32_t i = 0; i < std::uint32_t(segments); ++i)
-        add_quad(m, i, i + 1, row + i + 1, row + i);
+    add_revolution(m, 1, segments, tiles_u, [&](int j, float phi, Vertex& v) {
+        const glm::vec3 r(std::cos(phi), 0.0f, -std::sin(phi));
+        v.position = a(b + radius * r + glm::vec3(0.0f, height * float(j), 0.0f));
+        v.normal = a(r);
+        v.uv[1] = tiles_v * float(j);
+    });
     // Caps: planar uv, one tile per diameter.
     for (int cap = 0; cap <= 1; ++cap) {
         const float y = height * float(cap);
@@ -128,7 +144,7 @@ Mesh make_cylinder(const std::string& name, int material, Vec3 base, float radiu
         c.uv = {0.5f, 0.5f};
         m.vertices.push_back(c);
         for (int i = 0; i <= segments; ++i) {
-            const float phi = two_pi * float(i) / float(segments);
+            const float phi = kTwoPi * float(i) / float(segments);
             Vertex v;
             v.position = a(b + glm::vec3(radius * std::cos(phi), y, -radius * std::sin(phi)));
             v.normal = a(n);
@@ -151,28 +167,15 @@ Mesh make_sphere(const std::string& name, int material, Vec3 center, float radiu
                  int rings, float tiles_u, float tiles_v) {
     Mesh m{name, material, {}, {}};
     const glm::vec3 c = g(center);
-    const float pi = 3.14159265359f;
-    for (int j = 0; j <= rings; ++j) {
-        const float theta = pi * float(j) / float(rings);  // from the south pole up
-        for (int i = 0; i <= segments; ++i) {
-            const float phi = 2.0f * pi * float(i) / float(segments);
-            const glm::vec3 r(std::sin(theta) * std::cos(phi), -std::cos(theta),
-                              -std::sin(theta) * std::sin(phi));
-            Vertex v;
-            v.position = a(c + radius * r);
-            v.normal = a(r);
-            // v from the north pole down, as images run: a picture reads upright (w = -1).
-            v.uv = {tiles_u * float(i) / float(segments),
-                    tiles_v * (1.0f - float(j) / float(rings))};
-            m.vertices.push_back(v);
-        }
-    }
-    const std::uint32_t row = static_cast<std::uint32_t>(segments + 1);
-    for (std::uint32_t j = 0; j < std::uint32_t(rings); ++j)
-        for (std::uint32_t i = 0; i < std::uint32_t(segments); ++i) {
-            const std::uint32_t k = j * row + i;
-            add_quad(m, k, k + 1, k + row + 1, k + row);
-        }
+    add_revolution(m, rings, segments, tiles_u, [&](int j, float phi, Vertex& v) {
+        const float theta = 0.5f * kTwoPi * float(j) / float(rings);  // from the south pole up
+        const glm::vec3 r(std::sin(theta) * std::cos(phi), -std::cos(theta),
+                          -std::sin(theta) * std::sin(phi));
+        v.position = a(c + radius * r);
+        v.normal = a(r);
+        // v from the north pole down, as images run: a picture reads upright (w = -1).
+        v.uv[1] = tiles_v * (1.0f - float(j) / float(rings));
+    });
     derive_tangents(m);
     return m;
 }

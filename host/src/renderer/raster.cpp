@@ -1,6 +1,7 @@
 #include "raster.hpp"
 
 #include <cstddef>
+#include <limits>
 #include <glm/glm.hpp>
 #include <glm/gtc/matrix_transform.hpp>
 #include <glm/gtc/type_ptr.hpp>
@@ -199,10 +200,13 @@ RasterPlanes Raster::read(bool forward) const {
     p.normal = read_pixels(f, GL_COLOR_ATTACHMENT0, GL_RGBA, 4, width_, height_);
     p.tangent = read_pixels(f, GL_COLOR_ATTACHMENT1, GL_RGBA, 4, width_, height_);
     p.uv = read_pixels(f, GL_COLOR_ATTACHMENT2, GL_RG, 2, width_, height_);
-    p.uv_derivatives = read_pixels(f, GL_COLOR_ATTACHMENT3, GL_RGBA, 4, width_, height_);
     p.material = read_pixels(f, GL_COLOR_ATTACHMENT4, GL_RG, 2, width_, height_);
     if (forward) p.offset = read_pixels(f, GL_COLOR_ATTACHMENT5, GL_RGBA, 4, width_, height_);
     return p;
+}
+
+std::vector<float> Raster::read_uv_derivatives() const {
+    return read_pixels(fbo_.get(), GL_COLOR_ATTACHMENT3, GL_RGBA, 4, width_, height_);
 }
 
 void Raster::write_depth_offset(const View& view, const std::vector<float>& t) {

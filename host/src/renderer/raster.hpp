@@ -23,13 +23,12 @@ struct ForwardMaterial {
 
 // The G-buffer's planes as read back: rows bottom first (GL's), floats.
 struct RasterPlanes {
-    std::vector<float> depth;           // window depth, 1 per pixel
-    std::vector<float> normal;          // 4 (world normal, 0)
-    std::vector<float> tangent;         // 4 (world tangent, handedness)
-    std::vector<float> uv;              // 2
-    std::vector<float> uv_derivatives;  // 4: du/dx, dv/dx, du/dy, dv/dy
-    std::vector<float> material;        // 2: id, uv density
-    std::vector<float> offset;          // forward: 4 (uv', t, fetches); empty otherwise
+    std::vector<float> depth;     // window depth, 1 per pixel
+    std::vector<float> normal;    // 4 (world normal, 0)
+    std::vector<float> tangent;   // 4 (world tangent, handedness)
+    std::vector<float> uv;        // 2
+    std::vector<float> material;  // 2: id, uv density
+    std::vector<float> offset;    // forward: 4 (uv', t, fetches); empty otherwise
 };
 
 struct View {
@@ -52,8 +51,11 @@ class Raster {
     // shader, and forward the method, runs on.
     std::int64_t count_fragments(const View& view, const std::vector<ForwardMaterial>* forward,
                                  bool prepass);
-    // The last draw's planes (forward's offset plane only after a forward draw).
+    // The last draw's planes the passes read (forward's offset plane only after a forward draw).
     RasterPlanes read(bool forward) const;
+    // The last draw's uv derivatives, 4 per pixel: du/dx, dv/dx, du/dy, dv/dy (rows bottom first);
+    // the G-buffer file keeps them, the passes do not read them.
+    std::vector<float> read_uv_derivatives() const;
     // Writes the pixel depth offset of `t` (rows bottom first) into the second depth target and
     // blocks until done; depth_after() reads it.
     void write_depth_offset(const View& view, const std::vector<float>& t);

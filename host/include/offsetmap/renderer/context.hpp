@@ -17,7 +17,6 @@ class GlContext {
 
     std::string renderer() const;  // GL_RENDERER
     std::string version() const;   // GL_VERSION
-    bool has_extension(const std::string& name) const;
     // Makes this context current on the calling thread.
     void make_current() const;
 

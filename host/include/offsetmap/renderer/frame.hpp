@@ -53,8 +53,10 @@ class FrameRenderer {
                   const ShadeSettings& shading);
     ~FrameRenderer();
 
-    // One warm-up frame, then `repeats` timed ones; the last frame's outputs. Forward needs every
-    // material's method to have a GLSL version (forward_method_supported).
+    // One warm-up frame, then `repeats` timed ones; the last frame's outputs. Each timed frame
+    // moves across the host only what an engine's frame would: the G-buffer planes to the device,
+    // the colour and the offset pass's t back to GL. Forward needs every material's method to have
+    // a GLSL version (forward_unsupported).
     FrameRun render(FrameMode mode, bool prepass, int repeats);
 
     // After a render: the G-buffer as the engine wrote it (depth GL, rows top first, with ids and
@@ -80,6 +82,8 @@ class FrameRenderer {
 // Methods the forward shader has (shaders/relief.glsl): none, parallax, pom, steep (lod 0),
 // relief. Empty when supported, else why not.
 std::string forward_method_unsupported(const MethodParams& params);
+// The same for one material of a table: "" or the one-line error naming the material.
+std::string forward_unsupported(const MaterialSpec& material, const MethodParams& params);
 
 }  // namespace offsetmap::renderer
 
