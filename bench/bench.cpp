@@ -24,6 +24,7 @@
 #include <nlohmann/json.hpp>
 #include <thread>
 
+#include "bench_glsl_peer.hpp"
 #include "bench_materials.hpp"
 #include "bench_util.hpp"
 #include "cpu_peer.hpp"
@@ -444,10 +445,19 @@ void print_header(const char* title) {
 
 }  // namespace
 
+// bench/plot_bench.py on a bench JSON: the growth chart and, when it holds them, the GLSL peer's.
+void draw_charts(const std::string& json_path, const std::string& out_dir) {
+    const std::string cmd = "/usr/bin/python3 '" + std::string(OFFSETMAP_SCRIPT_DIR) +
+                            "/plot_bench.py' '" + json_path + "' '" + out_dir + "'";
+    std::fflush(stdout);  // our table first, then the script's line
+    if (std::system(cmd.c_str()) != 0)
+        std::cerr << "offsetmap_bench: warning: charts not drawn (" << cmd << ")\n";
+}
+
 int main(int argc, char** argv) {
     CLI::App app{
         "offsetmap_bench: throughput of every offset method against the device's roofline"};
-    bool quick = false, smoke = false, materials_only = false;
+    bool quick = false, smoke = false, materials_only = false, peer_only = false;
     std::string out_dir = "out/bench", device;
     double target_ms = 300;
     app.add_flag("--quick", quick, "720p only, smaller maps and grids (about a minute)");
@@ -464,6 +474,8 @@ int main(int argc, char** argv) {
         "only these methods: roofline, their defaults and the C++ loop (no growth charts)");
     app.add_flag("--materials", materials_only,
                  "only the material frame (tiles, one dispatch per method) at the main resolution");
+    app.add_flag("--glsl-peer", peer_only,
+                 "only the kernels against the GLSL fragment-shader peer at the main resolution");
     std::vector<std::string> ab;
     app.add_option("--ab", ab,
                    "A/B of two kernel folders (copies of kernels/): the methods (or --methods) "
@@ -521,6 +533,13 @@ int main(int argc, char** argv) {
             std::printf("\nwrote %s/bench-materials.json\n", out_dir.c_str());
             return 0;
         }
+        if (peer_only) {
+            b.out["glsl_peer"] = bench_glsl_peer(b.rt, main_res, bench_map(1024), s, b.target_ms);
+            std::ofstream(out_dir + "/bench-glsl-peer.json") << b.out.dump(2) << "\n";
+            std::printf("\nwrote %s/bench-glsl-peer.json\n", out_dir.c_str());
+            if (charts) draw_charts(out_dir + "/bench-glsl-peer.json", out_dir);
+            return 0;
+        }
         std::map<int, DeviceHeightField> fields;
         std::map<int, HeightMap> host_maps;
         for (int size : map_sizes) {
@@ -576,6 +595,7 @@ int main(int argc, char** argv) {
             return 0;
         }
 
+        b.out["glsl_peer"] = bench_glsl_peer(b.rt, main_res, host_maps[1024], s, b.target_ms);
         b.out["reconstruct"] = b.reconstruct(main_res, field, s);
         b.out["materials"] = bench_materials(b.rt, main_res, b.target_ms);
 
@@ -661,13 +681,7 @@ int main(int argc, char** argv) {
 
         std::ofstream(out_dir + "/bench.json") << b.out.dump(1) << "\n";
         std::printf("\nwrote %s/bench.json\n", out_dir.c_str());
-        if (charts) {
-            std::string cmd = "/usr/bin/python3 '" + std::string(OFFSETMAP_SCRIPT_DIR) +
-                              "/plot_bench.py' '" + out_dir + "/bench.json' '" + out_dir + "'";
-            std::fflush(stdout);  // our table first, then the script's line
-            if (std::system(cmd.c_str()) != 0)
-                std::cerr << "offsetmap_bench: warning: charts not drawn (" << cmd << ")\n";
-        }
+        if (charts) draw_charts(out_dir + "/bench.json", out_dir);
         return 0;
     } catch (const offsetmap::Error& e) {
         std::cerr << "offsetmap_bench: error: " << e.what() << "\n";

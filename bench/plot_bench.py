@@ -5,7 +5,10 @@
 
 Writes OUT_DIR/bench-growth.png: kernel ns/pixel against resolution (should be flat), against
 height-map size (cache effects) and against step count (should be linear), plus the methods at
-their defaults as a share of the device's fetch roofline. Needs Debian's python3-matplotlib.
+their defaults as a share of the device's fetch roofline; and, when the bench ran the GLSL peer,
+OUT_DIR/bench-glsl-peer.png: each method's kernel against the same method in a fragment shader,
+ns/pixel side by side with the kernel's speed-up written on each pair. Needs Debian's
+python3-matplotlib.
 """
 import json
 import sys
@@ -28,6 +31,11 @@ def main():
     if len(sys.argv) != 3:
         sys.exit(__doc__)
     doc = json.load(open(sys.argv[1]))
+    peer = doc.get("glsl_peer", {})
+    if "by_resolution" not in doc:  # offsetmap_bench --glsl-peer: that chart alone
+        if peer.get("rows"):
+            plot_peer(peer, doc, sys.argv[2])
+        return
     fig, axes = plt.subplots(1, 4, figsize=(20, 4.8))
     ax = axes[0]
     res_order = list(OrderedDict.fromkeys(r["resolution"] for r in doc["by_resolution"]))
@@ -73,6 +81,32 @@ def main():
     fig.tight_layout()
     fig.savefig(sys.argv[2] + "/bench-growth.png", dpi=95)
     print("wrote %s/bench-growth.png" % sys.argv[2])
+    if peer.get("rows"):
+        plot_peer(peer, doc, sys.argv[2])
+
+
+def plot_peer(peer, doc, out_dir):
+    rows = peer["rows"]
+    fig, ax = plt.subplots(figsize=(8, 4.2))
+    x = list(range(len(rows)))
+    ax.bar([k - 0.2 for k in x], [r["kernel_ns_per_pixel"] for r in rows], width=0.4,
+           color="tab:blue", label="offset kernel (%s)" % doc["device"].split("/")[0].strip())
+    ax.bar([k + 0.2 for k in x], [r["glsl_ns_per_pixel"] for r in rows], width=0.4,
+           color="tab:gray", label="GLSL full-screen pass (%s)" % peer["gl_renderer"])
+    for k, r in enumerate(rows):
+        top = max(r["kernel_ns_per_pixel"], r["glsl_ns_per_pixel"])
+        ax.text(k, top * 1.03, "%.2fx" % r["kernel_speedup"], ha="center", fontsize=8)
+    ax.set_xticks(x)
+    ax.set_xticklabels(["%s\n%s" % (r["method"], r["scene"]) for r in rows], fontsize=8)
+    ax.set_ylabel("ns/pixel (wall clock, timed in turns)")
+    ax.set_ylim(0, 1.12 * max(max(r["kernel_ns_per_pixel"], r["glsl_ns_per_pixel"]) for r in rows))
+    ax.set_title("kernels against the fragment-shader peer, %s: same steps and parameters"
+                 % peer["resolution"], fontsize=10)
+    ax.legend(fontsize=7)
+    ax.grid(True, axis="y", alpha=0.25)
+    fig.tight_layout()
+    fig.savefig(out_dir + "/bench-glsl-peer.png", dpi=95)
+    print("wrote %s/bench-glsl-peer.png" % out_dir)
 
 
 if __name__ == "__main__":

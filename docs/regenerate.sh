@@ -3,7 +3,7 @@
 # docs/img/ (about 20 minutes on 2 cores; run it on a quiet machine, timings are in the data).
 # Then `/usr/bin/python3 tests/readme_figures.py --write` rewrites the README's marked figures
 # and generated tables from these files, and `./run test` checks that they agree.
-#   docs/regenerate.sh [demo|sweep|failure|temporal|bench|materials ...]   (default: all of them)
+#   docs/regenerate.sh [demo|sweep|failure|temporal|bench|materials|frame ...]  (default: all)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 ./run build >/dev/null
@@ -14,7 +14,7 @@ tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 
 parts=("$@")
-[ ${#parts[@]} -gt 0 ] || parts=(demo sweep failure temporal bench materials)
+[ ${#parts[@]} -gt 0 ] || parts=(demo sweep failure temporal bench materials frame)
 for part in "${parts[@]}"; do
     case $part in
     demo)  # the README's first table: every method on the demo scene
@@ -57,6 +57,36 @@ for part in "${parts[@]}"; do
         cp "$tmp/materials/materials-sheet.png" "$IMG/materials-sheet.png"
         ./build/release/offsetmap_bench --materials --out "$tmp/bench-materials"
         cp "$tmp/bench-materials/bench-materials.json" "$DATA/bench-materials.json"
+        ;;
+    frame)  # the rendered room: 1080p pass times, the frame sheet, the box's silhouettes with and
+        # without the tile mask, the glTF scene, the failure map over the room's views, and the
+        # kernels against the GLSL peer
+        $OM frame --forward --repeats 5 -o "$tmp/frame1080"
+        cp "$tmp/frame1080/frame.json" "$DATA/frame-1080p.json"
+        $OM frame --forward --shadows soft --width 640 --height 360 -o "$tmp/frame"
+        cp "$tmp/frame/frame-sheet.png" "$IMG/frame-sheet.png"
+        # The box in bricks (its faces are one uv square each, as the mask needs), close up.
+        for mask in false true; do
+            sed -e 's#"height_map": "#"height_map": "'"$PWD"'/data/#' \
+                -e 's#stairs.png", "scale": 0.06,#rocks.png", "scale": 0.08, "tile_mask": '$mask',#' \
+                -e 's#"method": "relief", "params": {"linear": 16, "binary": 6}#"method": "pom", "params": {"min_samples": 8, "max_samples": 32}#' \
+                data/room.json >"$tmp/box-$mask.json"
+            $OM frame --materials "$tmp/box-$mask.json" --camera=-0.2,1.3,0.6,-1.3,0.5,-1.9,50 \
+                --width 960 --height 540 --forward --repeats 1 --shadows hard -o "$tmp/box-$mask"
+        done
+        /usr/bin/python3 docs/crop_figure.py "$IMG/frame-silhouettes.png" 318 150 478 300 2 \
+            "$tmp/box-false/final.png" "deferred, no tile mask" \
+            "$tmp/box-true/final.png" "deferred, tile mask" \
+            "$tmp/box-true/final-forward.png" "forward, tile mask (discard)"
+        $OM frame --scene data/pillars.gltf --width 640 --height 360 --shadows soft -o "$tmp/pillars"
+        cp "$tmp/pillars/final.png" "$IMG/frame-pillars.png"
+        $OM frame --width 640 --height 360 --repeats 1 -o "$tmp/room"
+        $OM failure-map --height-map data/rocks.png --gbuffer "$tmp/room/gbuffer.exr" -o "$tmp/f-room"
+        cp "$tmp/f-room/failure.csv" "$DATA/failure-rocks-room.csv"
+        cp "$tmp/f-room/failure-map.png" "$IMG/failure-map-rocks-room.png"
+        ./build/release/offsetmap_bench --glsl-peer --out "$tmp/peer"
+        cp "$tmp/peer/bench-glsl-peer.json" "$DATA/bench-glsl-peer.json"
+        cp "$tmp/peer/bench-glsl-peer.png" "$IMG/"
         ;;
     *) echo "regenerate.sh: unknown part '$part'" >&2; exit 2 ;;
     esac

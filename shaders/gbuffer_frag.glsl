@@ -46,5 +46,9 @@ void main() {
     vec3 view = normalize(u_eye - v_position);
     vec3 tv = vec3(dot(view, t), dot(view, b), dot(view, n));
     o_offset = u_material == 0.0 ? vec4(v_uv, 0.0, 0.0) : om_offset(v_uv, tv);
+    // The forward renderer's silhouette: the fragment is dropped and whatever lies behind it
+    // stays (drawn before or after), which a one-layer G-buffer cannot show. After a depth
+    // pre-pass nothing behind is drawn, so the pixel is left empty, as the deferred frame's is.
+    if (u_material != 0.0 && om_out_of_tile(o_offset.xy)) discard;
 #endif
 }

@@ -11,6 +11,7 @@ uniform float u_scale;
 uniform float u_ref;
 uniform float u_min_vz;
 uniform int u_limit;  // Welsh's offset limiting for every view
+uniform int u_tile_mask;  // the tile mask: uv' outside [0,1]^2 is not this surface's
 
 #define OM_GLSL_NONE 0
 #define OM_GLSL_PARALLAX 1
@@ -105,4 +106,9 @@ vec4 om_offset(vec2 uv, vec3 view) {
     r.t_exit = u_scale * u_ref / v.z;
     float t = om_trace(r);
     return vec4(uv - t * v.xy, t, float(om_fetches));
+}
+
+// The kernels' OUT_OF_TILE test (kernels/offset.cl).
+bool om_out_of_tile(vec2 uv) {
+    return u_tile_mask != 0 && (uv.x < 0.0 || uv.x > 1.0 || uv.y < 0.0 || uv.y > 1.0);
 }

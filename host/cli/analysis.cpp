@@ -24,6 +24,12 @@ void select_methods_checked(const std::vector<std::string>& names) {
 
 std::string stem(const std::string& path) { return std::filesystem::path(path).stem().string(); }
 
+// "folder/file": enough of a path to tell one frame's G-buffer from another's.
+std::string short_path(const std::string& path) {
+    const std::filesystem::path p(path);
+    return (p.parent_path().filename() / p.filename()).string();
+}
+
 void make_dir(const std::string& dir) {
     std::error_code ec;
     std::filesystem::create_directories(dir, ec);
@@ -84,7 +90,7 @@ int run_sweep_command(const SweepCommand& cmd, const ReliefOptions& relief) {
         maps.push_back({stem(f), load_height_map(f, relief.load_options())});
     std::vector<NamedViews> views;
     if (!cmd.gbuffer.empty()) {
-        views.push_back({stem(cmd.gbuffer), load_gbuffer(cmd.gbuffer)});
+        views.push_back({short_path(cmd.gbuffer), load_gbuffer(cmd.gbuffer)});
     } else {
         PlaneScene plane;
         plane.width = cmd.quick ? 320 : 640;
@@ -104,25 +110,34 @@ int run_sweep_command(const SweepCommand& cmd, const ReliefOptions& relief) {
     o.progress = progress_line;
     std::vector<SweepRecord> records = run_sweep(rt, maps, views, o);
     if (!cmd.materials.empty()) {
-        // The frame of the table's materials on the camera view: each a tile of its own.
+        // The frame of the table's materials: on a G-buffer file with ids (a rendered frame's),
+        // its own; else on the camera view, each material a tile of its own.
         const std::vector<LoadedMaterial> table =
             load_materials(read_material_table(cmd.materials, settings));
-        PlaneScene plane;
-        plane.width = cmd.quick ? 320 : 640;
-        plane.height = cmd.quick ? 180 : 360;
-        plane.camera_height = 0.9;
-        plane.pitch_deg = 28.0;
-        GBuffer gb = make_scene(plane);
-        std::vector<int> ids;
-        for (const auto& m : table) ids.push_back(m.spec.id);
-        lay_out_materials(gb, ids);
+        const bool own_ids =
+            !views.empty() && !cmd.gbuffer.empty() && views.front().gbuffer.has_material();
+        GBuffer gb;
+        if (own_ids) {
+            gb = views.front().gbuffer;
+        } else {
+            PlaneScene plane;
+            plane.width = cmd.quick ? 320 : 640;
+            plane.height = cmd.quick ? 180 : 360;
+            plane.camera_height = 0.9;
+            plane.pitch_deg = 28.0;
+            gb = make_scene(plane);
+            std::vector<int> ids;
+            for (const auto& m : table) ids.push_back(m.spec.id);
+            lay_out_materials(gb, ids);
+        }
         std::vector<MethodParams> chosen;
         for (const auto& m : table)
             chosen.push_back(m.spec.method == "auto"
                                  ? choose_method(rt, m, gb).chosen.params
                                  : resolve_params(find_method(m.spec.method), m.spec.params));
-        const auto frame = sweep_material_frame(rt, table, chosen, gb, "camera", o.repeats,
-                                                o.progress, cmd.methods);
+        const auto frame =
+            sweep_material_frame(rt, table, chosen, gb, own_ids ? views.front().name : "camera",
+                                 o.repeats, o.progress, cmd.methods);
         records.insert(records.end(), frame.begin(), frame.end());
     }
     std::fprintf(stderr, "\n");
@@ -147,16 +162,29 @@ int run_failure_command(const FailureCommand& cmd, const ReliefOptions& relief) 
     make_dir(cmd.out_dir);
     auto rt = Runtime::create(relief.device);
     show_progress(*rt);
+    GBuffer views;
+    if (!cmd.gbuffer.empty()) {
+        views = load_gbuffer(cmd.gbuffer, kDefaultReadLimitBytes, rt);
+        o.views = &views;
+    }
     auto cells = run_failure_map(rt, map, o);
     std::fprintf(stderr, "\n");
     write_failure_csv(cmd.out_dir + "/failure.csv", cells);
-    std::printf("failure map: %zu cells, wrote %s/failure.csv\n", cells.size(),
+    size_t compared = 0;
+    for (const FailureCell& c : cells) compared = std::max(compared, c.uv.count);
+    std::printf("failure map: %zu cells%s, wrote %s/failure.csv\n", cells.size(),
+                cmd.gbuffer.empty() ? ""
+                                    : (" over the views of " + cmd.gbuffer + " (up to " +
+                                       std::to_string(compared) + " pixels a cell)")
+                                          .c_str(),
                 cmd.out_dir.c_str());
     if (cmd.charts)
-        run_chart_script("plot_failure.py",
-                         {cmd.out_dir + "/failure.csv", cmd.out_dir + "/failure-map.png",
-                          "Failure maps on " + stem(relief.height_map) +
-                              " (grazing policy: " + relief.grazing + ")"});
+        run_chart_script(
+            "plot_failure.py",
+            {cmd.out_dir + "/failure.csv", cmd.out_dir + "/failure-map.png",
+             "Failure maps on " + stem(relief.height_map) +
+                 (cmd.gbuffer.empty() ? "" : " over the views of " + short_path(cmd.gbuffer)) +
+                 " (grazing policy: " + relief.grazing + ")"});
     return 0;
 }
 

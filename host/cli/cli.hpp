@@ -182,6 +182,7 @@ int run_sweep_command(const SweepCommand& cmd, const ReliefOptions& relief);
 
 struct FailureCommand : AnalysisOptions {
     int samples = 256;
+    std::string gbuffer;  // a G-buffer file whose views replace the random ones
     FailureCommand() { out_dir = "out/failure"; }
 };
 int run_failure_command(const FailureCommand& cmd, const ReliefOptions& relief);

@@ -2,6 +2,7 @@
 // G-buffer, the OpenCL passes for offset and shading, the depth offset written back), and with
 // --forward the forward peer: the same methods in the G-buffer pass's fragment shader.
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
@@ -9,17 +10,19 @@
 #include "cli.hpp"
 #ifdef OFFSETMAP_HAVE_RENDERER
 #include "offsetmap/renderer/frame.hpp"
+#include "offsetmap/renderer/gltf.hpp"
 #endif
 
 namespace offsetmap::cli {
 
 void FrameCommand::add_to(CLI::App& app) {
-    app.add_option("--scene", scene, "the built-in scene")
-        ->check(CLI::IsMember({"room"}))
+    app.add_option("--scene", scene,
+                   "the built-in 'room', or a glTF 2.0 file (.gltf or .glb) whose material names "
+                   "the table's entries name")
         ->capture_default_str();
     app.add_option("--materials", materials,
-                   "material table (JSON) for the scene's ids (default: the scene's, "
-                   "data/room.json)");
+                   "material table (JSON) for the scene's ids or glTF material names (default: "
+                   "data/room.json for the room, FILE.json beside FILE.gltf)");
     app.add_option("--camera", camera,
                    "eye and target (and vertical field of view): ex,ey,ez,tx,ty,tz[,fov]");
     app.add_option("--width", width, "frame width")
@@ -87,8 +90,12 @@ Rgb8 depth_change_image(int w, int h, const std::vector<float>& before,
 int run_frame(const FrameCommand& cmd) {
     // Options first: nothing is read or rendered before they are checked.
     if (!cmd.sets.empty() && cmd.method.empty()) throw UsageError("--set needs --method");
-    Scene scene = builtin_room(cmd.data_dir.empty() ? default_data_dir() : cmd.data_dir);
-    if (!cmd.camera.empty()) scene.camera = as_usage([&] { return parse_camera(cmd.camera); });
+    const bool gltf = is_gltf_path(cmd.scene);
+    if (!gltf && cmd.scene != "room")
+        throw UsageError("--scene: '" + cmd.scene +
+                         "' is neither the built-in 'room' nor a .gltf or .glb file");
+    Camera camera;
+    if (!cmd.camera.empty()) camera = as_usage([&] { return parse_camera(cmd.camera); });
     MethodParams override_params;
     if (!cmd.method.empty()) {
         override_params = as_usage([&] {
@@ -100,8 +107,20 @@ int run_frame(const FrameCommand& cmd) {
             if (const std::string why = forward_method_unsupported(override_params); !why.empty())
                 throw UsageError("--forward: " + why);
     }
-    const std::string table_file = cmd.materials.empty() ? scene.material_table : cmd.materials;
+    std::string table_file = cmd.materials;
+    if (table_file.empty())
+        table_file =
+            gltf ? std::filesystem::path(cmd.scene).replace_extension(".json").string()
+                 : (cmd.data_dir.empty() ? default_data_dir() : cmd.data_dir) + "/room.json";
     const std::vector<MaterialSpec> specs = read_material_table(table_file);
+    Scene scene = gltf ? load_gltf_scene(cmd.scene, specs, table_file)
+                       : builtin_room(cmd.data_dir.empty() ? default_data_dir() : cmd.data_dir);
+    if (!cmd.camera.empty()) {
+        // The eye, target and field of view from --camera; the scene's depth range is kept.
+        scene.camera.eye = camera.eye;
+        scene.camera.target = camera.target;
+        scene.camera.fov_y_deg = camera.fov_y_deg;
+    }
     std::vector<MethodParams> methods;
     for (const MaterialSpec& s : specs) {
         if (override_params.method) {
@@ -137,13 +156,23 @@ int run_frame(const FrameCommand& cmd) {
     const FrameRun deferred = renderer.render(FrameMode::Deferred, false, cmd.repeats);
     const int w = cmd.width, h = cmd.height;
     const OffsetResult exact = renderer.exact();
-    const GBuffer& gb = renderer.explicit_gbuffer();
+    const GBuffer gb = renderer.explicit_gbuffer();  // the deferred frame's, exact's
+    const EngineScene engine = renderer.gbuffer();   // the deferred frame's, for the files
+    const std::vector<float>& deferred_uv = engine.uv;
     const size_t covered = renderer.covered_pixels();
 
     std::vector<FrameRun> runs = {deferred};
     if (cmd.forward) {
-        runs.push_back(renderer.render(FrameMode::Forward, false, cmd.repeats));
-        runs.push_back(renderer.render(FrameMode::Forward, true, cmd.repeats));
+        for (bool prepass : {false, true}) {
+            runs.push_back(renderer.render(FrameMode::Forward, prepass, cmd.repeats));
+            // Where the forward shader dropped a fragment (the tile mask) the pixel shows the
+            // surface behind it, or none after a pre-pass: errors are compared only where both
+            // frames show the same surface (the same uv in their G-buffers).
+            const std::vector<float>& uv = renderer.gbuffer().uv;
+            for (size_t k = 0; k < gb.pixels(); ++k)
+                if (std::memcmp(&uv[2 * k], &deferred_uv[2 * k], 2 * sizeof(float)) != 0)
+                    runs.back().offset.flags[k] |= OM_FLAG_EMPTY;
+        }
     }
     std::printf("frame: %s scene %dx%d, %zu materials; GL: %s; OpenCL: %s; %s\n",
                 scene.name.c_str(), w, h, table.size(), renderer.gl_renderer().c_str(),
@@ -198,14 +227,14 @@ int run_frame(const FrameCommand& cmd) {
 
     const std::string d = cmd.out_dir + "/";
     write_image(d + "final.png", to_srgb8(w, h, deferred.color));
-    save_engine_gbuffer(d + "gbuffer.exr", renderer.gbuffer());
-    write_depth_exr(d + "depth-before.exr", w, h, renderer.depth_before());
+    save_engine_gbuffer(d + "gbuffer.exr", engine);
+    write_depth_exr(d + "depth-before.exr", w, h, engine.depth);
     write_depth_exr(d + "depth-after.exr", w, h, deferred.depth_after);
     std::vector<std::pair<std::string, Rgb8> > tiles = {
         {"deferred frame (offset pass on the OpenCL device)", to_srgb8(w, h, deferred.color)},
         {"uv error vs exact (log, white = 16 texels)", heat_map(w, h, errors[0], 16.0f)},
         {"depth offset written back (log, white = 16e-4)",
-         depth_change_image(w, h, renderer.depth_before(), deferred.depth_after)}};
+         depth_change_image(w, h, engine.depth, deferred.depth_after)}};
     if (cmd.forward) {
         write_image(d + "final-forward.png", to_srgb8(w, h, runs[1].color));
         tiles.push_back(

@@ -265,9 +265,13 @@ int main(int argc, char** argv) {
     FailureCommand failure;
     failure_relief.add_to(*cmd_failure, MapOption::Required, false);
     failure.add_to(*cmd_failure);
-    cmd_failure->add_option("--samples", failure.samples, "random views per cell")
+    cmd_failure
+        ->add_option("--samples", failure.samples, "views per cell (at most, with --gbuffer)")
         ->check(CLI::Range(1, 65536))
         ->capture_default_str();
+    cmd_failure->add_option("--gbuffer", failure.gbuffer,
+                            "a G-buffer file (e.g. offsetmap frame's gbuffer.exr): its pixels' "
+                            "views, binned by elevation, instead of random ones");
 
     auto* cmd_temporal =
         app.add_subcommand("temporal", "frame-to-frame stability along a camera path");
@@ -280,14 +284,16 @@ int main(int argc, char** argv) {
         ->capture_default_str();
 
     auto* cmd_frame = app.add_subcommand(
-        "frame", "a rasterized deferred frame (OpenGL G-buffer) around the pass; --forward: the "
-                 "fragment-shader peer");
+        "frame",
+        "a rasterized deferred frame (OpenGL G-buffer) around the pass; --forward: the "
+        "fragment-shader peer");
     FrameCommand frame;
     frame.add_to(*cmd_frame);
 
     auto* cmd_demo = app.add_subcommand(
         "demo",
-        "compare + quick sweep + failure map + material frame on the default data -> one folder");
+        "compare + quick sweep + failure map + material frame on the default data, then the "
+        "rendered room (frame/) and the error on its views (rendered/) -> one folder");
     ReliefOptions demo_relief;
     ShadingOptions demo_shading;
     std::string demo_out = "out/demo", demo_data;
@@ -419,7 +425,31 @@ int main(int argc, char** argv) {
             fc.shadows = "hard";
             fc.device = demo_relief.device;
             try {
-                return run_frame(fc);
+                run_frame(fc);
+                // Error on real geometry (rendered/): the failure map over a rendered frame's
+                // views, and a sweep on its G-buffer (the bricks everywhere, then the room's own
+                // materials), on a frame small enough to sweep.
+                FrameCommand small = fc;
+                small.width = 320;
+                small.height = 180;
+                small.forward = false;
+                small.repeats = 1;
+                small.shadows = "none";
+                small.out_dir = demo_out + "/rendered";
+                run_frame(small);
+                FailureCommand rf;
+                rf.out_dir = small.out_dir;
+                rf.samples = 128;
+                rf.gbuffer = small.out_dir + "/gbuffer.exr";
+                run_failure_command(rf, demo_relief);
+                SweepCommand rs;
+                rs.out_dir = small.out_dir;
+                rs.gbuffer = rf.gbuffer;
+                rs.maps = {demo_data + "/rocks.png"};
+                rs.materials = demo_data + "/room.json";
+                rs.methods = {"parallax", "steep", "relief", "pom", "cone", "exact"};
+                rs.repeats = 3;
+                return run_sweep_command(rs, demo_relief);
             } catch (const UsageError&) {
                 throw;
             } catch (const offsetmap::Error& e) {  // the rest of the demo stands without GL

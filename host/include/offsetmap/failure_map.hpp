@@ -16,7 +16,7 @@ struct FailureCell {
     std::string method;
     double elevation_deg = 0;
     double scale = 0;
-    ErrorStats uv;  // texels against exact
+    ErrorStats uv;  // texels against exact (uv.count: the views compared)
     double fetches_mean = 0;
 };
 
@@ -28,6 +28,10 @@ struct FailureMapOptions {
     PassSettings settings;  // scale is swept; reference plane, grazing rule and address from here
     std::vector<std::string> methods;  // empty: every method
     std::function<void(const std::string&)> progress;
+    // A rendered G-buffer's views instead of random ones (null: random): each elevation row holds
+    // up to `samples` of its pixels (uv and V as rendered) whose view elevation is nearest that
+    // row's, drawn at random (seeded); a row no pixel is nearest to gives no cells.
+    const GBuffer* views = nullptr;
 };
 
 std::vector<FailureCell> run_failure_map(std::shared_ptr<Runtime> runtime, const HeightMap& map,

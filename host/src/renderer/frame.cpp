@@ -46,15 +46,6 @@ void flip_result(OffsetResult& r) {
     r.flags = flip_rows(r.flags, r.width, r.height, 1);
 }
 
-int glsl_method(const std::string& name) {
-    if (name == "none") return 0;
-    if (name == "parallax") return 1;
-    if (name == "pom") return 2;
-    if (name == "steep") return 3;
-    if (name == "relief") return 4;
-    return -1;
-}
-
 }  // namespace
 
 std::string forward_unsupported(const MaterialSpec& material, const MethodParams& params) {
@@ -111,29 +102,9 @@ FrameRenderer::FrameRenderer(std::shared_ptr<Runtime> runtime, const Scene& scen
     m.light = scene.light;
     m.view = make_view(scene.camera, width, height);
     m.raster = std::make_unique<Raster>(scene, width, height);
-    for (size_t s = 0; s < table.size(); ++s) {
-        ForwardMaterial f;
-        const LoadedMaterial& lm = table[s];
-        f.id = lm.spec.id;
-        f.method = glsl_method(methods[s].method->name);
-        for (size_t k = 0; k < methods[s].values.size() && k < 4; ++k)
-            f.params[k] = methods[s].values[k];
-        const PassSettings& ps = lm.spec.settings;
-        f.scale = ps.scale;
-        f.ref = ps.reference_plane;
-        f.min_vz = grazing_rule(ps, lm.map.width, lm.map.height).min_vz;
-        f.limit = ps.grazing == GrazingPolicy::Limit;
-        f.heights = make_texture(GL_R32F, lm.map.width, lm.map.height);
-        glTextureSubImage2D(f.heights.get(), 0, 0, 0, lm.map.width, lm.map.height, GL_RED, GL_FLOAT,
-                            lm.map.h.data());
-        const GLint address = ps.address == AddressMode::Wrap ? GL_REPEAT : GL_CLAMP_TO_EDGE;
-        glTextureParameteri(f.heights.get(), GL_TEXTURE_WRAP_S, address);
-        glTextureParameteri(f.heights.get(), GL_TEXTURE_WRAP_T, address);
-        glTextureParameteri(f.heights.get(), GL_TEXTURE_MIN_FILTER, GL_LINEAR);
-        glTextureParameteri(f.heights.get(), GL_TEXTURE_MAG_FILTER, GL_LINEAR);
-        check_gl("the height texture of material " + std::to_string(f.id));
-        m.forward.push_back(std::move(f));
-    }
+    for (size_t s = 0; s < table.size(); ++s)
+        m.forward.push_back(
+            forward_material(table[s].spec.id, table[s].map, table[s].spec.settings, methods[s]));
     Runtime& rt = *runtime;
     const size_t n = static_cast<size_t>(width) * height;
     auto buffer = [&](size_t bytes, cl_mem_flags flags) {

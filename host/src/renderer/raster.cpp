@@ -1,10 +1,10 @@
 #include "raster.hpp"
 
 #include <cstddef>
-#include <limits>
 #include <glm/glm.hpp>
 #include <glm/gtc/matrix_transform.hpp>
 #include <glm/gtc/type_ptr.hpp>
+#include <limits>
 
 #include "offsetmap/error.hpp"
 
@@ -23,6 +23,51 @@ const GLenum kTargets[] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1, GL_COLOR_
                            GL_COLOR_ATTACHMENT3, GL_COLOR_ATTACHMENT4, GL_COLOR_ATTACHMENT5};
 
 }  // namespace
+
+int glsl_method(const std::string& name) {
+    if (name == "none") return 0;
+    if (name == "parallax") return 1;
+    if (name == "pom") return 2;
+    if (name == "steep") return 3;
+    if (name == "relief") return 4;
+    return -1;
+}
+
+ForwardMaterial forward_material(int id, const HeightMap& map, const PassSettings& settings,
+                                 const MethodParams& method) {
+    ForwardMaterial f;
+    f.id = id;
+    f.method = glsl_method(method.method->name);
+    for (size_t k = 0; k < method.values.size() && k < 4; ++k) f.params[k] = method.values[k];
+    f.scale = settings.scale;
+    f.ref = settings.reference_plane;
+    f.min_vz = grazing_rule(settings, map.width, map.height).min_vz;
+    f.limit = settings.grazing == GrazingPolicy::Limit;
+    f.tile_mask = settings.out_of_tile_mask;
+    f.heights = make_texture(GL_R32F, map.width, map.height);
+    glTextureSubImage2D(f.heights.get(), 0, 0, 0, map.width, map.height, GL_RED, GL_FLOAT,
+                        map.h.data());
+    const GLint address = settings.address == AddressMode::Wrap ? GL_REPEAT : GL_CLAMP_TO_EDGE;
+    glTextureParameteri(f.heights.get(), GL_TEXTURE_WRAP_S, address);
+    glTextureParameteri(f.heights.get(), GL_TEXTURE_WRAP_T, address);
+    glTextureParameteri(f.heights.get(), GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+    glTextureParameteri(f.heights.get(), GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+    check_gl("the height texture of material " + std::to_string(id));
+    return f;
+}
+
+void bind_forward_material(const Program& p, const ForwardMaterial* fm) {
+    glUniform1i(uniform(p, "u_method"), fm ? fm->method : 0);
+    if (!fm) return;
+    glBindTextureUnit(0, fm->heights.get());
+    glUniform1i(uniform(p, "u_heights"), 0);
+    glUniform4fv(uniform(p, "u_params"), 1, fm->params.data());
+    glUniform1f(uniform(p, "u_scale"), fm->scale);
+    glUniform1f(uniform(p, "u_ref"), fm->ref);
+    glUniform1f(uniform(p, "u_min_vz"), fm->min_vz);
+    glUniform1i(uniform(p, "u_limit"), fm->limit ? 1 : 0);
+    glUniform1i(uniform(p, "u_tile_mask"), fm->tile_mask ? 1 : 0);
+}
 
 View make_view(const Camera& c, int width, int height) {
     const glm::vec3 eye(c.eye[0], c.eye[1], c.eye[2]),
@@ -158,16 +203,7 @@ void Raster::draw_with(const View& view, const std::vector<ForwardMaterial>* for
                     const ForwardMaterial* fm = nullptr;
                     for (const ForwardMaterial& f : *forward)
                         if (f.id == m.material) fm = &f;
-                    glUniform1i(uniform(p, "u_method"), fm ? fm->method : 0);
-                    if (fm) {
-                        glBindTextureUnit(0, fm->heights.get());
-                        glUniform1i(uniform(p, "u_heights"), 0);
-                        glUniform4fv(uniform(p, "u_params"), 1, fm->params.data());
-                        glUniform1f(uniform(p, "u_scale"), fm->scale);
-                        glUniform1f(uniform(p, "u_ref"), fm->ref);
-                        glUniform1f(uniform(p, "u_min_vz"), fm->min_vz);
-                        glUniform1i(uniform(p, "u_limit"), fm->limit ? 1 : 0);
-                    }
+                    bind_forward_material(p, fm);
                 }
             }
             glBindVertexArray(m.vao.get());

@@ -7,7 +7,10 @@
 #include <vector>
 
 #include "gl.hpp"
+#include "offsetmap/heightmap.hpp"
+#include "offsetmap/registry.hpp"
 #include "offsetmap/renderer/scene.hpp"
+#include "offsetmap/settings.hpp"
 
 namespace offsetmap::renderer {
 
@@ -19,7 +22,18 @@ struct ForwardMaterial {
     std::array<float, 4> params{};
     float scale = 0.0f, ref = 1.0f, min_vz = 0.0f;
     bool limit = false;
+    bool tile_mask = false;  // forward discards fragments whose uv' leaves [0,1]^2
 };
+
+// OM_GLSL_* for a method with a GLSL version (none, parallax, pom, steep, relief), else -1.
+int glsl_method(const std::string& name);
+// The height texture and uniforms that trace `method` on `map` with `settings`, as the kernels
+// do (the same parameters in registry order, grazing rule and address mode).
+ForwardMaterial forward_material(int id, const HeightMap& map, const PassSettings& settings,
+                                 const MethodParams& method);
+// Sets relief.glsl's uniforms on the current program `p` (u_method 0, no relief, for null) and
+// binds the height texture to unit 0.
+void bind_forward_material(const Program& p, const ForwardMaterial* fm);
 
 // The G-buffer's planes as read back: rows bottom first (GL's), floats.
 struct RasterPlanes {

@@ -1,0 +1,176 @@
+#!/usr/bin/python3
+"""Writes pillars.gltf, the small glTF 2.0 scene of the demo and tests (one file, its buffer
+embedded), and nothing else: its height maps are named by pillars.json, the material table beside it.
+
+    /usr/bin/python3 data/make_gltf.py [output folder, default: this script's folder]
+
+Standard library only. The scene exercises what a loader must get right:
+  - a floor (material "floor") and a back wall ("bricks") at the root;
+  - a parent node turned 30 degrees about y holding two boxes ("bricks"), one of them scaled;
+  - an elliptic column ("sines"): a cylinder under a non-uniform scale (normals need the inverse
+    transpose);
+  - a box ("text") under a node with a negative x scale (a mirroring transform: winding flips);
+  - a perspective camera node aimed at the scene.
+uv follow glTF: u to the right, v down an image's rows (so every frame is mirrored, w = -1).
+"""
+import base64
+import json
+import math
+import os
+import struct
+import sys
+
+
+class Builder:
+    def __init__(self):
+        self.blob = bytearray()
+        self.views, self.accessors, self.meshes = [], [], []
+
+    def _view(self, data, target):
+        while len(self.blob) % 4:
+            self.blob.append(0)
+        self.views.append({"buffer": 0, "byteOffset": len(self.blob), "byteLength": len(data),
+                           "target": target})
+        self.blob += data
+        return len(self.views) - 1
+
+    def _accessor(self, values, kind, width):
+        flat = [x for v in values for x in (v if width > 1 else [v])]
+        if kind == "index":
+            view = self._view(struct.pack("<%dH" % len(flat), *flat), 34963)
+            acc = {"bufferView": view, "componentType": 5123, "count": len(flat),
+                   "type": "SCALAR"}
+        else:
+            view = self._view(struct.pack("<%df" % len(flat), *flat), 34962)
+            acc = {"bufferView": view, "componentType": 5126, "count": len(values),
+                   "type": {2: "VEC2", 3: "VEC3"}[width]}
+            if width == 3:
+                acc["min"] = [min(v[i] for v in values) for i in range(3)]
+                acc["max"] = [max(v[i] for v in values) for i in range(3)]
+        self.accessors.append(acc)
+        return len(self.accessors) - 1
+
+    def mesh(self, name, material, positions, normals, uvs, indices):
+        attrs = {"POSITION": self._accessor(positions, "f", 3),
+                 "NORMAL": self._accessor(normals, "f", 3),
+                 "TEXCOORD_0": self._accessor(uvs, "f", 2)}
+        prim = {"attributes": attrs, "indices": self._accessor(indices, "index", 1),
+                "material": material, "mode": 4}
+        self.meshes.append({"name": name, "primitives": [prim]})
+        return len(self.meshes) - 1
+
+
+def quad(origin, right, down, tiles_u, tiles_v):
+    """A parallelogram: u along `right`, v along `down`, facing cross(down, right)."""
+    p = [origin, [origin[i] + right[i] for i in range(3)],
+         [origin[i] + right[i] + down[i] for i in range(3)], [origin[i] + down[i] for i in range(3)]]
+    n = [down[1] * right[2] - down[2] * right[1], down[2] * right[0] - down[0] * right[2],
+         down[0] * right[1] - down[1] * right[0]]
+    length = math.sqrt(sum(c * c for c in n))
+    n = [c / length for c in n]
+    uv = [[0, 0], [tiles_u, 0], [tiles_u, tiles_v], [0, tiles_v]]
+    return p, [n] * 4, uv, [0, 3, 2, 0, 2, 1]
+
+
+def merge(parts):
+    pos, nrm, uv, idx = [], [], [], []
+    for p, n, t, i in parts:
+        base = len(pos)
+        pos += p
+        nrm += n
+        uv += t
+        idx += [base + k for k in i]
+    return pos, nrm, uv, idx
+
+
+def box(h, tiles):
+    """A cube of half side h centred at the origin, each face upright (v down), one uv square."""
+    faces = []
+    for axis in range(3):
+        for sign in (1, -1):
+            n = [0, 0, 0]
+            n[axis] = sign
+            up = [0, 1, 0] if axis != 1 else [0, 0, -sign]
+            right = [up[1] * n[2] - up[2] * n[1], up[2] * n[0] - up[0] * n[2],
+                     up[0] * n[1] - up[1] * n[0]]
+            origin = [h * (n[i] - right[i] + up[i]) for i in range(3)]
+            faces.append(quad(origin, [2 * h * c for c in right], [-2 * h * c for c in up],
+                              tiles, tiles))
+    return merge(faces)
+
+
+def column(radius, height, segments, tiles_u, tiles_v):
+    """An open upright cylinder on the origin: u around (a seam at angle 0), v from top to bottom."""
+    pos, nrm, uv, idx = [], [], [], []
+    for s in range(segments + 1):
+        a = 2 * math.pi * s / segments
+        c, d = math.cos(a), -math.sin(a)
+        for top in (1, 0):
+            pos.append([radius * c, height * top, radius * d])
+            nrm.append([c, 0, d])
+            uv.append([tiles_u * s / segments, tiles_v * (1 - top)])
+    for s in range(segments):
+        t0, b0, t1, b1 = 2 * s, 2 * s + 1, 2 * s + 2, 2 * s + 3
+        idx += [t0, b0, b1, t0, b1, t1]
+    return pos, nrm, uv, idx
+
+
+def look_rotation(eye, target):
+    """The quaternion (x, y, z, w) turning a glTF camera (looking down -z, up +y) toward target."""
+    f = [target[i] - eye[i] for i in range(3)]
+    fl = math.sqrt(sum(c * c for c in f))
+    z = [-c / fl for c in f]
+    x = [z[2], 0.0, -z[0]]  # up x z with up = +y
+    xl = math.sqrt(sum(c * c for c in x))
+    x = [c / xl for c in x]
+    y = [z[1] * x[2] - z[2] * x[1], z[2] * x[0] - z[0] * x[2], z[0] * x[1] - z[1] * x[0]]
+    m00, m11, m22 = x[0], y[1], z[2]
+    w = math.sqrt(max(0.0, 1 + m00 + m11 + m22)) / 2
+    return [(y[2] - z[1]) / (4 * w), (z[0] - x[2]) / (4 * w), (x[1] - y[0]) / (4 * w), w]
+
+
+def main():
+    out = sys.argv[1] if len(sys.argv) > 1 else os.path.dirname(os.path.abspath(__file__))
+    b = Builder()
+    materials = ["floor", "bricks", "sines", "text"]
+    floor = b.mesh("floor", 0, *quad([-4, 0, -4], [8, 0, 0], [0, 0, 8], 8 / 1.5, 8 / 1.5))
+    wall = b.mesh("wall", 1, *quad([-4, 3, -4], [8, 0, 0], [0, -3, 0], 8, 3))
+    block = b.mesh("block", 1, *box(0.5, 1))
+    col = b.mesh("column", 2, *column(0.35, 1.0, 48, 2, 1))
+    text_box = b.mesh("text box", 3, *box(0.4, 1))
+    eye, target = [0.4, 1.9, 4.2], [0.0, 0.6, -1.2]
+    nodes = [
+        {"name": "floor", "mesh": floor},
+        {"name": "wall", "mesh": wall},
+        {"name": "blocks", "rotation": [0, math.sin(math.radians(15)), 0,
+                                        math.cos(math.radians(15))],
+         "translation": [-1.6, 0, -1.5], "children": [3, 4]},
+        {"name": "block a", "mesh": block, "translation": [0, 0.5, 0]},
+        {"name": "block b", "mesh": block, "translation": [0.4, 1.35, 0.1],
+         "scale": [0.7, 0.7, 0.7]},
+        {"name": "column", "mesh": col, "translation": [1.5, 0, -2.0], "scale": [1.3, 2.2, 0.8]},
+        {"name": "mirrored", "mesh": text_box, "translation": [0.6, 0.4, 0.2],
+         "scale": [-1, 1, 1]},
+        {"name": "camera", "camera": 0, "translation": eye, "rotation": look_rotation(eye, target)},
+    ]
+    doc = {
+        "asset": {"version": "2.0", "generator": "offsetmap data/make_gltf.py"},
+        "scene": 0,
+        "scenes": [{"name": "pillars", "nodes": [0, 1, 2, 5, 6, 7]}],
+        "nodes": nodes,
+        "meshes": b.meshes,
+        "materials": [{"name": m} for m in materials],
+        "cameras": [{"type": "perspective", "perspective": {
+            "yfov": math.radians(55), "znear": 0.05, "zfar": 40, "aspectRatio": 16 / 9}}],
+        "accessors": b.accessors,
+        "bufferViews": b.views,
+        "buffers": [{"byteLength": len(b.blob), "uri": "data:application/octet-stream;base64,"
+                     + base64.b64encode(bytes(b.blob)).decode()}],
+    }
+    with open(os.path.join(out, "pillars.gltf"), "w") as f:
+        json.dump(doc, f, indent=1)
+        f.write("\n")
+
+
+if __name__ == "__main__":
+    main()
