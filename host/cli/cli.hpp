@@ -122,6 +122,9 @@ void progress_line(const std::string& line);
 // run for half a second; otherwise a line every ten seconds once it has run for two.
 void show_progress(Runtime& runtime);
 
+// "pom min_samples=8 max_samples=32": a method with every parameter's value.
+std::string method_text(const MethodParams& p);
+
 // `offsetmap frame`: a rasterized frame around the pass (and the forward peer).
 struct FrameCommand {
     std::string scene = "room";

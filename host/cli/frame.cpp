@@ -76,6 +76,25 @@ nlohmann::json pass_json(const FrameRun& r) {
             {"total_ms", r.ms.total}};
 }
 
+// With --forward, auto's choice among the methods the forward shader has (both frames run the same
+// method): the cheapest of its measured candidates within the material's budget.
+MethodParams forward_choice(const AutoChoice& a, const MaterialSpec& spec) {
+    const AutoCandidate* best = nullptr;
+    const auto cost = [&](const AutoCandidate& c) {
+        return a.by_time ? c.ns_per_pixel : c.fetches;
+    };
+    for (const AutoCandidate& c : a.candidates)
+        if (forward_method_unsupported(c.params).empty() &&
+            budget_statistic(spec.budget, c.error) <= spec.budget.texels &&
+            (!best || cost(c) < cost(*best)))
+            best = &c;
+    if (!best)
+        throw Error("material " + std::to_string(spec.id) + " (" + spec.name +
+                    "): --forward: no method with a GLSL version meets its budget (auto chose " +
+                    method_text(a.chosen.params) + ")");
+    return best->params;
+}
+
 // Depth offset as a picture: grey where unchanged, darker where pushed away from the eye.
 Rgb8 depth_change_image(int w, int h, const std::vector<float>& before,
                         const std::vector<float>& after) {
@@ -122,14 +141,17 @@ int run_frame(const FrameCommand& cmd) {
         scene.camera.fov_y_deg = camera.fov_y_deg;
     }
     std::vector<MethodParams> methods;
+    std::vector<size_t> auto_slots;  // chosen on the frame's own G-buffer, below
     for (const MaterialSpec& s : specs) {
         if (override_params.method) {
             methods.push_back(override_params);
             continue;
         }
-        if (s.method == "auto")
-            throw Error("material " + std::to_string(s.id) + " (" + s.name +
-                        "): frame takes named methods, not auto (or give --method)");
+        if (s.method == "auto") {
+            auto_slots.push_back(methods.size());
+            methods.push_back(resolve_params(find_method("none"), {}));
+            continue;
+        }
         methods.push_back(resolve_params(find_method(s.method), s.params));
         // Checked here too, before any map is read or a context made.
         if (cmd.forward)
@@ -152,6 +174,23 @@ int run_frame(const FrameCommand& cmd) {
     show_progress(*rt);
     ShadeSettings shading;
     shading.shadow = shadow_mode(cmd.shadows);
+    if (!auto_slots.empty()) {
+        // auto calibrates each material on its own pixels of this frame, so the G-buffer is
+        // drawn once first (its materials traced with none).
+        FrameRenderer probe(rt, scene, table, methods, cmd.width, cmd.height, shading);
+        probe.render(FrameMode::Deferred, false, 1);
+        for (size_t s : auto_slots) {
+            const MaterialSpec& spec = table[s].spec;
+            const AutoChoice a = choose_method(rt, table[s], probe.explicit_gbuffer());
+            methods[s] = cmd.forward ? forward_choice(a, spec) : a.chosen.params;
+            std::printf(
+                "material %d (%s): auto, %s <= %g texels -> %s (of %zu candidates on %zu "
+                "of its pixels)\n",
+                spec.id, spec.name.c_str(),
+                spec.budget.statistic == ErrorBudget::Statistic::P95 ? "p95" : "mean",
+                spec.budget.texels, method_text(methods[s]).c_str(), a.candidates.size(), a.pixels);
+        }
+    }
     FrameRenderer renderer(rt, scene, table, methods, cmd.width, cmd.height, shading);
     const FrameRun deferred = renderer.render(FrameMode::Deferred, false, cmd.repeats);
     const int w = cmd.width, h = cmd.height;
@@ -197,6 +236,8 @@ int run_frame(const FrameCommand& cmd) {
             mats.push_back({{"id", table[s].spec.id},
                             {"name", table[s].spec.name},
                             {"method", methods[s].method->name},
+                            {"method_text", method_text(methods[s])},
+                            {"auto", table[s].spec.method == "auto"},
                             {"pixels", stats[s].pixels},
                             {"fetches_per_pixel", stats[s].fetches},
                             {"mean_err_texels", stats[s].error.mean},

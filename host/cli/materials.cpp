@@ -36,6 +36,8 @@ Rgb8 index_image(int w, int h, const std::vector<int>& index) {
     return img;
 }
 
+}  // namespace
+
 std::string method_text(const MethodParams& p) {
     std::string s = p.method->name;
     for (size_t k = 0; k < p.values.size(); ++k) {
@@ -45,8 +47,6 @@ std::string method_text(const MethodParams& p) {
     }
     return s;
 }
-
-}  // namespace
 
 int run_materials_job(const MaterialsJob& job, const ReliefOptions& relief,
                       const ShadingOptions& shading, const SceneOptions& scene) {

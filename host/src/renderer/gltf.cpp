@@ -1,5 +1,10 @@
 #include "offsetmap/renderer/gltf.hpp"
 
+// tinygltf's implementation, here once; the loader reads geometry only, so without stb_image.
+#define TINYGLTF_IMPLEMENTATION
+#define TINYGLTF_NO_STB_IMAGE
+#define TINYGLTF_NO_STB_IMAGE_WRITE
+#define TINYGLTF_NO_EXTERNAL_IMAGE
 #include <tiny_gltf.h>
 
 #include <algorithm>
