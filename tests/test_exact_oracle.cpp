@@ -172,10 +172,30 @@ TEST(ExactOracle, AgreesWithClampAddressingAndNonSquareMaps) {
     compare_with_oracle(m, "nonsquare-wrap", 0.1f, 0.8f, 5.0, AddressMode::Wrap);
 }
 
+// A map cropped to w x h (odd sizes: blocks cut at the tile's edges, a padded pyramid).
+HeightMap cropped(const HeightMap& m, int w, int h) {
+    return make_map(w, h, [&](int i, int j) { return m.h[static_cast<size_t>(j) * m.width + i]; });
+}
+
 TEST(MaxMip, AgreesWithTheOracleLikeExact) {
     // The same bound as exact: maxmip ends in the same patch solve; its skips are exact decisions.
-    // 48 x 20 has two levels; clamp addressing has no hierarchy.
+    // 48 x 20 has two levels, wrapped and clamped.
     agrees_like_exact("maxmip");
+}
+
+// Odd and uneven sizes (the pyramid padded, blocks cut at tile edges) under both address modes
+// (clamp: outside the tile the edge blocks bound the extruded relief), at grazing views where
+// rays cross several tiles: the oracle's bound, as exact's.
+TEST(MaxMip, AgreesWithTheOracleOnOddSizesAndClampAddressing) {
+    const std::vector<Case> cases = {{"smooth-63x61", cropped(smooth_map(64), 63, 61)},
+                                     {"cliffs-61x63", cropped(cliff_map(64), 61, 63)},
+                                     {"noisy-65x9", cropped(noisy_map(256, 3), 65, 9)}};
+    for (const auto& c : cases)
+        for (AddressMode address : {AddressMode::Wrap, AddressMode::Clamp})
+            for (float ref : {1.0f, 0.6f}) {
+                compare_with_oracle(c.map, c.name, 0.1f, ref, 5.0, address, "maxmip");
+                compare_with_oracle(c.map, c.name, 0.05f, ref, 1.0, address, "maxmip", 5.0);
+            }
 }
 
 TEST(MaxMip, LevelZeroIsExactAndTheHierarchySavesFetchesOnLongRays) {
@@ -207,6 +227,16 @@ TEST(MaxMip, LevelZeroIsExactAndTheHierarchySavesFetchesOnLongRays) {
     auto [nex, nfe] = fetches(noise, "exact");
     auto [nmm, nfm] = fetches(noise, "maxmip");
     std::printf("fetches per pixel, 256^2 noise (worst case): exact %.1f, maxmip %.1f\n", nfe, nfm);
+    // An odd size and clamp addressing keep the hierarchy (they used to fall back to exact's walk).
+    const HeightMap odd = cropped(smooth_map(256), 255, 251);
+    const double fo = fetches(odd, "exact").second, fmo = fetches(odd, "maxmip").second;
+    s.address = AddressMode::Clamp;
+    const double fc = fetches(smooth, "exact").second, fmc = fetches(smooth, "maxmip").second;
+    std::printf(
+        "255 x 251 wrapped: exact %.1f, maxmip %.1f; 256^2 clamped: exact %.1f, maxmip %.1f\n", fo,
+        fmo, fc, fmc);
+    EXPECT_LT(fmo, 0.5 * fo);
+    EXPECT_LT(fmc, 0.5 * fc);
 }
 
 TEST(Cone, AgreesWithTheOracleLikeExact) {

@@ -43,17 +43,23 @@ enum { OM_GRAZING_CLAMP = 0, OM_GRAZING_LIMIT = 1, OM_GRAZING_CAP = 2 };
 enum { OM_SHADOW_NONE = 0, OM_SHADOW_HARD = 1, OM_SHADOW_SOFT = 2 };  // the relief's self-shadows
 
 // maxmip's pyramid of maxima (kernels/prep/maxmip.cl, methods/maxmip.cl, its builder): level k
-// holds 2^k x 2^k blocks, levels exist while both sizes stay even (blocks tile the map), under
-// wrap addressing only, and up to this level.
+// holds 2^k x 2^k blocks, up to this level.
 #define OM_MAXMIP_MAX_LEVEL 15
+// maxmip's pyramid is stored over the map padded up to a multiple of 2^levels on each side, so
+// every level is an exact halving of the one below; `levels` is the largest count whose padding
+// adds at most an eighth to either side (none for powers of two: 1024 has 10 levels, 1025 has 7)
+// and whose blocks are no wider than the map. Any size and either address mode.
+static inline int om_maxmip_padded(int size, int levels) {
+    return ((size + (1 << levels) - 1) >> levels) << levels;
+}
 static inline int om_maxmip_levels(int width, int height, int address_mode) {
     int levels = 0;
-    if (address_mode != OM_ADDRESS_WRAP) return 0;
-    while (levels < OM_MAXMIP_MAX_LEVEL && (width & 1) == 0 && (height & 1) == 0) {
-        width >>= 1;
-        height >>= 1;
+    (void)address_mode;
+    const int longest = width > height ? width : height;
+    while (levels < OM_MAXMIP_MAX_LEVEL && (1 << (levels + 1)) <= longest &&
+           8 * om_maxmip_padded(width, levels + 1) <= 9 * width &&
+           8 * om_maxmip_padded(height, levels + 1) <= 9 * height)
         ++levels;
-    }
     return levels;
 }
 

@@ -1,8 +1,10 @@
 // Maximum-height pyramid for `maxmip` (Tevs, Ihrke & Seidel 2008), stored from level 1: block
 // (I, J) of level k covers the cells [I 2^k, (I+1) 2^k) x [J 2^k, (J+1) 2^k), a cell (i, j) being
 // the bilinear patch between texel centres i..i+1, j..j+1, and holds the largest texel of those
-// patches, which bounds the bilinear surface over the block. Wrap addressing; levels exist while
-// both sizes stay even, so blocks tile the map.
+// patches, which bounds the bilinear surface over the block. The pyramid covers the map padded to
+// a multiple of 2^levels a side (om_maxmip_padded); a padded block reads texels past the edge
+// through the address mode (wrapped or clamped), so a tile's partial last block stores the maximum
+// of a superset of its cells: still a bound.
 
 __kernel void om_maxmip_first(const OmOffsetParams P, __global const float* heights,
                               __global float* level1, int w1, int h1) {
