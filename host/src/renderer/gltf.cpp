@@ -1,7 +1,6 @@
 #include "offsetmap/renderer/gltf.hpp"
 
-// tinygltf's implementation, here once; the loader reads geometry only, so without stb_image.
-#define TINYGLTF_IMPLEMENTATION
+// The same configuration as tinygltf_impl.cpp, which compiles the implementation.
 #define TINYGLTF_NO_STB_IMAGE
 #define TINYGLTF_NO_STB_IMAGE_WRITE
 #define TINYGLTF_NO_EXTERNAL_IMAGE
