@@ -126,14 +126,15 @@ int run_frame(const FrameCommand& cmd) {
             if (const std::string why = forward_method_unsupported(override_params); !why.empty())
                 throw UsageError("--forward: " + why);
     }
+    // The room's maps and table (a glTF scene's table lies beside it).
+    const std::string data_dir =
+        gltf ? "" : (cmd.data_dir.empty() ? default_data_dir() : cmd.data_dir);
     std::string table_file = cmd.materials;
     if (table_file.empty())
-        table_file =
-            gltf ? std::filesystem::path(cmd.scene).replace_extension(".json").string()
-                 : (cmd.data_dir.empty() ? default_data_dir() : cmd.data_dir) + "/room.json";
+        table_file = gltf ? std::filesystem::path(cmd.scene).replace_extension(".json").string()
+                          : data_dir + "/room.json";
     const std::vector<MaterialSpec> specs = read_material_table(table_file);
-    Scene scene = gltf ? load_gltf_scene(cmd.scene, specs, table_file)
-                       : builtin_room(cmd.data_dir.empty() ? default_data_dir() : cmd.data_dir);
+    Scene scene = gltf ? load_gltf_scene(cmd.scene, specs, table_file) : builtin_room(data_dir);
     if (!cmd.camera.empty()) {
         // The eye, target and field of view from --camera; the scene's depth range is kept.
         scene.camera.eye = camera.eye;
