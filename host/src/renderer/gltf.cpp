@@ -27,6 +27,13 @@ bool skip_image(tinygltf::Image*, const int, std::string*, std::string*, int, in
     return true;
 }
 
+// ".glb" for "scene.GLB": the file's extension in lower case.
+std::string lower_extension(const std::string& path) {
+    std::string ext = std::filesystem::path(path).extension().string();
+    std::transform(ext.begin(), ext.end(), ext.begin(), ::tolower);
+    return ext;
+}
+
 std::string one_line(std::string s) {
     std::replace(s.begin(), s.end(), '\n', ' ');
     while (!s.empty() && (s.back() == ' ' || s.back() == '\r')) s.pop_back();
@@ -70,10 +77,9 @@ class Loader {
         std::error_code ec;
         if (!std::filesystem::is_regular_file(path_, ec))
             throw Error(path_ + ": cannot read glTF: no such file");
-        std::string ext = std::filesystem::path(path_).extension().string();
-        std::transform(ext.begin(), ext.end(), ext.begin(), ::tolower);
-        const bool ok = ext == ".glb" ? loader.LoadBinaryFromFile(&model_, &err, &warn, path_)
-                                      : loader.LoadASCIIFromFile(&model_, &err, &warn, path_);
+        const bool ok = lower_extension(path_) == ".glb"
+                            ? loader.LoadBinaryFromFile(&model_, &err, &warn, path_)
+                            : loader.LoadASCIIFromFile(&model_, &err, &warn, path_);
         if (!ok)
             throw Error(path_ + ": cannot read glTF: " +
                         one_line(err.empty() ? "tinygltf gave no reason" : err));
@@ -349,8 +355,7 @@ class Loader {
 }  // namespace
 
 bool is_gltf_path(const std::string& path) {
-    std::string ext = std::filesystem::path(path).extension().string();
-    std::transform(ext.begin(), ext.end(), ext.begin(), ::tolower);
+    const std::string ext = lower_extension(path);
     return ext == ".gltf" || ext == ".glb";
 }
 
