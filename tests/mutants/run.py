@@ -141,7 +141,7 @@ def main():
         t0 = time.time()
         verdict, detail = kernel_mutant(build, m)
         results[m["name"]] = (verdict, detail, time.time() - t0)
-        print(f"  {verdict:8} {m['name']:34} {detail}", flush=True)
+        print(f"  {verdict:8} {m['name']:34} {time.time() - t0:4.0f} s  {detail}", flush=True)
 
     kernels = [m for m in mutants if m["file"].startswith("kernels/")]
     hosts = [m for m in mutants if not m["file"].startswith("kernels/")]
@@ -153,7 +153,7 @@ def main():
             t0 = time.time()
             verdict, detail = host_mutant(build, m)
             results[m["name"]] = (verdict, detail, time.time() - t0)
-            print(f"  {verdict:8} {m['name']:34} {detail}", flush=True)
+            print(f"  {verdict:8} {m['name']:34} {time.time() - t0:4.0f} s  {detail}", flush=True)
     finally:
         if hosts:
             ok, log = build_tests(build)  # the restored sources

@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
-# check.sh install SRC : build and install offsetmap (library and evaluation only) into a
-#                        temporary prefix, then build and run tests/package against it with
-#                        find_package(offsetmap CONFIG)
+# check.sh install SRC BUILD : install offsetmap from its build tree BUILD into a temporary
+#                        prefix, then build and run tests/package against it with
+#                        find_package(offsetmap CONFIG) (subdir below builds the library alone
+#                        afresh, so this one need not build it a second time)
 # check.sh subdir SRC  : build tests/package with add_subdirectory(SRC): the library alone is
 #                        built (no CLI, bench or tests, no OpenImageIO), and runs
 set -euo pipefail
@@ -12,10 +13,7 @@ jobs=$(nproc)
 quiet() { "$@" >"$tmp/log" 2>&1 || { cat "$tmp/log"; exit 1; }; }
 case $mode in
 install)
-    quiet cmake -S "$src" -B "$tmp/lib" -DCMAKE_BUILD_TYPE=Release -DOFFSETMAP_BUILD_CLI=OFF \
-        -DOFFSETMAP_BUILD_BENCH=OFF -DOFFSETMAP_BUILD_TESTS=OFF
-    quiet cmake --build "$tmp/lib" -j "$jobs"
-    quiet cmake --install "$tmp/lib" --prefix "$tmp/prefix"
+    quiet cmake --install "$3" --prefix "$tmp/prefix"
     for f in include/offsetmap/offsetmap.hpp include/om_shared.h \
              lib/cmake/offsetmap/offsetmapConfig.cmake; do
         [ -f "$tmp/prefix/$f" ] || { echo "not installed: $f"; exit 1; }
