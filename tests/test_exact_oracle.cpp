@@ -15,6 +15,10 @@
 // So: |t - t_oracle| <= dt, and the uv' error in texels is at most (dt |V.xy| + K eps P / W) W.
 // This tolerance grows with the map's size (P) and at grazing views (|q'| ~ V.z), as the
 // rounding does; a fixed number of texels cannot be right for both 64^2 and 256^2 maps.
+// A ray that grazes the relief (the gap dips to within dq of zero and rises again) has two
+// answers to the inputs' precision: the graze or the next hit. The root bound cannot cover that
+// jump, so a kernel's hit is also right when it is the other answer: between the two hits the
+// ray never goes more than dq below the relief, and at the kernel's hit the gap is within dq.
 #include "support.hpp"
 
 namespace omtest {
@@ -28,7 +32,15 @@ struct Case {
 struct RayTolerance {
     double dt;      // in t (uv units along the ray)
     double texels;  // uv' distance, texels of the map
+    double dq;      // in the gap q (uv units of height)
 };
+
+// The ray's height above the relief at t (q in the header), in double.
+double ray_gap(const HeightMap& map, const PreparedRay& pr, const PassSettings& s, double t) {
+    return -t * pr.V[2] -
+           s.scale * (bilinear_height(map, pr.u - t * pr.V[0], pr.v - t * pr.V[1], s.address) -
+                      s.reference_plane);
+}
 
 RayTolerance ray_tolerance(const HeightMap& map, const PreparedRay& pr, const PassSettings& s,
                            double t) {
@@ -37,11 +49,7 @@ RayTolerance ray_tolerance(const HeightMap& map, const PreparedRay& pr, const Pa
     const double P = map.width * (std::fabs(pr.u) + std::fabs(t * V[0])) +
                      map.height * (std::fabs(pr.v) + std::fabs(t * V[1]));
     const double dq = K * eps * (std::fabs(t) * V[2] + s.scale * (1.0 + P));
-    auto gap = [&](double x) {
-        return -x * V[2] -
-               s.scale * (bilinear_height(map, pr.u - x * V[0], pr.v - x * V[1], s.address) -
-                          s.reference_plane);
-    };
+    auto gap = [&](double x) { return ray_gap(map, pr, s, x); };
     const double h = 1e-7 * s.scale / V[2];
     const double rate =
         std::min(std::fabs(gap(t + h) - gap(t)), std::fabs(gap(t) - gap(t - h))) / h;
@@ -49,13 +57,35 @@ RayTolerance ray_tolerance(const HeightMap& map, const PreparedRay& pr, const Pa
     double dt = rate > 0.0 ? dq / rate : INFINITY;
     if (curvature > 0.0) dt = std::min(dt, 2.0 * std::sqrt(dq / curvature));
     const double vxy = std::hypot(V[0], V[1]);
-    return {dt, (dt * vxy + K * eps * P / std::max(map.width, map.height)) *
-                    std::max(map.width, map.height)};
+    return {dt,
+            (dt * vxy + K * eps * P / std::max(map.width, map.height)) *
+                std::max(map.width, map.height),
+            dq};
+}
+
+// Whether the kernel's hit (uv', t) is the other answer of a graze (see the header): its uv' on
+// the ray at t, the gap there within dq, and never below -dq between it and the oracle's hit
+// (sampled every 1/16 cell the ray crosses).
+bool other_answer_of_a_graze(const HeightMap& map, const PreparedRay& pr, const PassSettings& s,
+                             double t_oracle, double t, double u, double v) {
+    const RayTolerance tol = ray_tolerance(map, pr, s, t);
+    const double on_ray =
+        std::hypot((u - (pr.u - t * pr.V[0])) * map.width, (v - (pr.v - t * pr.V[1])) * map.height);
+    if (on_ray > tol.texels || std::fabs(ray_gap(map, pr, s, t)) > tol.dq) return false;
+    const double a = std::min(t, t_oracle), b = std::max(t, t_oracle);
+    const double cells = (b - a) * std::hypot(pr.V[0] * map.width, pr.V[1] * map.height);
+    const int n = 16 * static_cast<int>(std::ceil(cells)) + 1;
+    for (int i = 0; i <= n; ++i) {
+        const double x = a + (b - a) * i / n;
+        if (ray_gap(map, pr, s, x) < -ray_tolerance(map, pr, s, x).dq) return false;
+    }
+    return true;
 }
 
 struct OracleStats {
     double worst = 0.0;        // texels
     double worst_ratio = 0.0;  // of the ray's tolerance, uv' or depth
+    size_t grazes = 0;         // rays whose kernel hit is the graze's other answer
 };
 
 OracleStats compare_with_oracle(const HeightMap& map, const char* name, float scale, float ref,
@@ -79,6 +109,11 @@ OracleStats compare_with_oracle(const HeightMap& map, const char* name, float sc
         double e =
             std::hypot((res.uv[k].s[0] - o.u) * map.width, (res.uv[k].s[1] - o.v) * map.height);
         const double ratio = std::max(e / tol.texels, std::fabs(res.depth[k] - o.t) / tol.dt);
+        if (ratio > 1.0 && other_answer_of_a_graze(map, pr, s, o.t, res.depth[k], res.uv[k].s[0],
+                                                   res.uv[k].s[1])) {
+            ++st.grazes;
+            continue;
+        }
         if (e > st.worst) st.worst = e, worst_k = k;
         st.worst_ratio = std::max(st.worst_ratio, ratio);
         EXPECT_LE(e, tol.texels) << method << " " << name << " s=" << scale << " r=" << ref
@@ -88,8 +123,9 @@ OracleStats compare_with_oracle(const HeightMap& map, const char* name, float sc
     }
     std::printf(
         "%s vs oracle, %s s=%.2f r=%.1f, %g-%g deg: worst %.2e texel (pixel %zu), %.2f of "
-        "its tolerance at most\n",
-        method.c_str(), name, scale, ref, min_elev, max_elev, st.worst, worst_k, st.worst_ratio);
+        "its tolerance at most; %zu grazes answered by the other hit\n",
+        method.c_str(), name, scale, ref, min_elev, max_elev, st.worst, worst_k, st.worst_ratio,
+        st.grazes);
     return st;
 }
 
@@ -183,20 +219,36 @@ TEST(MaxMip, AgreesWithTheOracleLikeExact) {
     agrees_like_exact("maxmip");
 }
 
-// Odd and uneven sizes (the pyramid padded, blocks cut at tile edges) under both address modes
-// (clamp: outside the tile the edge blocks bound the extruded relief), at grazing views where
-// rays cross several tiles: the oracle's bound, as exact's.
-TEST(MaxMip, AgreesWithTheOracleOnOddSizesAndClampAddressing) {
+// Odd, uneven, tall and thin sizes under both address modes, at grazing views where rays cross
+// several tiles (thin maps: hundreds): the oracle's bound, as exact's. Sizes that are not
+// multiples of 8 leave cone's block maxima untiled and maxmip's pyramid padded; the thin map is
+// narrower than one of either's blocks; the tall one walks cells far from the origin.
+void agrees_on_odd_maps(const std::string& method) {
+    const HeightMap tall_noise = noisy_map(1024, 17);
     const std::vector<Case> cases = {{"smooth-63x61", cropped(smooth_map(64), 63, 61)},
                                      {"cliffs-61x63", cropped(cliff_map(64), 61, 63)},
-                                     {"noisy-65x9", cropped(noisy_map(256, 3), 65, 9)}};
+                                     {"noisy-65x9", cropped(noisy_map(256, 3), 65, 9)},
+                                     {"thin-4x1024", cropped(tall_noise, 4, 1024)},
+                                     {"tall-24x1000", cropped(tall_noise, 24, 1000)}};
+    Worst worst;
+    size_t grazes = 0;
     for (const auto& c : cases)
         for (AddressMode address : {AddressMode::Wrap, AddressMode::Clamp})
             for (float ref : {1.0f, 0.6f}) {
-                compare_with_oracle(c.map, c.name, 0.1f, ref, 5.0, address, "maxmip");
-                compare_with_oracle(c.map, c.name, 0.05f, ref, 1.0, address, "maxmip", 5.0);
+                for (auto st :
+                     {compare_with_oracle(c.map, c.name, 0.1f, ref, 5.0, address, method),
+                      compare_with_oracle(c.map, c.name, 0.05f, ref, 1.0, address, method, 5.0)}) {
+                    worst.add(st);
+                    grazes += st.grazes;
+                }
             }
+    worst.record(method + ".oracle.odd");
+    record_figure(method + ".oracle.odd.grazes", static_cast<double>(grazes));
 }
+
+// maxmip: the pyramid padded, blocks cut at tile edges; clamp: outside the tile the edge blocks
+// bound the extruded relief.
+TEST(MaxMip, AgreesWithTheOracleOnOddSizesAndClampAddressing) { agrees_on_odd_maps("maxmip"); }
 
 TEST(MaxMip, LevelZeroIsExactAndTheHierarchySavesFetchesOnLongRays) {
     // Long traversals (smooth relief, grazing views, large s) are where a max pyramid pays: blocks
@@ -247,6 +299,10 @@ TEST(Cone, AgreesWithTheOracleLikeExact) {
                                     return (i % 7 == 3 && j % 5 == 1) ? 1.0f : 0.05f;
                                 })}});
 }
+
+// cone: block maxima that do not tile the map (every cell in reach visited instead), cones wider
+// than a thin map (the search wraps around it many times), and clamp (no cones off the map).
+TEST(Cone, AgreesWithTheOracleOnOddTallAndThinMaps) { agrees_on_odd_maps("cone"); }
 
 // The bilinear relief of `map` at texel-space point (x, y) (integer = texel centre), wrapped.
 double bilinear_wrap(const HeightMap& map, double x, double y) {
