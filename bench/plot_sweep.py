@@ -6,8 +6,11 @@
 Writes OUT_DIR/pareto-ns.png (mean uv error against kernel ns/pixel) and OUT_DIR/pareto-fetches.png
 (against height fetches/pixel): log axes, one colour per method, each method's settings joined in
 sweep order, the Pareto front (no other point is both cheaper and more accurate) drawn and its
-members named; and OUT_DIR/pareto-by-map.png, the ns/pixel chart per height map. Every point is the
-mean over the sweep's height maps and view sets. `exact` (zero error) sits on the error floor.
+members named; OUT_DIR/pareto-by-map.png, the ns/pixel chart per height map; and
+OUT_DIR/pareto-cheap.png, the cheap end (at most 8 fetches): p95 uv error against fetches, with half
+of parallax-iterative's p95 (interpolated between its settings) drawn as the line to beat. Every
+point is the mean over the sweep's height maps and view sets (p95: the mean of each case's p95).
+`exact` (zero error) sits on the error floor.
 A material frame (`sweep --materials`, map "materials": every method for all materials at once, and
 the table's own methods as "per-material", drawn as a star) has its own panel in pareto-by-map.png
 and stays out of the means.
@@ -38,8 +41,63 @@ def aggregate(records, key_filter=None):
         mean = lambda f: sum(x[f] for x in rs) / len(rs)
         out.append({"method": method, "setting": setting, "error": mean("uv_mean"),
                     "ns": mean("ns_per_pixel"), "fetches": mean("fetches_mean"),
-                    "psnr": mean("psnr_db")})
+                    "psnr": mean("psnr_db"), "p95": mean("uv_p95")})
     return out
+
+
+CHEAP_FETCHES = 8.0
+BASELINE = "parallax-iterative"
+
+
+def interpolate(curve, x):
+    """Piecewise linear through sorted (x, y) points, flat beyond the ends."""
+    if x <= curve[0][0]:
+        return curve[0][1]
+    for (x0, y0), (x1, y1) in zip(curve, curve[1:]):
+        if x <= x1:
+            return y0 + (y1 - y0) * (x - x0) / (x1 - x0)
+    return curve[-1][1]
+
+
+def draw_cheap(points, where, path):
+    """p95 against fetches at the cheap end; returns the best point at 2-4 fetches against half of
+    the baseline's p95 at its fetches (None without a baseline)."""
+    cheap = [p for p in points if 0 < p["fetches"] <= CHEAP_FETCHES]
+    base = sorted((p["fetches"], p["p95"]) for p in cheap if p["method"] == BASELINE)
+    fig, ax = plt.subplots(figsize=(10, 6.5))
+    colours = plt.get_cmap("tab10")
+    for i, m in enumerate(OrderedDict.fromkeys(p["method"] for p in points)):
+        ps = [p for p in cheap if p["method"] == m]
+        if not ps:
+            continue
+        ax.plot([p["fetches"] for p in ps], [max(p["p95"], ERROR_FLOOR) for p in ps], "-o",
+                color=colours(i % 10), label=m, markersize=4, linewidth=1)
+    best = None
+    if len(base) >= 2:
+        xs = [base[0][0] + (CHEAP_FETCHES - base[0][0]) * k / 100 for k in range(101)]
+        ax.plot(xs, [0.5 * interpolate(base, x) for x in xs], ":", color="black",
+                label="half of %s's p95" % BASELINE)
+        for p in cheap:
+            if 2.0 <= p["fetches"] <= 4.0 and p["method"] != BASELINE:
+                ratio = p["p95"] / interpolate(base, p["fetches"])
+                if best is None or ratio < best[1]:
+                    best = (p, ratio)
+        if best:
+            p, ratio = best
+            ax.annotate("%s\n%.2f x %s's p95 at %.2f fetches" % (label(p), ratio, BASELINE,
+                                                                   p["fetches"]),
+                        (p["fetches"], p["p95"]), fontsize=8, xytext=(10, -28),
+                        textcoords="offset points", arrowprops={"arrowstyle": "->"})
+    ax.set_yscale("log")
+    ax.set_xlabel("height fetches per pixel")
+    ax.set_ylabel("p95 uv error against exact (texels; mean over cases)")
+    ax.set_title("The cheap end: " + where, fontsize=10)
+    ax.grid(True, which="both", alpha=0.25)
+    ax.legend(fontsize=8, loc="lower left")
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+    return best
 
 
 def pareto(points, cost):
@@ -101,6 +159,10 @@ def main():
         fig.tight_layout()
         fig.savefig(out + "/" + name, dpi=110)
         plt.close(fig)
+    best = draw_cheap(points, where, out + "/pareto-cheap.png")
+    if best:
+        print("cheap end: %s, p95 %.3g texels at %.2f fetches: %.2f x %s's there" % (
+            label(best[0]), best[0]["p95"], best[0]["fetches"], best[1], BASELINE))
     if any(r["map"] == "materials" for r in records):
         maps.append("materials")
     cols = min(4, len(maps))
@@ -115,7 +177,7 @@ def main():
     axes.flat[0].legend(fontsize=6, loc="lower left")
     fig.tight_layout()
     fig.savefig(out + "/pareto-by-map.png", dpi=90)
-    print("wrote %s/pareto-ns.png, pareto-fetches.png, pareto-by-map.png" % out)
+    print("wrote %s/pareto-ns.png, pareto-fetches.png, pareto-by-map.png, pareto-cheap.png" % out)
 
 
 if __name__ == "__main__":

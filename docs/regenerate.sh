@@ -24,7 +24,7 @@ for part in "${parts[@]}"; do
     sweep)  # the full sweep: seven maps x camera and random views, every method's grid
         $OM sweep --data data -o "$tmp/sweep"
         cp "$tmp/sweep/sweep.csv" "$DATA/sweep.csv"
-        for f in pareto-ns pareto-fetches pareto-by-map; do cp "$tmp/sweep/$f.png" "$IMG/"; done
+        for f in pareto-ns pareto-fetches pareto-by-map pareto-cheap; do cp "$tmp/sweep/$f.png" "$IMG/"; done
         ;;
     failure)  # failure maps: the bricks under each grazing policy, and smooth bumps
         for policy in clamp limit cap; do

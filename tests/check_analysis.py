@@ -73,7 +73,7 @@ def check_sweep(d):
         for r in sel:
             ns = float(r["ns_per_pixel"])
             check(math.isfinite(ns) and ns > 0, f"{views}: {r['method']} time {ns}")
-    for name in ("pareto-ns.png", "pareto-fetches.png", "pareto-by-map.png"):
+    for name in ("pareto-ns.png", "pareto-fetches.png", "pareto-by-map.png", "pareto-cheap.png"):
         check_png(f"{d}/{name}", 300, 300)
 
 

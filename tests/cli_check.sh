@@ -43,7 +43,7 @@ analysis)
     "$om" temporal --height-map "$data/bumps.png" --methods none pom exact --frames 3 \
         -o "$tmp/t" >>"$tmp/out" 2>&1 || { cat "$tmp/out"; exit 1; }
     grep -q "warning" "$tmp/out" && { echo "a chart was not drawn:"; cat "$tmp/out"; exit 1; }
-    for f in s/sweep.csv s/sweep.json s/pareto-ns.png s/pareto-fetches.png s/pareto-by-map.png \
+    for f in s/sweep.csv s/sweep.json s/pareto-ns.png s/pareto-fetches.png s/pareto-by-map.png s/pareto-cheap.png \
              f/failure.csv f/failure-map.png t/temporal.csv t/temporal.png; do
         [ -s "$tmp/$f" ] || { echo "missing $f"; cat "$tmp/out"; exit 1; }
     done

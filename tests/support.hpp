@@ -177,11 +177,14 @@ inline double cells_crossed(const PreparedRay& pr, const PassSettings& s, int w,
 //    patch. `maxmip`: each step tests one block (or patch) and then descends a level or leaves the
 //    block; a climb follows only a leave, so descents <= top + leaves, and leaves at level k <=
 //    the level-k blocks crossed: at most top + 1 + 2 sum_k (blocks_k + 2).
+//    `sphere` with cells: a distance fetch per step, a patch per cell, and each return to the cells
+//    may solve the cell it left once more: at most 2 steps + cells.
 struct WalkRay {
     const PassSettings& s;
     const HeightMap& map;
     const PreparedRay& pr;
     double t_end;  // its hit, or the bottom plane when the hit is not known
+    const MethodParams& params;
 
     double cells(int block = 1) const {
         const double t_enter = -s.scale * (1.0 - s.reference_plane) / pr.V[2];
@@ -208,12 +211,15 @@ inline const std::vector<TestRow>& test_rows() {
         {"relief", [](const MethodParams& p,
                       double) { return 1.0 / (p["linear"] * std::pow(2.0, p["binary"])); }},
         {"pom"},
-        // sphere stops once its voxel meets the plane (one layer), unless its steps run out
-        // first: each step covers the box distance, at least the vertical gap less one layer,
-        // along the ray, which lowers the gap by V.z of it: the gap left after n steps is
-        // <= (1 - V.z)^n.
-        {"sphere", [](const MethodParams& p,
-                      double vz) { return 1.0 / p["layers"] + std::pow(1.0 - vz, p["steps"]); }},
+        // sphere stops within a layer of the plane (without cells: once its voxel meets it; with
+        // cells: exactly, walking the cells from there), unless its steps run out first: each
+        // step covers the box distance, at least the vertical gap less one layer, along the ray,
+        // which lowers the gap by V.z of it: the gap left after n steps is <= (1 - V.z)^n.
+        {"sphere",
+         [](const MethodParams& p, double vz) {
+             return 1.0 / p["layers"] + std::pow(1.0 - vz, p["steps"]);
+         },
+         [](const WalkRay& r) { return 2 * r.params["steps"] + r.cells(); }},
         {"secant"},
         {"maxmip", nullptr,
          [](const WalkRay& r) {
@@ -247,11 +253,12 @@ inline double ray_fetch_cap(const std::string& method, const PassSettings& s, co
                             const PreparedRay& pr, double t_end,
                             const std::map<std::string, std::string>& params = {}) {
     const MethodInfo& m = find_method(method);
-    const double cap = m.fetch_cap(resolve_params(m, params));
+    const MethodParams p = resolve_params(m, params);
+    const double cap = m.fetch_cap(p);
     if (cap >= 0) return cap;
     const TestRow& row = test_row(method);
     if (!row.walk_cap) throw Error("no cell-walk fetch cap in the test row of " + method);
-    return row.walk_cap(WalkRay{s, map, pr, t_end});
+    return row.walk_cap(WalkRay{s, map, pr, t_end, p});
 }
 
 // The methods that have a test row, in the table's order.

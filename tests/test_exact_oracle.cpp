@@ -304,6 +304,43 @@ TEST(Cone, AgreesWithTheOracleLikeExact) {
 // than a thin map (the search wraps around it many times), and clamp (no cones off the map).
 TEST(Cone, AgreesWithTheOracleOnOddTallAndThinMaps) { agrees_on_odd_maps("cone"); }
 
+// sphere with cells (its default): the distance map skips empty space, the cells of every voxel
+// that comes near the proxy are solved as exact solves them, so at its defaults (res 256, 64
+// steps) it is held to exact's per-ray bound, on maps coarser and finer than its voxel grid
+// (1025^2: four texels a voxel, where stopping at the proxy, Donnelly's end, is texels off).
+TEST(Sphere, CellsMakeItExactAtItsDefaults) {
+    const std::vector<Case> cases = {{"smooth-1025", smooth_map(1025)},
+                                     {"cliffs-1024", cliff_map(1024)},
+                                     {"noisy-256", noisy_map(256, 9)},
+                                     {"cliffs", cliff_map(64)}};
+    // One scale: the distance map's build grows with s (5 s a map at s = 0.2 here).
+    Worst worst;
+    for (const auto& c : cases)
+        for (float ref : {1.0f, 0.6f})
+            if (c.map.width <= 256 || ref == 1.0f)
+                worst.add(compare_with_oracle(c.map, c.name, 0.05f, ref, 5.0, AddressMode::Wrap,
+                                              "sphere"));
+    worst.record("sphere.oracle");
+    // Donnelly's end on the same rays, for scale (mean texels from the oracle's hit).
+    PassSettings s;
+    s.scale = 0.05f;
+    GBuffer gb = make_scene(RandomScene{64, 32, 2024, 5.0, 90.0});
+    for (const auto& c : {cases[0], cases[1]}) {
+        double sum = 0.0;
+        OffsetResult r = run("sphere", c.map, gb, s, {{"cells", "0"}});
+        for (size_t k = 0; k < gb.pixels(); ++k) {
+            double V[3] = {gb.view[k].s[0], gb.view[k].s[1], gb.view[k].s[2]};
+            PreparedRay pr = prepare_ray(gb.uv[k].s[0], gb.uv[k].s[1], V, s);
+            ExactHit o = exact_hit(c.map, pr.u, pr.v, pr.V, s);
+            sum +=
+                std::hypot((r.uv[k].s[0] - o.u) * c.map.width, (r.uv[k].s[1] - o.v) * c.map.height);
+        }
+        std::printf("sphere without cells, %s s=0.05: mean %.3f texels\n", c.name,
+                    sum / gb.pixels());
+        record_figure(std::string("sphere.nocells.") + c.name + ".mean", sum / gb.pixels());
+    }
+}
+
 // The bilinear relief of `map` at texel-space point (x, y) (integer = texel centre), wrapped.
 double bilinear_wrap(const HeightMap& map, double x, double y) {
     double fx = std::floor(x), fy = std::floor(y), a = x - fx, b = y - fy;

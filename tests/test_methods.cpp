@@ -208,13 +208,13 @@ double square_max(const HeightMap& m, double x0, double x1, double y0, double y1
 }
 
 TEST(Convergence, SphereStopsWithinAVoxelOfItsProxyAndNeverPassesTheHit) {
-    // sphere's contract (kernels/methods/sphere.cl): it steps by the distance from its voxel's box
-    // to a column proxy (per uv square of the res^2 grid, a box up to the exact maximum of the
-    // relief over that square), so it never passes the exact hit, and it stops where that
-    // distance is 0: its voxel touches a column box of its own or a neighbouring square, so the
-    // stop point is at most one layer (s / layers) above that column's top. Checked per ray
-    // against the columns computed here in double precision (1e-4 of a voxel of slack for points
-    // on voxel faces). The error this leaves is set by the voxel size and shrinks as res and
+    // sphere's contract without cells (kernels/methods/sphere.cl, Donnelly's): it steps by the
+    // distance from its voxel's box to a column proxy (per uv square of the res^2 grid, a box up to
+    // the exact maximum of the relief over that square), so it never passes the exact hit, and it
+    // stops where that distance is 0: its voxel touches a column box of its own or a neighbouring
+    // square, so the stop point is at most one layer (s / layers) above that column's top. Checked
+    // per ray against the columns computed here in double precision (1e-4 of a voxel of slack for
+    // points on voxel faces). The error this leaves is set by the voxel size and shrinks as res and
     // layers grow together (reported).
     Bench st(15.0, 0.08f);
     double prev = 1e9;
@@ -223,7 +223,8 @@ TEST(Convergence, SphereStopsWithinAVoxelOfItsProxyAndNeverPassesTheHit) {
         OffsetResult r = run("sphere", st.map, st.gb, st.s,
                              {{"res", std::to_string(res)},
                               {"layers", std::to_string(layers)},
-                              {"steps", std::to_string(steps)}});
+                              {"steps", std::to_string(steps)},
+                              {"cells", "0"}});
         Errors e = errors(r, st.exact, st.map);
         std::vector<double> colmax(static_cast<size_t>(res) * res);
         for (int j = 0; j < res; ++j)

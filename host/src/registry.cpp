@@ -21,7 +21,8 @@ double cap_steep(const MethodParams& p) { return p["layers"] + 1; }
 double cap_relief(const MethodParams& p) { return p["linear"] + 1 + p["binary"]; }
 double cap_pom(const MethodParams& p) { return std::max(p["min_samples"], p["max_samples"]) + 1; }
 double cap_secant(const MethodParams& p) { return cap_pom(p) + p["refine"]; }
-double cap_sphere(const MethodParams& p) { return p["steps"]; }
+// With cells, a walk bounded by the cells the ray crosses follows the steps.
+double cap_sphere(const MethodParams& p) { return p["cells"] > 0 ? -1 : p["steps"]; }
 
 }  // namespace
 
@@ -122,12 +123,16 @@ const std::vector<MethodInfo>& methods() {
          "ch. 8); Premecz 2006 section 2.4",
          {{"res", 256, 8, 1024, true, "distance map voxels per side of the tile"},
           {"layers", 32, 2, 128, true, "distance map voxels through the relief slab"},
-          {"steps", 64, 1, 256, true, "sphere-tracing steps (one distance fetch each)"}},
+          {"steps", 64, 1, 256, true, "steps: a distance fetch or a cell solved, one fetch each"},
+          {"cells", 1, 0, 1, true,
+           "1: where a voxel touches the proxy, solve its bilinear cells (exact within the "
+           "steps); 0: stop there (Donnelly)"}},
          &kDistanceMap,
-         {{{"res", "64"}, {"layers", "16"}, {"steps", "16"}},
-          {{"res", "128"}, {"layers", "16"}, {"steps", "32"}},
-          {{"res", "256"}, {"layers", "32"}, {"steps", "64"}},
-          {{"res", "512"}, {"layers", "64"}, {"steps", "128"}}},
+         {{{"res", "64"}, {"layers", "16"}, {"steps", "16"}, {"cells", "0"}},
+          {{"res", "128"}, {"layers", "16"}, {"steps", "32"}, {"cells", "0"}},
+          {{"res", "256"}, {"layers", "32"}, {"steps", "64"}, {"cells", "0"}},
+          {{"res", "512"}, {"layers", "64"}, {"steps", "128"}, {"cells", "0"}},
+          {{"res", "256"}, {"layers", "32"}, {"steps", "64"}}},
          cap_sphere},
         {"secant",
          "secant.cl",
@@ -139,7 +144,8 @@ const std::vector<MethodInfo>& methods() {
           {"refine", 4, 0, 32, true, "secant iterations at most (0: pom)"},
           {"tol", 1e-4f, 0.0f, 0.1f, false, "stop when the height gap is below this (H units)"}},
          nullptr,
-         {{{"min_samples", "2"}, {"max_samples", "4"}, {"refine", "1"}},
+         {{{"min_samples", "1"}, {"max_samples", "5"}, {"refine", "1"}},
+          {{"min_samples", "2"}, {"max_samples", "4"}, {"refine", "1"}},
           {{"min_samples", "2"}, {"max_samples", "8"}, {"refine", "2"}},
           {{"min_samples", "4"}, {"max_samples", "16"}, {"refine", "2"}},
           {{"min_samples", "8"}, {"max_samples", "32"}, {"refine", "3"}},
