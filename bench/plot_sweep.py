@@ -86,7 +86,7 @@ def draw_cheap(points, where, path):
             p, ratio = best
             ax.annotate("%s\n%.2f x %s's p95 at %.2f fetches" % (label(p), ratio, BASELINE,
                                                                    p["fetches"]),
-                        (p["fetches"], p["p95"]), fontsize=8, xytext=(10, -28),
+                        (p["fetches"], p["p95"]), fontsize=8, xytext=(70, -90),
                         textcoords="offset points", arrowprops={"arrowstyle": "->"})
     ax.set_yscale("log")
     ax.set_xlabel("height fetches per pixel")
