@@ -211,10 +211,10 @@ inline const std::vector<TestRow>& test_rows() {
         {"relief", [](const MethodParams& p,
                       double) { return 1.0 / (p["linear"] * std::pow(2.0, p["binary"])); }},
         {"pom"},
-        // sphere stops within a layer of the plane (without cells: once its voxel meets it; with
-        // cells: exactly, walking the cells from there), unless its steps run out first: each
-        // step covers the box distance, at least the vertical gap less one layer, along the ray,
-        // which lowers the gap by V.z of it: the gap left after n steps is <= (1 - V.z)^n.
+        // sphere without cells stops once its voxel meets the plane (one layer), unless its steps
+        // run out first: each step covers the box distance, at least the vertical gap less one
+        // layer, along the ray, which lowers the gap by V.z of it: the gap left after n steps is
+        // <= (1 - V.z)^n. With cells it walks them from there (or once out of steps): exact.
         {"sphere",
          [](const MethodParams& p, double vz) {
              return 1.0 / p["layers"] + std::pow(1.0 - vz, p["steps"]);

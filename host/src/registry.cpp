@@ -123,10 +123,10 @@ const std::vector<MethodInfo>& methods() {
          "ch. 8); Premecz 2006 section 2.4",
          {{"res", 256, 8, 1024, true, "distance map voxels per side of the tile"},
           {"layers", 32, 2, 128, true, "distance map voxels through the relief slab"},
-          {"steps", 64, 1, 256, true, "steps: a distance fetch or a cell solved, one fetch each"},
+          {"steps", 64, 1, 256, true, "sphere-tracing steps (one distance fetch each)"},
           {"cells", 1, 0, 1, true,
-           "1: where a voxel touches the proxy, solve its bilinear cells (exact within the "
-           "steps); 0: stop there (Donnelly)"}},
+           "1: near the proxy, and once out of steps, solve the bilinear cells (one fetch each; "
+           "the exact hit); 0: stop at the proxy (Donnelly)"}},
          &kDistanceMap,
          {{{"res", "64"}, {"layers", "16"}, {"steps", "16"}, {"cells", "0"}},
           {{"res", "128"}, {"layers", "16"}, {"steps", "32"}, {"cells", "0"}},
