@@ -83,7 +83,10 @@ OM_INLINE OmF om_trace(const OmRay* r, const OmField* f, const OmOffsetParams* P
             placed &= !(tracing & !touch);
             OmI enter = cells ? touch & (t < r->t_exit) : (OmI)0;
             done |= touch & !enter;
-            t_voxel = OM_SEL(t_voxel, fmin(om_voxel_exit(r, res, t, z, z_per_t), r->t_exit), enter);
+            if (OM_ANY(enter)) {
+                OmF t_leave = fmin(om_voxel_exit(r, res, t, z, z_per_t), r->t_exit);
+                t_voxel = OM_SEL(t_voxel, t_leave, enter);
+            }
             start |= enter;
         }
         if (OM_ANY(start)) {
