@@ -139,11 +139,13 @@ def main():
     results = {}
     start = time.time()
 
-    def one(m):  # a kernel mutant (they run side by side; host mutants edit the tree, in turn)
-        t0 = time.time()
-        verdict, detail = kernel_mutant(build, m)
+    def report(m, verdict, detail, t0):
         results[m["name"]] = (verdict, detail, time.time() - t0)
         print(f"  {verdict:8} {m['name']:34} {time.time() - t0:4.0f} s  {detail}", flush=True)
+
+    def one(m):  # a kernel mutant (they run side by side; host mutants edit the tree, in turn)
+        t0 = time.time()
+        report(m, *kernel_mutant(build, m), t0)
 
     kernels = [m for m in mutants if m["file"].startswith("kernels/")]
     hosts = [m for m in mutants if not m["file"].startswith("kernels/")]
@@ -153,9 +155,7 @@ def main():
     try:
         for m in hosts:
             t0 = time.time()
-            verdict, detail = host_mutant(build, m)
-            results[m["name"]] = (verdict, detail, time.time() - t0)
-            print(f"  {verdict:8} {m['name']:34} {time.time() - t0:4.0f} s  {detail}", flush=True)
+            report(m, *host_mutant(build, m), t0)
     finally:
         if hosts:
             ok, log = build_tests(build)  # the restored sources
