@@ -43,12 +43,12 @@ nlohmann::json bench_glsl_peer(std::shared_ptr<Runtime> rt, const Resolution& re
         OffsetPass exact_pass(rt, "exact");
         const OffsetResult exact = run_offset(*rt, exact_pass, g, f, s, 1);
         const double n = static_cast<double>(gb.pixels());
+        OffsetTargets t;  // the timed runs' outputs, shared by the methods
+        t.uv = cl::Buffer(rt->context(), CL_MEM_WRITE_ONLY, gb.pixels() * sizeof(cl_float2));
+        t.depth = cl::Buffer(rt->context(), CL_MEM_WRITE_ONLY, gb.pixels() * sizeof(float));
         for (const char* method : {"pom", "steep", "relief"}) {
             OffsetPass pass(rt, method);
             const OffsetResult kernel = run_offset(*rt, pass, g, f, s, 1);
-            OffsetTargets t;
-            t.uv = cl::Buffer(rt->context(), CL_MEM_WRITE_ONLY, gb.pixels() * sizeof(cl_float2));
-            t.depth = cl::Buffer(rt->context(), CL_MEM_WRITE_ONLY, gb.pixels() * sizeof(float));
             peer.set_method(resolve_params(find_method(method), {}));
             const auto kernel_run = [&] {
                 const auto t0 = std::chrono::steady_clock::now();

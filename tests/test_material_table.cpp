@@ -177,6 +177,25 @@ TEST(AutoMethod, PicksTheCheapestCandidateWithinTheBudget) {
     EXPECT_TRUE(again.cached);
     EXPECT_EQ(again.chosen.params.method, a.chosen.params.method);
     EXPECT_EQ(again.chosen.setting, a.chosen.setting);
+    // A predicate narrows the choice to the cheapest admitted candidate within the budget, and
+    // names itself when none is.
+    AutoOptions other = o;
+    const std::string chosen = a.chosen.params.method->name;
+    other.admits = [&](const MethodParams& p) { return p.method->name != chosen; };
+    other.admits_text = "but " + chosen;
+    const AutoChoice narrowed = choose_method(rt, m, frame, other);
+    EXPECT_NE(narrowed.chosen.params.method->name, chosen);
+    EXPECT_LE(narrowed.chosen.error.p95, 0.5);
+    for (const AutoCandidate& c : a.candidates) {
+        if (c.params.method->name != chosen && c.error.p95 <= 0.5) {
+            EXPECT_GE(cost(c), cost(narrowed.chosen)) << c.params.method->name;
+        }
+    }
+    other.admits = [](const MethodParams&) { return false; };
+    EXPECT_TRUE(contains(error_of([&] { choose_method(rt, m, frame, other); }),
+                         "material 2 (smooth): no method but " + chosen +
+                             " meets its error budget (p95 0.5 texels); none of the " +
+                             std::to_string(a.candidates.size()) + " candidates measured is one"));
     m.spec.budget.texels = 1e-9;
     EXPECT_TRUE(contains(error_of([&] { choose_method(rt, m, frame, o); }),
                          "material 2 (smooth): no method meets its error budget (p95 1e-09 "

@@ -76,25 +76,6 @@ nlohmann::json pass_json(const FrameRun& r) {
             {"total_ms", r.ms.total}};
 }
 
-// With --forward, auto's choice among the methods the forward shader has (both frames run the same
-// method): the cheapest of its measured candidates within the material's budget.
-MethodParams forward_choice(const AutoChoice& a, const MaterialSpec& spec) {
-    const AutoCandidate* best = nullptr;
-    const auto cost = [&](const AutoCandidate& c) {
-        return a.by_time ? c.ns_per_pixel : c.fetches;
-    };
-    for (const AutoCandidate& c : a.candidates)
-        if (forward_method_unsupported(c.params).empty() &&
-            budget_statistic(spec.budget, c.error) <= spec.budget.texels &&
-            (!best || cost(c) < cost(*best)))
-            best = &c;
-    if (!best)
-        throw Error("material " + std::to_string(spec.id) + " (" + spec.name +
-                    "): --forward: no method with a GLSL version meets its budget (auto chose " +
-                    method_text(a.chosen.params) + ")");
-    return best->params;
-}
-
 // Depth offset as a picture: grey where unchanged, darker where pushed away from the eye.
 Rgb8 depth_change_image(int w, int h, const std::vector<float>& before,
                         const std::vector<float>& after) {
@@ -182,14 +163,21 @@ int run_frame(const FrameCommand& cmd) {
         probe.render(FrameMode::Deferred, false, 1);
         for (size_t s : auto_slots) {
             const MaterialSpec& spec = table[s].spec;
-            const AutoChoice a = choose_method(rt, table[s], probe.explicit_gbuffer());
-            methods[s] = cmd.forward ? forward_choice(a, spec) : a.chosen.params;
+            // With --forward both frames run the same method: one with a GLSL version.
+            AutoOptions options;
+            if (cmd.forward) {
+                options.admits = [](const MethodParams& p) {
+                    return forward_method_unsupported(p).empty();
+                };
+                options.admits_text = "with a GLSL version (--forward)";
+            }
+            const AutoChoice a = choose_method(rt, table[s], probe.explicit_gbuffer(), options);
+            methods[s] = a.chosen.params;
             std::printf(
                 "material %d (%s): auto, %s <= %g texels -> %s (of %zu candidates on %zu "
                 "of its pixels)\n",
-                spec.id, spec.name.c_str(),
-                spec.budget.statistic == ErrorBudget::Statistic::P95 ? "p95" : "mean",
-                spec.budget.texels, method_text(methods[s]).c_str(), a.candidates.size(), a.pixels);
+                spec.id, spec.name.c_str(), budget_statistic_name(spec.budget), spec.budget.texels,
+                method_text(methods[s]).c_str(), a.candidates.size(), a.pixels);
         }
     }
     FrameRenderer renderer(rt, scene, table, methods, cmd.width, cmd.height, shading);

@@ -189,7 +189,7 @@ int run_materials_job(const MaterialsJob& job, const ReliefOptions& relief,
                 continue;
             }
             const AutoChoice& a = autos[s];
-            const char* stat = m.budget.statistic == ErrorBudget::Statistic::P95 ? "p95" : "mean";
+            const char* stat = budget_statistic_name(m.budget);
             auto describe = [&](const AutoCandidate& c) {
                 char text[256];
                 std::snprintf(text, sizeof text, "%s: %s %.3f texels, %.1f ns/pixel, %.1f fetches",

@@ -120,6 +120,10 @@ double budget_statistic(const ErrorBudget& b, const ErrorStats& e) {
     return b.statistic == ErrorBudget::Statistic::P95 ? e.p95 : e.mean;
 }
 
+const char* budget_statistic_name(const ErrorBudget& b) {
+    return b.statistic == ErrorBudget::Statistic::P95 ? "p95" : "mean";
+}
+
 AutoChoice choose_method(std::shared_ptr<Runtime> rt, const LoadedMaterial& m, const GBuffer& frame,
                          const AutoOptions& o) {
     const std::string who = "material " + std::to_string(m.spec.id) + " (" + m.spec.name + ")";
@@ -257,18 +261,22 @@ AutoChoice choose_method(std::shared_ptr<Runtime> rt, const LoadedMaterial& m, c
     std::vector<const AutoCandidate*> within;
     const AutoCandidate* best = nullptr;
     for (const AutoCandidate& c : out.candidates) {
+        if (o.admits && !o.admits(c.params)) continue;
         const double e = budget_statistic(m.spec.budget, c.error);
         if (!best || e < budget_statistic(m.spec.budget, best->error)) best = &c;
         if (e <= m.spec.budget.texels) within.push_back(&c);
     }
-    const char* stat = m.spec.budget.statistic == ErrorBudget::Statistic::P95 ? "p95" : "mean";
+    const char* stat = budget_statistic_name(m.spec.budget);
     if (within.empty()) {
         std::ostringstream text;
-        text << who << ": no method meets its error budget (" << stat << " " << m.spec.budget.texels
-             << " texels); the best reached is " << stat << " "
-             << (best ? budget_statistic(m.spec.budget, best->error) : 0.0) << " texels ("
-             << (best ? best->params.method->name + " " + best->setting : std::string("none"))
-             << ")";
+        text << who << ": no method " << (o.admits_text.empty() ? "" : o.admits_text + " ")
+             << "meets its error budget (" << stat << " " << m.spec.budget.texels << " texels)";
+        if (best)
+            text << "; the best reached is " << stat << " "
+                 << budget_statistic(m.spec.budget, best->error) << " texels ("
+                 << best->params.method->name << " " << best->setting << ")";
+        else
+            text << "; none of the " << out.candidates.size() << " candidates measured is one";
         throw Error(text.str());
     }
     std::stable_sort(

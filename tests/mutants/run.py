@@ -54,6 +54,7 @@ def run_tests(build, m, kernel_dir=None):
     env = dict(os.environ, OFFSETMAP_TEST_DATA=os.path.join(ROOT, "data"),
                OFFSETMAP_FIGURES=os.path.join(tempfile.gettempdir(), "om_mutant_figures"))
     env.pop("OFFSETMAP_KERNEL_DIR", None)
+    env.update(kv.split("=", 1) for kv in m.get("env", "").split())
     if kernel_dir:
         env["OFFSETMAP_KERNEL_DIR"] = kernel_dir
     # One failing test kills the mutant: the rest of its tests need not run.

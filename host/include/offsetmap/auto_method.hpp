@@ -1,6 +1,7 @@
 // Method "auto": the cheapest method and setting whose error on a material's own map, at its
 // settings and over the views the frame shows it at, meets the material's error budget.
 #pragma once
+#include <functional>
 #include <map>
 #include <memory>
 #include <string>
@@ -44,6 +45,10 @@ struct AutoOptions {
     // Where measurements are kept between runs: "" for $OFFSETMAP_CACHE_DIR, else
     // $XDG_CACHE_HOME/offsetmap, else ~/.cache/offsetmap; "-" keeps none.
     std::string cache_dir;
+    // Only candidates this admits may be chosen (every one is still measured and cached), and
+    // `admits_text` says which in the error when none meets the budget ("with a GLSL version").
+    std::function<bool(const MethodParams&)> admits;
+    std::string admits_text;
 };
 
 // Whether the method at `setting` keeps its precomputed data for `map` within the options' bound
@@ -53,8 +58,9 @@ bool precomputed_within_bound(const MethodInfo& method,
                               const HeightMap& map, const PassSettings& settings,
                               const AutoOptions& options = {});
 
-// The error statistic the budget names.
+// The error statistic the budget names, and its name ("mean" or "p95").
 double budget_statistic(const ErrorBudget& budget, const ErrorStats& error);
+const char* budget_statistic_name(const ErrorBudget& budget);
 
 // Calibrates `material` on the pixels of `frame` that carry its id (its views and uv; a random
 // set of views from 10 to 90 degrees when it has none): every method at every setting of its
