@@ -126,24 +126,22 @@ typedef int16 OmI;
 #define OM_PAIR_GATHER 1
 #define OM_PAIR_LOADS 1
 #define OM_PAIR(p, k) as_long(vload2(0, (p) + (k)))
+#endif
+#ifdef OM_PAIR_GATHER
+// Eight pairs from indices i (floats from p): (first, second) of each pair.
 OM_INLINE float8 om_gather8_pairs(__global const float* p, int8 i, float8* second) {
+#ifdef OM_PAIR_LOADS
     float16 q = as_float16((long8)(OM_PAIR(p, i.s0), OM_PAIR(p, i.s1), OM_PAIR(p, i.s2),
                                    OM_PAIR(p, i.s3), OM_PAIR(p, i.s4), OM_PAIR(p, i.s5),
                                    OM_PAIR(p, i.s6), OM_PAIR(p, i.s7)));
-    *second = q.odd;
-    return q.even;
-}
-#endif
-#if defined(OM_PAIR_GATHER) && !defined(OM_PAIR_LOADS)
-// Eight pairs from indices i (floats from p): (first, second) of each pair.
-OM_INLINE float8 om_gather8_pairs(__global const float* p, int8 i, float8* second) {
+#else
     float16 q = as_float16(
         __builtin_ia32_gathersiv8di((long8)0, (const void*)(size_t)p, i, (unsigned char)0xff, 4));
+#endif
     *second = q.odd;
     return q.even;
 }
-#endif
-#ifdef OM_PAIR_GATHER
+
 OM_INLINE void om_gather_pairs(__global const float* p, OmI i, OmF* first, OmF* second) {
 #if OM_LANES == 8
     *first = om_gather8_pairs(p, i, second);
