@@ -7,6 +7,7 @@
 #include <cfloat>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 
 #include "om_shared.h"
 
@@ -88,6 +89,11 @@ inline float atan2(float y, float x) { return std::atan2(y, x); }
 inline float log2(float x) { return std::log2(x); }
 inline float mix(float a, float b, float t) { return a + (b - a) * t; }
 inline bool isnan(float x) { return std::isnan(x); }
+inline int as_int(float x) {
+    int i;
+    std::memcpy(&i, &x, sizeof i);
+    return i;
+}
 inline bool isfinite(float x) { return std::isfinite(x); }
 inline int min(int a, int b) { return std::min(a, b); }
 inline int max(int a, int b) { return std::max(a, b); }

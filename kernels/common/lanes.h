@@ -42,6 +42,7 @@ typedef int OmI;
 #define OM_TO_FLOAT(x) ((float)(x))
 #define OM_LFLOOR(x) om_floor(x)
 #define OM_GATHER(p, i) ((p)[i])
+#define OM_AS_INT(x) as_int(x)
 #define OM_LANE_IDS 0
 #define OM_VLOAD(p) ((p)[0])
 #define OM_VSTORE(v, p) ((p)[0] = (v))
@@ -57,6 +58,7 @@ typedef int8 OmI;
     ((float8)((p)[(i).s0], (p)[(i).s1], (p)[(i).s2], (p)[(i).s3], (p)[(i).s4], (p)[(i).s5], \
               (p)[(i).s6], (p)[(i).s7]))
 #define OM_LANE_IDS ((int8)(0, 1, 2, 3, 4, 5, 6, 7))
+#define OM_AS_INT(x) as_int8(x)
 #define OM_VLOAD(p) vload8(0, p)
 #define OM_VSTORE(v, p) vstore8(v, 0, p)
 #elif OM_LANES == 16
@@ -72,6 +74,7 @@ typedef int16 OmI;
                (p)[(i).s6], (p)[(i).s7], (p)[(i).s8], (p)[(i).s9], (p)[(i).sa], (p)[(i).sb], \
                (p)[(i).sc], (p)[(i).sd], (p)[(i).se], (p)[(i).sf]))
 #define OM_LANE_IDS ((int16)(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15))
+#define OM_AS_INT(x) as_int16(x)  // a float's bits, as OmI
 #define OM_VLOAD(p) vload16(0, p)  // an OmF from OM_LANES floats in private memory
 #define OM_VSTORE(v, p) vstore16(v, 0, p)
 #else

@@ -65,6 +65,30 @@ static inline int om_maxmip_levels(int width, int height, int address_mode) {
 
 // The cone map's build searches rings of OM_CONE_BLOCK x OM_CONE_BLOCK blocks of cells.
 #define OM_CONE_BLOCK 8
+// The cone map (kernels/prep/cone.cl, methods/cone.cl, its builder) holds one 32-bit word per
+// cell: the low 16 bits q_h give the cell maximum rounded up to q_h / OM_CONE_HC_SCALE (65535
+// decodes above 1, so every height in [0, 1] has a bound), the high 16 bits q_c the cone ratio
+// rounded down to (q_c / OM_CONE_C_SCALE)^2 (up to 1024, the largest max_ratio; the square root
+// keeps narrow cones precise). Both roundings only shorten steps, so the hit is still exact's.
+// Cells lie in 32 x 32 tiles (4 KiB, a page) of 4 x 4 blocks (64 bytes, a cache line), the map
+// padded to whole tiles, so neighbouring cells share lines and pages (row-major rows of a 1024^2
+// map are a page apart). A cone jump waits on its read, which misses the caches more the larger
+// the map: half the bytes and this layout made `cone` 15-25 % faster on 1024^2 and 2048^2 maps.
+#define OM_CONE_HC_SCALE 65534.0f
+#define OM_CONE_C_SCALE 2047.0f
+#define OM_CONE_TILE 32
+static inline int om_cone_tiles(int size) { return (size + OM_CONE_TILE - 1) / OM_CONE_TILE; }
+static inline float om_cone_hc(om_uint q) {
+    return (float)(q & 0xffffu) * (1.0f / OM_CONE_HC_SCALE);
+}
+static inline float om_cone_ratio(om_uint q) {
+    const float r = (float)(q >> 16) * (1.0f / OM_CONE_C_SCALE);
+    return r * r;
+}
+// Cell (i, j)'s word, for scalars or lane vectors; tiles_x = om_cone_tiles(width).
+#define OM_CONE_INDEX(i, j, tiles_x)                                           \
+    (((((j) >> 5) * (tiles_x) + ((i) >> 5)) << 10) + ((((j) >> 2) & 7) << 7) + \
+     ((((i) >> 2) & 7) << 4) + (((j)&3) << 2) + ((i)&3))
 
 #ifndef __OPENCL_VERSION__
 namespace offsetmap {

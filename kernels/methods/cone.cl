@@ -19,19 +19,17 @@
 // one cone fetch per step plus one patch per cell the ray dips below its cell maximum.
 
 // Each lane's cell maximum and cone ratio (clamp: cells off the map have no cone, their maximum
-// from the patch itself).
-OM_INLINE void om_cone_cell(const OmField* f, OmI i, OmI j, OmF* hc, OmF* c OM_IMG_PARAM) {
+// from the patch itself): its word of the packed, tiled cone map, decoded as om_cone_hc and
+// om_cone_ratio do (om_shared.h); tiles_x is the map's tiles per row.
+OM_INLINE void om_cone_cell(const OmField* f, int tiles_x, OmI i, OmI j, OmF* hc,
+                            OmF* c OM_IMG_PARAM) {
     OmI i0, i1, j0, j1;
     om_patch_address(f, i, j, &i0, &i1, &j0, &j1);  // the cell's own texel, after the address mode
-    OmI idx = j0 * f->width + i0;
     OmI outside = f->wrap ? (OmI)0 : (OmI)(i != i0 || j != j0);
-#ifdef OM_PAIR_GATHER
-    om_gather_pairs(f->aux, 2 * idx, hc, c);
-#else
-    *hc = OM_GATHER(f->aux, 2 * idx);
-    *c = OM_GATHER(f->aux, 2 * idx + 1);
-#endif
-    *c = OM_SEL(*c, 0.0f, outside);
+    OmI q = OM_AS_INT(OM_GATHER(f->aux, OM_CONE_INDEX(i0, j0, tiles_x)));
+    *hc = OM_TO_FLOAT(q & 0xffff) * (1.0f / OM_CONE_HC_SCALE);
+    OmF root = OM_TO_FLOAT((q >> 16) & 0xffff) * (1.0f / OM_CONE_C_SCALE);
+    *c = OM_SEL(root * root, 0.0f, outside);
     if (OM_ANY(outside)) {
         OmF k00, k10, k01, k11;
         om_corners(f, i, j, &k00, &k10, &k01, &k11 OM_IMG_ARG);
@@ -48,6 +46,7 @@ OM_INLINE OmF om_trace(const OmRay* r, const OmField* f, const OmOffsetParams* P
     om_walk_cell(&w, t, &i, &j);
     // The cone map is built from level 0: under LOD (a coarser level) walk cells like `exact`.
     OmI cones = f->level == 0;
+    const int tiles_x = om_cone_tiles(P->hf_width);
     OmF hit_t = r->t_exit;
     OmI done = !active;
     for (int n = 0; n < P->max_cells && OM_ANY(!done); ++n) {
@@ -55,7 +54,7 @@ OM_INLINE OmF om_trace(const OmRay* r, const OmField* f, const OmOffsetParams* P
         OmF tx, ty;
         OmF t_out = om_walk_exit(&w, i, j, (OmI)1, r->t_exit, &tx, &ty);
         OmF hc, c;
-        om_cone_cell(f, i, j, &hc, &c OM_IMG_ARG);
+        om_cone_cell(f, tiles_x, i, j, &hc, &c OM_IMG_ARG);
         *fetches += OM_ONE(live & cones);
         hc = OM_SEL((OmF)1.0f, hc, cones);
         c = OM_SEL((OmF)0.0f, c, cones);

@@ -1,7 +1,7 @@
 // Cone map for `cone`: per cell (the bilinear patch between texel centres i..i+1, j..j+1; W x H
-// cells, the last row and column wrap or are the clamped extrusion) two floats: the cell's
-// maximum height Hc (the largest of its four corners bounds the patch) and a cone ratio c, in
-// texels per unit of H, such that the open region
+// cells, the last row and column wrap or are the clamped extrusion) one packed word (om_shared.h)
+// bounding the cell's maximum height Hc (the largest of its four corners bounds the patch) and a
+// cone ratio c, in texels per unit of H, such that the open region
 //     { (p, H) : dist(p, cell) < c (H - Hc) }
 // (p in texel space) holds no relief. Cones are per cell, not per texel centre, so they hold at
 // every point a bilinear fetch can return, which is what Bán et al. ("Robust cone step mapping",
@@ -36,6 +36,16 @@ OM_INLINE float om_cell_max(const OmField* f, int i, int j) {
     return fmax(fmax(k00, k10), fmax(k01, k11));
 }
 
+// The cell's word: Hc rounded up and c rounded down, each checked against the decoder the method
+// and the host use.
+OM_INLINE uint om_cone_pack(float hc, float c) {
+    uint qh = (uint)ceil(hc * OM_CONE_HC_SCALE);
+    if (om_cone_hc(qh) < hc) ++qh;
+    uint qc = (uint)floor(sqrt(c) * OM_CONE_C_SCALE);
+    while (qc > 0 && om_cone_ratio(qc << 16) > c) --qc;
+    return qh | qc << 16;
+}
+
 // Gap between unit cells (or a cell and a block) along one axis: [a, a + na) vs [b, b + nb).
 OM_INLINE int om_gap(int a, int na, int b, int nb) {
     return max(max(b - (a + na), a - (b + nb)), 0);
@@ -45,7 +55,7 @@ OM_INLINE int om_gap(int a, int na, int b, int nb) {
 // multiples of 8); otherwise every cell in reach is visited.
 __kernel void om_cone_map(const OmOffsetParams P, __global const float* heights,
                           __global const float* block_max, int bw, int bh, int blocks_valid,
-                          float global_max, float max_ratio, __global float* cone) {
+                          float global_max, float max_ratio, __global uint* cone) {
     int i = get_global_id(0), j = get_global_id(1);
     if (i >= P.hf_width || j >= P.hf_height) return;
     OmField f = om_field(heights, &P, 0);
@@ -83,6 +93,5 @@ __kernel void om_cone_map(const OmOffsetParams P, __global const float* heights,
             }
         }
     }
-    cone[2 * (j * P.hf_width + i)] = hc;
-    cone[2 * (j * P.hf_width + i) + 1] = best;
+    cone[OM_CONE_INDEX(i, j, om_cone_tiles(P.hf_width))] = om_cone_pack(hc, best);
 }

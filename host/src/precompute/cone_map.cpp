@@ -12,7 +12,8 @@ namespace offsetmap {
 namespace {
 
 size_t bytes(const MethodParams&, const PassSettings&, int w, int h) {
-    return 2 * static_cast<size_t>(w) * h * sizeof(float);
+    const size_t tile_cells = OM_CONE_TILE * OM_CONE_TILE;
+    return static_cast<size_t>(om_cone_tiles(w)) * om_cone_tiles(h) * tile_cells * sizeof(cl_uint);
 }
 
 PrecomputeSpec::Built build(Runtime& rt, const DeviceHeightField& f, const PassSettings& settings,
@@ -54,8 +55,9 @@ PrecomputeSpec::Built build(Runtime& rt, const DeviceHeightField& f, const PassS
 }  // namespace
 
 const PrecomputeSpec kConeMap = {
-    "cone map: 2 floats per cell (cell maximum, cone ratio), 8 W H bytes, built by a kernel per "
-    "height map with 8 x 8 block maxima to prune the search",
+    "cone map: a 32-bit word per cell (cell maximum rounded up, cone ratio rounded down; 16 bits "
+    "each) in 32 x 32 tiles, about 4 W H bytes, built by a kernel per height map with 8 x 8 block "
+    "maxima to prune the search",
     "prep/cone.cl", bytes, build};
 
 }  // namespace offsetmap
