@@ -1,6 +1,8 @@
 // The one offset kernel entry: G-buffer load, validation, LOD, one method's om_trace, store,
-// for OM_LANES consecutive pixels per work-item (lanes.h); the host launches ceil(pixels /
-// OM_LANES) work-items. Compiled once per method; the method file is pasted in before this file.
+// for OM_LANES consecutive pixels per work-item (lanes.h), or two groups of them under
+// OM_LANE_PAIRS (a method that also defines om_trace_pair, on lanes); the host launches
+// ceil(pixels / pixels per work-item) work-items. Compiled once per method; the method file is
+// pasted in before this file.
 // aux is the method's precomputed data (NULL for most); lod is the per-pixel mip level (NULL unless
 // the LOD system is on). Optional outputs (depth, fetches, flags) may be NULL buffers.
 //
@@ -13,7 +15,7 @@
 // less than a texel at the pixel's level cannot show parallax.
 //
 // Specialised at build time (the host sets these from the pass, one program each): OM_LANES,
-// OM_IMAGES, OM_LOD when the LOD system is on, OM_OUT_DEPTH / OM_OUT_FETCHES / OM_OUT_FLAGS for the
+// OM_LANE_PAIRS, OM_IMAGES, OM_LOD when the LOD system is on, OM_OUT_DEPTH / OM_OUT_FETCHES / OM_OUT_FLAGS for the
 // optional outputs bound.
 
 // The lod plane's lanes base .. base + OM_LANES - 1; the last work-item may hold fewer than
@@ -68,60 +70,85 @@
     } while (0)
 #endif
 
-// One work-item's lanes: ray setup, LOD, the method, the LOD fade. Lanes in `skip` are rejected
-// as empty pixels are (no fetches; the caller does not store them). `m` is the lanes' mip level
-// (read under OM_LOD only). Shared by om_offset and the material frame's tile entry, so a pixel
-// gets the same bits through either.
-OM_INLINE void om_offset_lanes(const OmOffsetParams* P, OmF u, OmF v, OmF vx, OmF vy, OmF vz,
-                               OmI skip, OmF m, __global const float* heights,
-                               __global const float* aux, OmF* ou_out, OmF* ov_out, OmF* t_out,
-                               OmI* fetches_out, OmI* flags_out OM_IMG_PARAM) {
+// One group of lanes before and after its trace: the ray, the field at each lane's level, and
+// what the entry needs to finish the pixels.
+typedef struct {
     OmRay ray;
-    OmF base_u, base_v;
-    OmI flags = om_ray_setup(u, v, vx, vy, vz, P, &ray, &base_u, &base_v);
-    OmF blend = 1.0f;
+    OmField f;
+    OmF base_u, base_v;  // the tile the local frame starts in
+    OmF blend;           // LOD fade toward normal mapping (1 without LOD)
+    OmI flags;           // the ray set-up's
+    OmI rejected;        // empty, invalid, back-facing or skipped: passed through
+    OmI traced;          // not rejected and not faded out: the method runs
+} OmLaneGroup;
+
+// Ray setup and LOD for one group. Lanes in `skip` are rejected as empty pixels are (no fetches;
+// the caller does not store them). `m` is the lanes' mip level (read under OM_LOD only).
+OM_INLINE void om_lanes_begin(const OmOffsetParams* P, OmF u, OmF v, OmF vx, OmF vy, OmF vz,
+                              OmI skip, OmF m, __global const float* heights,
+                              __global const float* aux, OmLaneGroup* g) {
+    g->flags = om_ray_setup(u, v, vx, vy, vz, P, &g->ray, &g->base_u, &g->base_v);
+    g->blend = 1.0f;
     OmI level = 0;
 #ifdef OM_LOD
     m = OM_SEL(m, 0.0f, !isfinite(m));
     level = OM_TO_INT(clamp(m, 0.0f, 16.0f));  // truncation is floor for m >= 0
     if (P->lod_footprint) {
-        OmF texels = (ray.t_exit - ray.t_enter) * sqrt(ray.vx * ray.vx + ray.vy * ray.vy) *
+        OmF texels = (g->ray.t_exit - g->ray.t_enter) *
+                     sqrt(g->ray.vx * g->ray.vx + g->ray.vy * g->ray.vy) *
                      fmax((float)P->hf_width, (float)P->hf_height) / OM_TO_FLOAT((OmI)1 << level);
-        ray.step_cap = OM_TO_INT(ceil(texels)) + 1;
-        blend = clamp((texels - P->lod_fade_lo) / (P->lod_fade_hi - P->lod_fade_lo), 0.0f, 1.0f);
+        g->ray.step_cap = OM_TO_INT(ceil(texels)) + 1;
+        g->blend =
+            clamp((texels - P->lod_fade_lo) / (P->lod_fade_hi - P->lod_fade_lo), 0.0f, 1.0f);
     } else {
-        blend = clamp((P->lod_threshold - m) / P->lod_fade, 0.0f, 1.0f);
-        ray.detail =
+        g->blend = clamp((P->lod_threshold - m) / P->lod_fade, 0.0f, 1.0f);
+        g->ray.detail =
             mix((OmF)1.0f, (OmF)P->lod_min_detail, clamp(m / P->lod_threshold, 0.0f, 1.0f));
     }
 #endif
-    OmField f = om_field(heights, P, level);
-    f.aux = aux;
-    OmI rejected =
-        (flags & (int)(OM_FLAG_EMPTY | OM_FLAG_INVALID | OM_FLAG_BACKFACING)) != 0 || skip != 0;
-    OmI traced = !rejected && blend > 0.0f;
-    OmF t = 0.0f;
-    OmI fetches = 0, trace_flags = 0;
-    if (OM_ANY(traced)) t = om_trace(&ray, &f, P, traced, &fetches, &trace_flags OM_IMG_ARG);
-    // Every method returns the hit's ray parameter t: uv' is the ray's footprint there, and the
-    // LOD fade moves it toward normal mapping (blend = 1 without LOD).
-    OmF hu = ray.u - t * ray.vx, hv = ray.v - t * ray.vy;
-    hu = ray.u + blend * (hu - ray.u);
-    hv = ray.v + blend * (hv - ray.v);
-    OmF ou = hu + base_u, ov = hv + base_v;
+    g->f = om_field(heights, P, level);
+    g->f.aux = aux;
+    g->rejected =
+        (g->flags & (int)(OM_FLAG_EMPTY | OM_FLAG_INVALID | OM_FLAG_BACKFACING)) != 0 || skip != 0;
+    g->traced = !g->rejected && g->blend > 0.0f;
+}
+
+// The group's outputs from the trace's t, fetches and flags. Every method returns the hit's ray
+// parameter t: uv' is the ray's footprint there, and the LOD fade moves it toward normal mapping.
+OM_INLINE void om_lanes_end(const OmOffsetParams* P, const OmLaneGroup* g, OmF u, OmF v, OmF t,
+                            OmI fetches, OmI trace_flags, OmF* ou_out, OmF* ov_out, OmF* t_out,
+                            OmI* fetches_out, OmI* flags_out) {
+    const OmRay* ray = &g->ray;
+    OmF hu = ray->u - t * ray->vx, hv = ray->v - t * ray->vy;
+    hu = ray->u + g->blend * (hu - ray->u);
+    hv = ray->v + g->blend * (hv - ray->v);
+    OmF ou = hu + g->base_u, ov = hv + g->base_v;
     // On a non-tiling surface a ray that leaves the tile sees past the polygon's edge.
     OmI outside = P->tile_mask ? (OmI)(ou < 0.0f || ou > 1.0f || ov < 0.0f || ov > 1.0f) : (OmI)0;
-    flags |= OM_SEL(OM_SEL((OmI)OM_FLAG_LOD_FADED, (OmI)0, rejected),
-                    trace_flags | OM_SEL((OmI)0, (OmI)OM_FLAG_OUT_OF_TILE, outside), traced);
-    ou = OM_SEL(u, ou, traced);  // rejected lanes pass their G-buffer uv through (NaN included)
-    ov = OM_SEL(v, ov, traced);
-    t = OM_SEL((OmF)0.0f, t * blend, traced);
-    fetches = OM_SEL((OmI)0, fetches, traced);
-    *ou_out = ou;
-    *ov_out = ov;
-    *t_out = t;
-    *fetches_out = fetches;
-    *flags_out = flags;
+    OmI traced = g->traced;
+    *flags_out = g->flags | OM_SEL(OM_SEL((OmI)OM_FLAG_LOD_FADED, (OmI)0, g->rejected),
+                                   trace_flags | OM_SEL((OmI)0, (OmI)OM_FLAG_OUT_OF_TILE, outside),
+                                   traced);
+    *ou_out = OM_SEL(u, ou, traced);  // rejected lanes pass their G-buffer uv through (NaN included)
+    *ov_out = OM_SEL(v, ov, traced);
+    *t_out = OM_SEL((OmF)0.0f, t * g->blend, traced);
+    *fetches_out = OM_SEL((OmI)0, fetches, traced);
+}
+
+// One work-item's lanes: ray setup, LOD, the method, the LOD fade. Shared by om_offset and the
+// material frame's tile entry, so a pixel gets the same bits through either.
+OM_INLINE void om_offset_lanes(const OmOffsetParams* P, OmF u, OmF v, OmF vx, OmF vy, OmF vz,
+                               OmI skip, OmF m, __global const float* heights,
+                               __global const float* aux, OmF* ou_out, OmF* ov_out, OmF* t_out,
+                               OmI* fetches_out, OmI* flags_out OM_IMG_PARAM) {
+    OmLaneGroup g;
+    om_lanes_begin(P, u, v, vx, vy, vz, skip, m, heights, aux, &g);
+    OmF t = 0.0f;
+    OmI fetches = 0, trace_flags = 0;
+    if (OM_ANY(g.traced))
+        t = om_trace(&g.ray, &g.f, P, g.traced, &fetches, &trace_flags OM_IMG_ARG);
+    om_lanes_end(P, &g, u, v, t, fetches, trace_flags, ou_out, ov_out, t_out, fetches_out,
+                 flags_out);
 }
 
 // The G-buffer's pixels base .. base + count - 1 (count in [1, OM_LANES]) as lane planes; lanes
@@ -213,21 +240,53 @@ __kernel void om_offset(const OmOffsetParams P, __global const float2* gb_uv2,
                         __global float2* out_uv2, __global float* out_depth,
                         __global uint* out_fetches, __global uint* out_flags OM_IMG_PARAM) {
     const int n = P.pixel_count;
+#ifdef OM_LANE_PAIRS
+    const int base = (int)get_global_id(0) * 2 * OM_LANES;
+#else
     const int base = (int)get_global_id(0) * OM_LANES;
+#endif
     if (base >= n) return;
     const int count = min(OM_LANES, n - base);
     // The G-buffer is interleaved (uv: 2 floats, view: 4 per pixel): read as floats.
+    __global const float* gb_uv = (__global const float*)gb_uv2;
+    __global const float* gb_view = (__global const float*)gb_view4;
+    __global float* out_uv = (__global float*)out_uv2;
     OmF u, v, vx, vy, vz;
-    om_load_gbuffer((__global const float*)gb_uv2, (__global const float*)gb_view4, base, count, &u,
-                    &v, &vx, &vy, &vz);
+    om_load_gbuffer(gb_uv, gb_view, base, count, &u, &v, &vx, &vy, &vz);
     OmF m = 0.0f;
 #ifdef OM_LOD
     OM_LOAD_F(m, lod, base, n);
 #endif
     OmF ou, ov, t;
     OmI fetches, flags;
+#ifdef OM_LANE_PAIRS
+    // The method's two-group walk (om_trace_pair) over this work-item's 2 x OM_LANES pixels; a
+    // second group past the last pixel repeats it and stores nothing.
+    const int base_b = min(base + OM_LANES, n - 1), count_b = max(min(OM_LANES, n - base_b), 1);
+    OmF u_b, v_b, vx_b, vy_b, vz_b, m_b = 0.0f;
+    om_load_gbuffer(gb_uv, gb_view, base_b, count_b, &u_b, &v_b, &vx_b, &vy_b, &vz_b);
+#ifdef OM_LOD
+    OM_LOAD_F(m_b, lod, base_b, n);
+#endif
+    OmLaneGroup a, b;
+    om_lanes_begin(&P, u, v, vx, vy, vz, (OmI)0, m, heights, aux, &a);
+    om_lanes_begin(&P, u_b, v_b, vx_b, vy_b, vz_b, (OmI)0, m_b, heights, aux, &b);
+    OmF t_a = 0.0f, t_b = 0.0f;
+    OmI fetches_a = 0, fetches_b = 0, trace_a = 0, trace_b = 0;
+    if (OM_ANY(a.traced) || OM_ANY(b.traced))
+        om_trace_pair(&a.ray, &a.f, a.traced, &b.ray, &b.f, b.traced, &P, &t_a, &fetches_a,
+                      &trace_a, &t_b, &fetches_b, &trace_b OM_IMG_ARG);
+    om_lanes_end(&P, &a, u, v, t_a, fetches_a, trace_a, &ou, &ov, &t, &fetches, &flags);
+    om_store_lanes(out_uv, out_depth, out_fetches, out_flags, base, count, (OmI)1, ou, ov, t,
+                   fetches, flags);
+    if (base + OM_LANES >= n) return;
+    om_lanes_end(&P, &b, u_b, v_b, t_b, fetches_b, trace_b, &ou, &ov, &t, &fetches, &flags);
+    om_store_lanes(out_uv, out_depth, out_fetches, out_flags, base_b, count_b, (OmI)1, ou, ov, t,
+                   fetches, flags);
+#else
     om_offset_lanes(&P, u, v, vx, vy, vz, (OmI)0, m, heights, aux, &ou, &ov, &t, &fetches,
                     &flags OM_IMG_ARG);
-    om_store_lanes((__global float*)out_uv2, out_depth, out_fetches, out_flags, base, count, (OmI)1,
-                   ou, ov, t, fetches, flags);
+    om_store_lanes(out_uv, out_depth, out_fetches, out_flags, base, count, (OmI)1, ou, ov, t,
+                   fetches, flags);
+#endif
 }

@@ -13,8 +13,10 @@
 namespace omtest {
 namespace {
 
-GBuffer mixed_scene() {
-    GBuffer gb = make_scene(RandomScene{37, 7, 99, 0.5, 90.0});  // 259 pixels: 16 x 16 + 3
+// 259 pixels by default: 16 x 16 + 3, so the last work-item holds 3 pixels (and with lane pairs,
+// no second group); 25 x 11 = 275 = 32 x 8 + 19 leaves a second group of 3.
+GBuffer mixed_scene(int width = 37, int height = 7) {
+    GBuffer gb = make_scene(RandomScene{width, height, 99, 0.5, 90.0});
     const float nan = std::numeric_limits<float>::quiet_NaN(),
                 inf = std::numeric_limits<float>::infinity();
     const float bad[][5] = {{nan, 0.5f, 0, 0, 1},      {0.5f, 0.5f, inf, 0, 1},
@@ -47,6 +49,8 @@ OffsetResult run_with_lanes(int lanes, const std::string& method, const HeightMa
     DeviceGBuffer g = upload(*rt, gb);
     OffsetPass pass(rt, method);
     EXPECT_EQ(pass.lanes(), lanes) << method;
+    EXPECT_EQ(pass.pixels_per_item(), lanes * (lanes > 1 && pass.method().lane_pairs ? 2 : 1))
+        << method;
     return run_offset(*rt, pass, g, f, s, 1);
 }
 
@@ -96,7 +100,7 @@ TEST(Lanes, RowsReadAsPairsGiveTheSameFrameOnMapsOfAnySize) {
     std::mt19937 rng(23);
     HeightMap map =
         make_map(48, 40, [&rng](int, int) { return static_cast<float>((rng() >> 8) * 0x1.0p-24); });
-    GBuffer gb = mixed_scene();
+    GBuffer gb = mixed_scene(25, 11);
     PassSettings wrap, clamp;
     wrap.scale = clamp.scale = 0.2f;
     clamp.address = AddressMode::Clamp;

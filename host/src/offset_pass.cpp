@@ -30,6 +30,7 @@ OffsetPass::OffsetPass(std::shared_ptr<Runtime> runtime, const MethodParams& par
     if (!method_ || params_.values.size() != method_->params.size())
         throw Error("the offset pass needs resolved method parameters (resolve_params)");
     lanes_ = runtime_->lanes();
+    groups_ = lanes_ > 1 && method_->lane_pairs ? 2 : 1;
     // Compile now (the tools' usual outputs), so a method's build errors surface here.
     kernel(false, true, true, true, runtime_->images());
 }
@@ -37,6 +38,7 @@ OffsetPass::OffsetPass(std::shared_ptr<Runtime> runtime, const MethodParams& par
 cl::Kernel& OffsetPass::kernel(bool lod, bool depth, bool fetches, bool flags, bool images) {
     // One program per combination actually used: each drops the branches it does not need.
     std::string defines = lanes_ > 1 ? "#define OM_LANES " + std::to_string(lanes_) + "\n" : "";
+    if (groups_ == 2) defines += "#define OM_LANE_PAIRS\n";
     if (images) defines += "#define OM_IMAGES\n";
     if (lod) defines += "#define OM_LOD\n";
     if (depth) defines += "#define OM_OUT_DEPTH\n";
@@ -179,8 +181,9 @@ cl::Event OffsetPass::launch(const DeviceGBuffer& g, const DeviceHeightField& f,
             }
         }
         set_optional(k, 5, lod);
+        const size_t per_item = static_cast<size_t>(pixels_per_item());
         const cl::NDRange global =
-            no_pixels ? cl::NDRange(kLocalSize) : padded((g.pixels() + lanes_ - 1) / lanes_);
+            no_pixels ? cl::NDRange(kLocalSize) : padded((g.pixels() + per_item - 1) / per_item);
         queue.enqueueNDRangeKernel(k, cl::NullRange, global, cl::NDRange(kLocalSize), &deps,
                                    &event);
     } catch (const cl::Error& e) {

@@ -54,7 +54,9 @@ class OffsetPass {
 
     const MethodInfo& method() const { return *method_; }
     const MethodParams& params() const { return params_; }
-    int lanes() const { return lanes_; }  // pixels per work-item
+    int lanes() const { return lanes_; }  // pixels per group of lanes
+    // Pixels per work-item: two groups of lanes for a method with lane pairs, else one.
+    int pixels_per_item() const { return lanes_ * groups_; }
 
     // The method's precomputed data for the last field it ran on (bytes 0 when it needs none),
     // and the kernel time its build took (from profiling events: 0 without a profiling queue;
@@ -95,7 +97,8 @@ class OffsetPass {
     const MethodInfo* method_;
     MethodParams params_;
     std::map<std::string, cl::Kernel> kernels_;
-    int lanes_ = 1;  // pixels per work-item (the runtime's)
+    int lanes_ = 1;   // pixels per group of lanes (the runtime's)
+    int groups_ = 1;  // groups of lanes per work-item
     cl::Image1DBuffer heights_image_;
     cl_mem image_of_ = nullptr;  // the height buffer heights_image_ views
     cl::Buffer aux_;

@@ -65,6 +65,10 @@ struct MethodInfo {
     // parameters, or < 0 for the cell walks, bounded by the cells the ray crosses instead
     // (tests/support.hpp derives that from the ray).
     double (*fetch_cap)(const MethodParams& params) = nullptr;
+    // The kernel file also defines om_trace_pair, two groups of lanes walked in one loop: on a
+    // device with lanes a work-item then takes two groups, so that one group's dependent reads
+    // overlap the other's work (worth it for walks whose every step waits on its last read).
+    bool lane_pairs = false;
 };
 
 // The named methods in registry order (every method when `names` is empty); throws Error for an
