@@ -133,7 +133,8 @@ const std::vector<MethodInfo>& methods() {
           {{"res", "256"}, {"layers", "32"}, {"steps", "64"}, {"cells", "0"}},
           {{"res", "512"}, {"layers", "64"}, {"steps", "128"}, {"cells", "0"}},
           {{"res", "256"}, {"layers", "32"}, {"steps", "64"}}},
-         cap_sphere},
+         cap_sphere,
+         true},
         {"secant",
          "secant.cl",
          "pom's linear search, then secant refinement (regula falsi, Illinois) to a tolerance",
@@ -185,7 +186,8 @@ const std::vector<MethodInfo>& methods() {
          {},
          nullptr,
          {},
-         cap_cells},
+         cap_cells,
+         true},
     };
     return table;
 }
