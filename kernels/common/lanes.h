@@ -110,6 +110,17 @@ typedef int16 OmI;
 // 1 where the mask is set, else 0 (for counting), with either mask convention.
 #define OM_ONE(m) ((m)&1)
 
+// A method's om_trace_pair loop: two groups of lanes advanced by turns, for at most `rounds`
+// rounds, each group while `more_a` / `more_b` (its lanes not done) holds, until neither does.
+// Each group takes the steps its own om_trace would, so the frame does not change.
+#define OM_PAIR_LOOP(rounds, more_a, step_a, more_b, step_b) \
+    for (int round_ = 0; round_ < (rounds); ++round_) {      \
+        const int a_ = (more_a), b_ = (more_b);              \
+        if (!a_ && !b_) break;                               \
+        if (a_) step_a;                                      \
+        if (b_) step_b;                                      \
+    }
+
 // Pairs of neighbouring floats (p[i], p[i + 1]) per lane in 64-bit gathers: a bilinear patch's
 // row is such a pair, and AVX-512 gathers cost per element, so two gathers of 8 pairs replace two
 // gathers of 16 floats. Clang's gather builtin on PoCL's CPU target (one flat address space), with

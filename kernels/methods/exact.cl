@@ -54,12 +54,8 @@ OM_INLINE void om_trace_pair(const OmRay* ra, const OmField* fa, OmI active_a, c
     OmExactWalk a, b;
     om_exact_begin(ra, fa, active_a, &a);
     om_exact_begin(rb, fb, active_b, &b);
-    for (int n = 0; n < P->max_cells; ++n) {
-        int walk_a = OM_ANY(!a.done), walk_b = OM_ANY(!b.done);
-        if (!walk_a && !walk_b) break;
-        if (walk_a) om_exact_step(ra, fa, &a, fetches_a OM_IMG_ARG);
-        if (walk_b) om_exact_step(rb, fb, &b, fetches_b OM_IMG_ARG);
-    }
+    OM_PAIR_LOOP(P->max_cells, OM_ANY(!a.done), om_exact_step(ra, fa, &a, fetches_a OM_IMG_ARG),
+                 OM_ANY(!b.done), om_exact_step(rb, fb, &b, fetches_b OM_IMG_ARG));
     *flags_a |= OM_SEL((OmI)0, (OmI)OM_FLAG_CAPPED, !a.done);
     *flags_b |= OM_SEL((OmI)0, (OmI)OM_FLAG_CAPPED, !b.done);
     *ta = a.hit_t;

@@ -164,12 +164,8 @@ OM_INLINE void om_trace_pair(const OmRay* ra, const OmField* fa, OmI active_a, c
     OmSphereMarch a, b;
     om_sphere_begin(ra, fa, P, active_a, &a);
     om_sphere_begin(rb, fb, P, active_b, &b);
-    for (;;) {
-        int march_a = OM_ANY(!a.done), march_b = OM_ANY(!b.done);
-        if (!march_a && !march_b) break;
-        if (march_a) om_sphere_step(ra, fa, P, &a, fetches_a OM_IMG_ARG);
-        if (march_b) om_sphere_step(rb, fb, P, &b, fetches_b OM_IMG_ARG);
-    }
+    OM_PAIR_LOOP(INT_MAX, OM_ANY(!a.done), om_sphere_step(ra, fa, P, &a, fetches_a OM_IMG_ARG),
+                 OM_ANY(!b.done), om_sphere_step(rb, fb, P, &b, fetches_b OM_IMG_ARG));
     *flags_a |= a.flags;
     *flags_b |= b.flags;
     *ta = OM_SEL(a.t, a.hit_t, a.hit);
