@@ -15,8 +15,8 @@
 // less than a texel at the pixel's level cannot show parallax.
 //
 // Specialised at build time (the host sets these from the pass, one program each): OM_LANES,
-// OM_LANE_PAIRS, OM_IMAGES, OM_LOD when the LOD system is on, OM_OUT_DEPTH / OM_OUT_FETCHES / OM_OUT_FLAGS for the
-// optional outputs bound.
+// OM_LANE_PAIRS, OM_IMAGES, OM_LOD when the LOD system is on, OM_OUT_DEPTH / OM_OUT_FETCHES /
+// OM_OUT_FLAGS for the optional outputs bound.
 
 // The lod plane's lanes base .. base + OM_LANES - 1; the last work-item may hold fewer than
 // OM_LANES pixels: its loads repeat the last pixel.
@@ -129,7 +129,8 @@ OM_INLINE void om_lanes_end(const OmOffsetParams* P, const OmLaneGroup* g, OmF u
     *flags_out = g->flags | OM_SEL(OM_SEL((OmI)OM_FLAG_LOD_FADED, (OmI)0, g->rejected),
                                    trace_flags | OM_SEL((OmI)0, (OmI)OM_FLAG_OUT_OF_TILE, outside),
                                    traced);
-    *ou_out = OM_SEL(u, ou, traced);  // rejected lanes pass their G-buffer uv through (NaN included)
+    // Rejected lanes pass their G-buffer uv through (NaN included).
+    *ou_out = OM_SEL(u, ou, traced);
     *ov_out = OM_SEL(v, ov, traced);
     *t_out = OM_SEL((OmF)0.0f, t * g->blend, traced);
     *fetches_out = OM_SEL((OmI)0, fetches, traced);

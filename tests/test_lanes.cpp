@@ -92,6 +92,28 @@ TEST(Lanes, EveryLaneCountAndTheImagePathGiveTheSameFrame) {
     }
 }
 
+TEST(Lanes, TwoGroupsPerWorkItemGiveTheSameFrame) {
+    // The methods whose work-items walk two groups of lanes (lane_pairs), against one pixel per
+    // work-item: wrap, and clamp with footprint LOD (each group's lanes at their own levels), on
+    // 275 pixels, so the last work-item's second group holds 3.
+    HeightMap map = noisy_map(48, 29);
+    GBuffer gb = mixed_scene(25, 11);
+    PassSettings wrap, other;
+    wrap.scale = other.scale = 0.1f;
+    other.lod.enabled = other.lod.footprint = true;
+    other.address = AddressMode::Clamp;
+    int paired = 0;
+    for (const auto& name : method_names()) {
+        if (!find_method(name).lane_pairs) continue;
+        ++paired;
+        for (const PassSettings* s : {&wrap, &other})
+            expect_same_frame(run_with_lanes(16, name, map, gb, *s),
+                              run_with_lanes(1, name, map, gb, *s), gb.pixels(),
+                              name + (s == &wrap ? " wrap" : " clamp, LOD"));
+    }
+    EXPECT_GE(paired, 3);  // cone, exact, sphere
+}
+
 TEST(Lanes, RowsReadAsPairsGiveTheSameFrameOnMapsOfAnySize) {
     // On a CPU, lanes read a patch row as one 64-bit pair unless a lane's row wraps or is clamped
     // at the map's edge (kernels/common/lanes.h). Sizes that are not powers of two take the other

@@ -1,7 +1,8 @@
 // Lanes: every method (methods/*.cl, each defining om_trace) is written
 // once over OmF / OmI, which are float / int when OM_LANES is 1 (one pixel per work-item: GPUs,
 // the C++ peer) and float8 / float16 (8 or 16 consecutive pixels per work-item) on a CPU, where
-// the compiler then keeps every pixel of a work-item in one SIMD register (docs/design.md, "Why": PoCL does not vectorise data-dependent loops across work-items by itself).
+// the compiler then keeps every pixel of a work-item in one SIMD register (docs/design.md, "Why":
+// PoCL does not vectorise data-dependent loops across work-items by itself).
 // Masks (comparison results) are OmI: 1 / 0 as scalars, -1 / 0 as vectors; use the macros below,
 // which work with either.
 #ifndef OM_LANES
