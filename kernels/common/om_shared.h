@@ -78,11 +78,13 @@ static inline int om_maxmip_levels(int width, int height, int address_mode) {
 #define OM_CONE_C_SCALE 2047.0f
 #define OM_CONE_TILE 32
 static inline int om_cone_tiles(int size) { return (size + OM_CONE_TILE - 1) / OM_CONE_TILE; }
-static inline float om_cone_hc(om_uint q) {
-    return (float)(q & 0xffffu) * (1.0f / OM_CONE_HC_SCALE);
-}
+// The decoding, once for the build's check, the host and the method's lanes: a half-word already
+// converted to float (or to lanes of floats) gives the maximum, or the cone ratio's square root.
+#define OM_CONE_HC_OF(qh) ((qh) * (1.0f / OM_CONE_HC_SCALE))
+#define OM_CONE_ROOT_OF(qc) ((qc) * (1.0f / OM_CONE_C_SCALE))
+static inline float om_cone_hc(om_uint q) { return OM_CONE_HC_OF((float)(q & 0xffffu)); }
 static inline float om_cone_ratio(om_uint q) {
-    const float r = (float)(q >> 16) * (1.0f / OM_CONE_C_SCALE);
+    const float r = OM_CONE_ROOT_OF((float)(q >> 16));
     return r * r;
 }
 // Cell (i, j)'s word, for scalars or lane vectors; tiles_x = om_cone_tiles(width).

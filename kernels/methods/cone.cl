@@ -19,16 +19,16 @@
 // one cone fetch per step plus one patch per cell the ray dips below its cell maximum.
 
 // Each lane's cell maximum and cone ratio (clamp: cells off the map have no cone, their maximum
-// from the patch itself): its word of the packed, tiled cone map, decoded as om_cone_hc and
-// om_cone_ratio do (om_shared.h); tiles_x is the map's tiles per row.
+// from the patch itself): its word of the packed, tiled cone map, decoded by the same macros as
+// om_cone_hc and om_cone_ratio (om_shared.h); tiles_x is the map's tiles per row.
 OM_INLINE void om_cone_cell(const OmField* f, int tiles_x, OmI i, OmI j, OmF* hc,
                             OmF* c OM_IMG_PARAM) {
     OmI i0, i1, j0, j1;
     om_patch_address(f, i, j, &i0, &i1, &j0, &j1);  // the cell's own texel, after the address mode
     OmI outside = f->wrap ? (OmI)0 : (OmI)(i != i0 || j != j0);
     OmI q = OM_AS_INT(OM_GATHER(f->aux, OM_CONE_INDEX(i0, j0, tiles_x)));
-    *hc = OM_TO_FLOAT(q & 0xffff) * (1.0f / OM_CONE_HC_SCALE);
-    OmF root = OM_TO_FLOAT((q >> 16) & 0xffff) * (1.0f / OM_CONE_C_SCALE);
+    *hc = OM_CONE_HC_OF(OM_TO_FLOAT(q & 0xffff));
+    OmF root = OM_CONE_ROOT_OF(OM_TO_FLOAT((q >> 16) & 0xffff));
     *c = OM_SEL(root * root, 0.0f, outside);
     if (OM_ANY(outside)) {
         OmF k00, k10, k01, k11;
