@@ -105,6 +105,7 @@ struct Bench {
     OmOffsetParams params_for(const DeviceHeightField& f, int pixels) {
         OmOffsetParams p = offset_params(PassSettings{}, pixels, f.width, f.height);
         p.mip_levels = f.mip_levels;
+        p.packed_heights = packed_heights_offset(f);  // the roofs read what the methods read
         return p;
     }
 
@@ -497,13 +498,15 @@ int main(int argc, char** argv) {
         b.out["local_size"] = 64;
         b.out["lanes"] = b.rt->lanes();
         b.out["heights_path"] = b.rt->images() ? "images" : "buffers";
+        // The bench maps hold 16-bit heights: words wherever the reads go through buffers.
+        b.out["height_storage"] = b.rt->images() ? "float" : "unorm16";
         b.out["quick"] = quick;
         std::printf(
             "offsetmap_bench on %s\n  driver %s, %s, %u compute units, kernels built with "
             "-cl-std=CL1.2, local size 64, lane methods %d pixels per work-item, heights via %s\n",
             b.rt->device_name().c_str(), b.out["driver"].get<std::string>().c_str(),
             b.out["opencl"].get<std::string>().c_str(), d.getInfo<CL_DEVICE_MAX_COMPUTE_UNITS>(),
-            b.rt->lanes(), b.rt->images() ? "images" : "buffers");
+            b.rt->lanes(), b.rt->images() ? "images (floats)" : "buffers (unorm16 words)");
 
         const std::vector<Resolution> all_res = {
             {"720p", 1280, 720}, {"1080p", 1920, 1080}, {"4K", 3840, 2160}};

@@ -66,7 +66,8 @@ inline std::vector<Timing> time_interleaved(const std::vector<std::function<cl::
 }
 
 // Several octaves of tiling sines: smooth at large scale, detailed at texel scale, so the access
-// pattern of a march is realistic for any size.
+// pattern of a march is realistic for any size. Rounded to 16 bits, as a height texture an engine
+// ships holds it (R16 / unorm16), so uploads keep it as unorm16 words (HeightStorage::Auto).
 inline HeightMap bench_map(int n) {
     HeightMap m;
     m.width = m.height = n;
@@ -78,7 +79,8 @@ inline HeightMap bench_map(int n) {
                 double f = std::pow(2.0, k + 1), a = 0.22 / (k + 1);
                 h += a * std::sin(2 * M_PI * f * u + k) * std::sin(2 * M_PI * (f + 1) * v + 2 * k);
             }
-            m.h[static_cast<size_t>(j) * n + i] = static_cast<float>(std::clamp(h, 0.0, 1.0));
+            const double code = std::floor(std::clamp(h, 0.0, 1.0) * 65535.0 + 0.5);
+            m.h[static_cast<size_t>(j) * n + i] = static_cast<float>(code) * OM_UNORM16_STEP;
         }
     return m;
 }

@@ -16,6 +16,7 @@ TEST(KernelBuild, EveryProgramBuildsWithoutWarnings) {
     }
     ShadePass shade(rt);
     rt->program({"prep/mips.cl"});
+    rt->program({"prep/unorm16.cl"});
     rt->program({"prep/footprint.cl"});
     rt->program(sampling_program_files("prep/normals.cl"));
     // The reconstruct pass's forms (its defines, as ReconstructPass::kernel writes them) and the

@@ -37,6 +37,7 @@ std::vector<TableRow> table_rows() {
     rows.push_back({2, "cone", {}, cliff_map(32), c});
     PassSettings d;
     d.grazing = GrazingPolicy::Limit;
+    d.heights = HeightStorage::Unorm16;  // the field's words gathered with its floats
     rows.push_back({9, "relief", {}, noisy_map(48), d, true});
     // A second cone material: the method's precomputed data gathered from two maps.
     PassSettings e;

@@ -40,6 +40,7 @@ struct ReliefOptions {
     int channel = 0;
     PassSettings pass;
     std::string address = "wrap";
+    std::string height_storage = "auto";
     std::string grazing = "clamp";
     std::vector<float> lod_fade_texels;  // footprint LOD: low high
     std::string device;

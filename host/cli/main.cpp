@@ -89,9 +89,10 @@ int render(const ReliefOptions& relief, const ShadingOptions& shading, const Sce
             req.method.c_str(), rt->device_name().c_str(), gb.width, gb.height,
             result.median_kernel_ms());
     else
-        std::printf("%s on %s: %dx%d pixels, %zu traced, %.2f fetches/pixel, kernel %.3f ms\n",
-                    req.method.c_str(), rt->device_name().c_str(), gb.width, gb.height, traced_n,
-                    mean_fetches(result), result.median_kernel_ms());
+        std::printf(
+            "%s on %s: %dx%d pixels, %zu traced, %.2f fetches/pixel, kernel %.3f ms, %s heights\n",
+            req.method.c_str(), rt->device_name().c_str(), gb.width, gb.height, traced_n,
+            mean_fetches(result), result.median_kernel_ms(), field.packed ? "unorm16" : "float");
 
     if (!req.uv_out.empty()) write_uv_exr(req.uv_out, result);
     if (!req.color_out.empty()) {

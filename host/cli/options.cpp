@@ -51,6 +51,11 @@ void ReliefOptions::add_to(CLI::App& app, MapOption map, bool scale) {
     app.add_option("--address", address, "height addressing")
         ->check(CLI::IsMember({"wrap", "clamp"}))
         ->capture_default_str();
+    app.add_option("--height-storage", height_storage,
+                   "heights as float, unorm16 (rounded to 1/65535, faster reads), or auto (unorm16 "
+                   "where that loses nothing: 8- and 16-bit maps)")
+        ->check(CLI::IsMember({"auto", "float", "unorm16"}))
+        ->capture_default_str();
     app.add_option("--device", device, "OpenCL platform/device name substring ($OFFSETMAP_DEVICE)");
 }
 
@@ -63,6 +68,9 @@ PassSettings ReliefOptions::settings() const {
         s.lod.fade_texels_lo = lod_fade_texels[0];
         s.lod.fade_texels_hi = lod_fade_texels[1];
     }
+    s.heights = height_storage == "float"     ? HeightStorage::Float
+                : height_storage == "unorm16" ? HeightStorage::Unorm16
+                                              : HeightStorage::Auto;
     s.grazing = grazing == "limit" ? GrazingPolicy::Limit
                 : grazing == "cap" ? GrazingPolicy::Cap
                                    : GrazingPolicy::Clamp;

@@ -2,6 +2,7 @@
 #include "offsetmap/height_field.hpp"
 
 #include <algorithm>
+#include <cmath>
 
 #include "launch.hpp"
 #include "offsetmap/registry.hpp"
@@ -29,6 +30,56 @@ std::vector<cl::Event> build_mips(Runtime& rt, DeviceHeightField& f, std::vector
     return after;
 }
 
+// HeightStorage::Unorm16 after `after`: the pyramid rounded, then each level's words packed.
+std::vector<cl::Event> pack_unorm16(Runtime& rt, DeviceHeightField& f,
+                                    std::vector<cl::Event> after) {
+    if (!f.packed) return after;
+    const cl::Program& program = rt.program({"prep/unorm16.cl"});
+    const int words = static_cast<int>(mip_pyramid_floats(f.width, f.height, f.mip_levels));
+    cl::Kernel round(program, "om_round_heights");
+    set_args(round, f.heights, words);
+    cl::Event rounded;
+    rt.queue().enqueueNDRangeKernel(round, cl::NullRange, cl::NDRange(words), cl::NullRange, &after,
+                                    &rounded);
+    cl::Kernel pack(program, "om_pack_heights");
+    std::vector<cl::Event> done;
+    int w = f.width, h = f.height, offset = 0;
+    for (int level = 0; level < f.mip_levels; ++level) {
+        set_args(pack, f.heights, words, offset, w, h);
+        std::vector<cl::Event> wait = {rounded};
+        cl::Event packed;
+        rt.queue().enqueueNDRangeKernel(pack, cl::NullRange, cl::NDRange(w, h), cl::NullRange,
+                                        &wait, &packed);
+        done.push_back(packed);
+        offset += w * h;
+        w = std::max(1, w / 2);
+        h = std::max(1, h / 2);
+    }
+    return done;
+}
+
+// Whether rounding level 0 to unorm16 loses nothing: every height within a float's rounding (2^-24,
+// the spacing of floats just below 1) of the multiple of 1/65535 it rounds to. 16-bit files read
+// as themselves; 8-bit ones (c / 255 = 257 c / 65535, converted in one rounding) within that.
+bool holds_unorm16(const HeightMap& map) {
+    for (float h : map.h) {
+        const float q = std::floor(h * 65535.0f + 0.5f) * OM_UNORM16_STEP;
+        if (!(std::fabs(h - q) <= 0x1p-24f)) return false;
+    }
+    return true;
+}
+
+// The same for heights in the caller's memory, by their format: unorm8 or unorm16 values (the
+// import's c / 65535 is within a float's rounding of the product the words decode to).
+bool at_most_16_bits(const DeviceHeights& d) {
+    if (d.texels.image()) {
+        const cl_channel_type t =
+            d.texels.image.getImageInfo<CL_IMAGE_FORMAT>().image_channel_data_type;
+        return t == CL_UNORM_INT8 || t == CL_UNORM_INT16;
+    }
+    return d.texels.storage == Storage::Unorm8 || d.texels.storage == Storage::Unorm16;
+}
+
 }  // namespace
 
 int mip_level_count(int width, int height) {
@@ -51,10 +102,19 @@ size_t mip_pyramid_floats(int width, int height, int levels) {
     return total;
 }
 
+size_t height_buffer_bytes(const DeviceHeightField& f) {
+    return mip_pyramid_floats(f.width, f.height, f.mip_levels) * (f.packed ? 2 : 1) * sizeof(float);
+}
+
+int packed_heights_offset(const DeviceHeightField& f) {
+    return f.packed ? static_cast<int>(mip_pyramid_floats(f.width, f.height, f.mip_levels)) : 0;
+}
+
 namespace {
 
 // A field of width x height with its pyramid allocated, level 0 still to fill.
-DeviceHeightField allocate_field(Runtime& rt, int width, int height, const Image4* normal_map) {
+DeviceHeightField allocate_field(Runtime& rt, int width, int height, const Image4* normal_map,
+                                 bool packed) {
     if (normal_map && (normal_map->width != width || normal_map->height != height))
         throw Error("normal map is " + std::to_string(normal_map->width) + "x" +
                     std::to_string(normal_map->height) + " but the height map is " +
@@ -63,20 +123,21 @@ DeviceHeightField allocate_field(Runtime& rt, int width, int height, const Image
     f.width = width;
     f.height = height;
     f.mip_levels = mip_level_count(width, height);
+    f.packed = packed;
     f.heights = device_buffer(
-        rt.context(), CL_MEM_READ_WRITE,
-        mip_pyramid_floats(width, height, f.mip_levels) * sizeof(float),
+        rt.context(), CL_MEM_READ_WRITE, height_buffer_bytes(f),
         "the " + std::to_string(width) + "x" + std::to_string(height) + " height pyramid");
     return f;
 }
 
-// Everything after level 0 (`filled`): the mips, the normals (derived, or the normal map's), and
-// the field's `ready` marker.
+// Everything after level 0 (`filled`): the mips, the unorm16 rounding and words, the normals
+// (derived from the heights the passes read, or the normal map's), and the field's `ready` marker.
 void finish_field(Runtime& rt, DeviceHeightField& f, const PassSettings& settings,
                   const Image4* normal_map, const cl::Event& filled) {
     const size_t n = static_cast<size_t>(f.width) * f.height;
     const std::string size = std::to_string(f.width) + "x" + std::to_string(f.height);
-    std::vector<cl::Event> done = build_mips(rt, f, {filled});
+    std::vector<cl::Event> done = pack_unorm16(rt, f, build_mips(rt, f, {filled}));
+    const std::vector<cl::Event> heights_done = f.packed ? done : std::vector<cl::Event>{filled};
     if (normal_map) {
         f.normals = device_buffer(rt.context(), CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR,
                                   n * sizeof(cl_float4), "the " + size + " normal map",
@@ -86,10 +147,9 @@ void finish_field(Runtime& rt, DeviceHeightField& f, const PassSettings& setting
                                   "the " + size + " normals");
         cl::Kernel k(rt.program(sampling_program_files("prep/normals.cl")), "om_normals");
         set_args(k, offset_params(settings, 0, f.width, f.height), f.heights, f.normals);
-        std::vector<cl::Event> after_fill = {filled};
         cl::Event normals;
         rt.queue().enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(f.width, f.height),
-                                        cl::NullRange, &after_fill, &normals);
+                                        cl::NullRange, &heights_done, &normals);
         done.push_back(normals);
     }
     rt.queue().enqueueMarkerWithWaitList(&done, &f.ready);
@@ -103,7 +163,9 @@ DeviceHeightField upload(Runtime& rt, const HeightMap& map, const PassSettings& 
                          const Image4* normal_map, const std::vector<cl::Event>& wait) {
     validate_height_map(map, "height map");
     validate(settings);
-    DeviceHeightField f = allocate_field(rt, map.width, map.height, normal_map);
+    const bool packed = settings.heights == HeightStorage::Unorm16 ||
+                        (settings.heights == HeightStorage::Auto && holds_unorm16(map));
+    DeviceHeightField f = allocate_field(rt, map.width, map.height, normal_map, packed);
     // Level 0 through a buffer that copies the host data as it is created, so the caller's map
     // may go at once; the device copy into the pyramid is enqueued like the rest.
     const size_t n = map.h.size();
@@ -126,7 +188,10 @@ DeviceHeightField upload(Runtime& rt, const DeviceHeights& heights, const PassSe
         throw Error("the device heights are " + std::to_string(w) + "x" + std::to_string(h) +
                     "; a height map has 1 to " + std::to_string(kMaxHeightTexels) + " texels");
     check_input(rt.context(), heights.texels, "the device heights", 1, w, h);
-    DeviceHeightField f = allocate_field(rt, w, h, normal_map);
+    DeviceHeightField f =
+        allocate_field(rt, w, h, normal_map,
+                       settings.heights == HeightStorage::Unorm16 ||
+                           (settings.heights == HeightStorage::Auto && at_most_16_bits(heights)));
     cl::Event copied;
     const Input texels = readable_input(rt, heights.texels, w, h, rt.queue(), wait, copied);
     const bool image = texels.image() != nullptr;

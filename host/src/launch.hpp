@@ -125,8 +125,9 @@ inline void check_field(const cl::Context& context, const DeviceHeightField& f,
                     std::to_string(f.width) + "x" + std::to_string(f.height) + " field has 1 to " +
                     std::to_string(mip_level_count(f.width, f.height)));
     check_buffer(context, f.heights,
-                 {"the height field's heights buffer", "float", sizeof(float),
-                  mip_pyramid_floats(f.width, f.height, f.mip_levels)});
+                 {f.packed ? "the height field's heights buffer (floats and unorm16 words)"
+                           : "the height field's heights buffer",
+                  "float", sizeof(float), height_buffer_bytes(f) / sizeof(float)});
     const size_t texels = static_cast<size_t>(f.width) * f.height;
     check_buffer(context, f.normals,
                  {"the height field's normals buffer", "float4", sizeof(cl_float4), texels, false,

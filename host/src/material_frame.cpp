@@ -100,7 +100,7 @@ MaterialFrame::MaterialFrame(std::shared_ptr<Runtime> runtime, std::vector<Frame
         slots_[s].method = static_cast<int>(it - methods_.begin());
         const DeviceHeightField& f = m.field;
         heights_at[s] = heights_total;
-        heights_total += aligned(mip_pyramid_floats(f.width, f.height, f.mip_levels), 16);
+        heights_total += aligned(height_buffer_bytes(f) / sizeof(float), 16);
         normals_at[s] = normals_total;
         normals_total += aligned(static_cast<size_t>(f.width) * f.height, 4);
         albedo_at[s] = albedo_total;
@@ -117,6 +117,7 @@ MaterialFrame::MaterialFrame(std::shared_ptr<Runtime> runtime, std::vector<Frame
         OmMaterialSlot& slot = slots_[s];
         slot.P = offset_params(m.settings, 0, f.width, f.height);
         slot.P.mip_levels = f.mip_levels;
+        slot.P.packed_heights = packed_heights_offset(f);
         std::copy(m.params.values.begin(), m.params.values.end(), slot.P.p);
         slot.id = m.id;
         slot.heights_offset = element_offset(heights_at[s], "reliefs");
@@ -139,9 +140,8 @@ MaterialFrame::MaterialFrame(std::shared_ptr<Runtime> runtime, std::vector<Frame
             const DeviceHeightField& f = m.field;
             const std::vector<cl::Event> ready = field_ready(f);
             const size_t texels = static_cast<size_t>(f.width) * f.height;
-            gather(f.heights, mip_pyramid_floats(f.width, f.height, f.mip_levels) * sizeof(float),
-                   heights_, heights_total * sizeof(float), heights_at[s] * sizeof(float), ready,
-                   "the material table's reliefs");
+            gather(f.heights, height_buffer_bytes(f), heights_, heights_total * sizeof(float),
+                   heights_at[s] * sizeof(float), ready, "the material table's reliefs");
             gather(f.normals, texels * sizeof(cl_float4), normals_,
                    normals_total * sizeof(cl_float4), normals_at[s] * sizeof(cl_float4), ready,
                    "the material table's normals");

@@ -149,6 +149,7 @@ cl::Event OffsetPass::launch(const DeviceGBuffer& g, const DeviceHeightField& f,
     OmOffsetParams p =
         offset_params(settings, no_pixels ? 0 : static_cast<int>(g.pixels()), f.width, f.height);
     p.mip_levels = f.mip_levels;
+    p.packed_heights = packed_heights_offset(f);
     std::copy(params_.values.begin(), params_.values.end(), p.p);
     // The image path where the runtime wants it and the pyramid fits an image1d_buffer.
     const bool images = runtime_->images() && heights_image(f)() != nullptr;

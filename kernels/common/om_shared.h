@@ -100,6 +100,8 @@ enum class GrazingPolicy : om_int {
     Limit = OM_GRAZING_LIMIT,
     Cap = OM_GRAZING_CAP
 };
+// How upload() keeps a field's heights for the passes (PassSettings::heights).
+enum class HeightStorage : om_int { Auto, Float, Unorm16 };
 enum class ShadowMode : om_int {
     None = OM_SHADOW_NONE,
     Hard = OM_SHADOW_HARD,
@@ -126,7 +128,9 @@ typedef struct {
     om_int lod_footprint;     // LOD mode: steps from the texels crossed, fade over a texel range
     om_float lod_fade_lo;     // footprint mode: texels crossed at which the effect is gone
     om_float lod_fade_hi;     // footprint mode: texels crossed from which it is whole
-    om_int pad3;
+    // 0, or where the heights' packed unorm16 words start (in words after the height pointer):
+    // one per texel of every level, texel (i, j) low and (i, j + 1) high (HeightStorage::Unorm16).
+    om_int packed_heights;
     om_float p[OM_MAX_METHOD_PARAMS];  // method parameters: read with OM_PARAM(P, name)
 } OmOffsetParams;
 
@@ -157,6 +161,10 @@ typedef struct {
     om_float row0_ndc_y;    // NDC y of pixel row 0's edge: +1 (D3D) or -1 (GL, Vulkan)
     om_float light_vec[3];  // world direction toward the light (unit), or its position
 } OmReconstructParams;
+
+// A unorm16 height's value, as OpenImageIO converts 16-bit files (a product, not c / 65535: the
+// two differ in the last bit for 512 of the 65536 values), so a 16-bit map rounds to itself.
+#define OM_UNORM16_STEP (1.0f / 65535.0f)
 
 // Dimensions of mip level k of a W x H map: each level halves (rounding down, at least 1).
 #define OM_MAX_MIP_LEVELS 16

@@ -14,6 +14,9 @@ typedef struct {
     // The method's precomputed data, or NULL: sphere's distance map, maxmip's pyramid of maxima
     // or cone's cone map (the registry row names it).
     __global const float* aux;
+    // The heights' unorm16 words (DeviceHeightField::packed), or NULL: a patch's two words (i, j)
+    // and (i + 1, j) hold its four corners.
+    __global const uint* packed;
 } OmField;
 
 // The field at each lane's mip level, clamped to the levels present. Level k is max(1, W >> k) x
@@ -33,6 +36,7 @@ OM_INLINE OmField om_field(__global const float* heights, const OmOffsetParams* 
         h = OM_SEL(h, max(h / 2, 1), below);
     }
     f.aux = 0;
+    f.packed = P->packed_heights ? (__global const uint*)(heights + P->packed_heights) : 0;
     f.level = level;
     f.offset = offset;
     f.width = w;
@@ -109,6 +113,26 @@ OM_INLINE OmF om_texel(const OmField* f, OmI i, OmI j OM_IMG_PARAM) {
     return OM_HEIGHTS(f->heights, f->offset + j0 * f->width + i0);
 }
 
+// Words i and i + 1 of `p` per lane, as ints.
+OM_INLINE void om_word_pairs(__global const uint* p, OmI i, OmI* first, OmI* second) {
+#if OM_LANES == 1
+    *first = (int)p[i];
+    *second = (int)p[i + 1];
+#elif defined(OM_PAIR_GATHER)
+    OmF a, b;
+    om_gather_pairs((__global const float*)p, i, &a, &b);
+    *first = OM_AS_INT(a);
+    *second = OM_AS_INT(b);
+#else
+    *first = OM_AS_INT(OM_GATHER((__global const float*)p, i));
+    *second = OM_AS_INT(OM_GATHER((__global const float*)p, i + 1));
+#endif
+}
+
+// The heights of a word's two unorm16 values: its texel's (low) and the one below's (high).
+#define OM_UNORM16_LOW(w) (OM_TO_FLOAT((w)&0xffff) * OM_UNORM16_STEP)
+#define OM_UNORM16_HIGH(w) (OM_TO_FLOAT(((w) >> 16) & 0xffff) * OM_UNORM16_STEP)
+
 // The four corners of each lane's patch (i, j) (integer texel-centre coordinates): k00 at (i, j),
 // k10 at (i + 1, j), k01, k11.
 OM_INLINE void om_corners(const OmField* f, OmI i, OmI j, OmF* k00, OmF* k10, OmF* k01,
@@ -116,6 +140,20 @@ OM_INLINE void om_corners(const OmField* f, OmI i, OmI j, OmF* k00, OmF* k10, Om
     OmI i0, i1, j0, j1;
     om_patch_address(f, i, j, &i0, &i1, &j0, &j1);
     OmI r0 = f->offset + j0 * f->width, r1 = f->offset + j1 * f->width;
+#ifndef OM_IMAGES
+    // Unorm16 words: the patch is one pair of words (half the gathered elements of two float
+    // pairs, and one cache line), unless a lane's column or row wraps or is clamped at the edge.
+    // The floats beside them hold the same values, so either way gives the same bits.
+    if (f->packed && __builtin_expect(!OM_ANY((i1 != i0 + 1) | (j1 != j0 + 1)), 1)) {
+        OmI w0, w1;
+        om_word_pairs(f->packed, r0 + i0, &w0, &w1);
+        *k00 = OM_UNORM16_LOW(w0);
+        *k01 = OM_UNORM16_HIGH(w0);
+        *k10 = OM_UNORM16_LOW(w1);
+        *k11 = OM_UNORM16_HIGH(w1);
+        return;
+    }
+#endif
 #ifdef OM_PAIR_GATHER
     // Each row's two corners as one pair, unless a lane's row wraps or is clamped at the edge
     // (and p[i + 1] could lie past the buffer). A branch, not a lane mask on the gathers: a

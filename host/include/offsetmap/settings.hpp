@@ -40,6 +40,15 @@ struct PassSettings {
     // Flag pixels whose uv' leaves [0,1]^2 (OM_FLAG_OUT_OF_TILE), for silhouettes on non-tiling
     // (clamped) surfaces; the shade pass draws them as background.
     bool out_of_tile_mask = false;
+    // How upload() stores a field's heights, which every pass then reads (docs/design.md,
+    // "Height storage"):
+    //  Float:   a float per texel.
+    //  Unorm16: every level rounded to the nearest multiple of 1/65535 (|change| <= 0.5 / 65535)
+    //           and, beside the floats, packed so a bilinear patch is one 64-bit read; the passes
+    //           then run on the rounded heights exactly as on a float field holding them.
+    //  Auto:    Unorm16 where it loses nothing: level 0 already holds multiples of 1/65535 (8- and
+    //           16-bit maps, unorm buffers), else Float.
+    HeightStorage heights = HeightStorage::Auto;
 };
 
 // Throws Error naming the setting that is out of range.
