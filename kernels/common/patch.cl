@@ -13,7 +13,7 @@ OM_INLINE OmF om_first_root(OmF c0, OmF c1, OmF c2, OmF tmax, OmI active) {
                       solvable && lo >= 0.0f && lo <= tmax);
     // Rounding hid a sign change the end point shows: bisect it.
     OmI bisect = active & (root < 0.0f) & (c0 + tmax * (c1 + tmax * c2) <= 0.0f);
-    if (OM_ANY(bisect)) {
+    if (OM_ANY_RARE(bisect)) {
         OmF a = 0.0f, b = tmax;
         for (int k = 0; k < 32; ++k) {
             OmF mid = 0.5f * (a + b);
