@@ -89,6 +89,7 @@ inline float copysign(float a, float b) { return std::copysign(a, b); }
 inline float atan2(float y, float x) { return std::atan2(y, x); }
 inline float log2(float x) { return std::log2(x); }
 inline float mix(float a, float b, float t) { return a + (b - a) * t; }
+inline float fma(float a, float b, float c) { return std::fma(a, b, c); }
 inline bool isnan(float x) { return std::isnan(x); }
 inline int as_int(float x) {
     int i;

@@ -183,11 +183,18 @@ OM_INLINE void om_patch(const OmField* f, OmF u, OmF v, OmF* a, OmF* b, OmF* k00
     om_corners(f, OM_TO_INT(fx), OM_TO_INT(fy), k00, k10, k01, k11 OM_IMG_ARG);
 }
 
+// The patch's height at (a, b): each lerp one fused multiply-add (PoCL's mix is a subtraction, a
+// product and a sum; pom 0.95 of the time in an A/B).
+OM_INLINE OmF om_bilinear(OmF k00, OmF k10, OmF k01, OmF k11, OmF a, OmF b) {
+    OmF top = fma(k10 - k00, a, k00), bottom = fma(k11 - k01, a, k01);
+    return fma(bottom - top, b, top);
+}
+
 // Bilinear height H(u, v) in [0, 1] per lane.
 OM_INLINE OmF om_height_at(const OmField* f, OmF u, OmF v OM_IMG_PARAM) {
     OmF a, b, k00, k10, k01, k11;
     om_patch(f, u, v, &a, &b, &k00, &k10, &k01, &k11 OM_IMG_ARG);
-    return mix(mix(k00, k10, a), mix(k01, k11, a), b);
+    return om_bilinear(k00, k10, k01, k11, a, b);
 }
 
 // The same, counting one fetch in the lanes of `active` (the methods' cost measure).
@@ -205,5 +212,5 @@ OM_INLINE OmF om_height_grad(const OmField* f, OmF u, OmF v, OmI active, OmI* fe
     *fetches += OM_ONE(active);
     *gu = mix(k10 - k00, k11 - k01, b) * f->fw;
     *gv = mix(k01 - k00, k11 - k10, a) * f->fh;
-    return mix(mix(k00, k10, a), mix(k01, k11, a), b);
+    return om_bilinear(k00, k10, k01, k11, a, b);
 }
