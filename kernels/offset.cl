@@ -152,6 +152,40 @@ OM_INLINE void om_offset_lanes(const OmOffsetParams* P, OmF u, OmF v, OmF vx, Om
                  flags_out);
 }
 
+#ifdef OM_LANE_PAIRS
+// A group's inputs (G-buffer planes, mip level, lanes to skip) and outputs, for the pair below.
+typedef struct {
+    OmF u, v, vx, vy, vz, m;
+    OmI skip;
+} OmLaneIn;
+typedef struct {
+    OmF ou, ov, t;
+    OmI fetches, flags;
+} OmLaneOut;
+
+// Two groups of lanes through the method's two-group walk (om_trace_pair): each group gets the
+// bits om_offset_lanes gives it alone. Shared by om_offset and the material frame's tile entry.
+OM_INLINE void om_offset_lane_pair(const OmOffsetParams* P, const OmLaneIn* in_a,
+                                   const OmLaneIn* in_b, __global const float* heights,
+                                   __global const float* aux, OmLaneOut* out_a,
+                                   OmLaneOut* out_b OM_IMG_PARAM) {
+    OmLaneGroup a, b;
+    om_lanes_begin(P, in_a->u, in_a->v, in_a->vx, in_a->vy, in_a->vz, in_a->skip, in_a->m, heights,
+                   aux, &a);
+    om_lanes_begin(P, in_b->u, in_b->v, in_b->vx, in_b->vy, in_b->vz, in_b->skip, in_b->m, heights,
+                   aux, &b);
+    OmF t_a = 0.0f, t_b = 0.0f;
+    OmI fetches_a = 0, fetches_b = 0, trace_a = 0, trace_b = 0;
+    if (OM_ANY(a.traced) || OM_ANY(b.traced))
+        om_trace_pair(&a.ray, &a.f, a.traced, &b.ray, &b.f, b.traced, P, &t_a, &fetches_a,
+                      &trace_a, &t_b, &fetches_b, &trace_b OM_IMG_ARG);
+    om_lanes_end(P, &a, in_a->u, in_a->v, t_a, fetches_a, trace_a, &out_a->ou, &out_a->ov,
+                 &out_a->t, &out_a->fetches, &out_a->flags);
+    om_lanes_end(P, &b, in_b->u, in_b->v, t_b, fetches_b, trace_b, &out_b->ou, &out_b->ov,
+                 &out_b->t, &out_b->fetches, &out_b->flags);
+}
+#endif
+
 // The G-buffer's pixels base .. base + count - 1 (count in [1, OM_LANES]) as lane planes; lanes
 // past count repeat the last pixel.
 OM_INLINE void om_load_gbuffer(__global const float* gb_uv, __global const float* gb_view, int base,
@@ -258,33 +292,34 @@ __kernel void om_offset(const OmOffsetParams P, __global const float2* gb_uv2,
 #ifdef OM_LOD
     OM_LOAD_F(m, lod, base, n);
 #endif
-    OmF ou, ov, t;
-    OmI fetches, flags;
 #ifdef OM_LANE_PAIRS
     // The method's two-group walk (om_trace_pair) over this work-item's 2 x OM_LANES pixels; a
     // second group past the last pixel repeats it and stores nothing.
     const int base_b = min(base + OM_LANES, n - 1), count_b = max(min(OM_LANES, n - base_b), 1);
-    OmF u_b, v_b, vx_b, vy_b, vz_b, m_b = 0.0f;
-    om_load_gbuffer(gb_uv, gb_view, base_b, count_b, &u_b, &v_b, &vx_b, &vy_b, &vz_b);
+    OmLaneIn in_a, in_b;
+    in_a.u = u;
+    in_a.v = v;
+    in_a.vx = vx;
+    in_a.vy = vy;
+    in_a.vz = vz;
+    in_a.m = m;
+    in_a.skip = in_b.skip = 0;
+    in_b.m = 0.0f;
+    om_load_gbuffer(gb_uv, gb_view, base_b, count_b, &in_b.u, &in_b.v, &in_b.vx, &in_b.vy,
+                    &in_b.vz);
 #ifdef OM_LOD
-    OM_LOAD_F(m_b, lod, base_b, n);
+    OM_LOAD_F(in_b.m, lod, base_b, n);
 #endif
-    OmLaneGroup a, b;
-    om_lanes_begin(&P, u, v, vx, vy, vz, (OmI)0, m, heights, aux, &a);
-    om_lanes_begin(&P, u_b, v_b, vx_b, vy_b, vz_b, (OmI)0, m_b, heights, aux, &b);
-    OmF t_a = 0.0f, t_b = 0.0f;
-    OmI fetches_a = 0, fetches_b = 0, trace_a = 0, trace_b = 0;
-    if (OM_ANY(a.traced) || OM_ANY(b.traced))
-        om_trace_pair(&a.ray, &a.f, a.traced, &b.ray, &b.f, b.traced, &P, &t_a, &fetches_a,
-                      &trace_a, &t_b, &fetches_b, &trace_b OM_IMG_ARG);
-    om_lanes_end(&P, &a, u, v, t_a, fetches_a, trace_a, &ou, &ov, &t, &fetches, &flags);
-    om_store_lanes(out_uv, out_depth, out_fetches, out_flags, base, count, (OmI)1, ou, ov, t,
-                   fetches, flags);
-    if (base + OM_LANES >= n) return;
-    om_lanes_end(&P, &b, u_b, v_b, t_b, fetches_b, trace_b, &ou, &ov, &t, &fetches, &flags);
-    om_store_lanes(out_uv, out_depth, out_fetches, out_flags, base_b, count_b, (OmI)1, ou, ov, t,
-                   fetches, flags);
+    OmLaneOut a, b;
+    om_offset_lane_pair(&P, &in_a, &in_b, heights, aux, &a, &b OM_IMG_ARG);
+    om_store_lanes(out_uv, out_depth, out_fetches, out_flags, base, count, (OmI)1, a.ou, a.ov, a.t,
+                   a.fetches, a.flags);
+    if (base + OM_LANES < n)
+        om_store_lanes(out_uv, out_depth, out_fetches, out_flags, base_b, count_b, (OmI)1, b.ou,
+                       b.ov, b.t, b.fetches, b.flags);
 #else
+    OmF ou, ov, t;
+    OmI fetches, flags;
     om_offset_lanes(&P, u, v, vx, vy, vz, (OmI)0, m, heights, aux, &ou, &ov, &t, &fetches,
                     &flags OM_IMG_ARG);
     om_store_lanes(out_uv, out_depth, out_fetches, out_flags, base, count, (OmI)1, ou, ov, t,

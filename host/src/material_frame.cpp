@@ -196,12 +196,17 @@ MaterialFrame::MaterialFrame(std::shared_ptr<Runtime> runtime, std::vector<Frame
     for (Method& m : methods_) tile_kernel(m, true, true, true);
 }
 
+int MaterialFrame::tile_groups(const MethodInfo& method) const {
+    return runtime_->lanes() > 1 && method.lane_pairs ? 2 : 1;
+}
+
 cl::Kernel& MaterialFrame::tile_kernel(Method& m, bool depth, bool fetches, bool flags) {
     const int lanes = runtime_->lanes();
     std::string defines = lanes > 1 ? "#define OM_LANES " + std::to_string(lanes) + "\n" : "";
     if (depth) defines += "#define OM_OUT_DEPTH\n";
     if (fetches) defines += "#define OM_OUT_FETCHES\n";
     if (flags) defines += "#define OM_OUT_FLAGS\n";
+    if (tile_groups(*m.params.method) == 2) defines += "#define OM_LANE_PAIRS\n";
     auto it = m.kernels.find(defines);
     if (it == m.kernels.end()) {
         std::vector<std::string> files = offset_program_files(*m.params.method);
@@ -300,13 +305,16 @@ cl::Event MaterialFrame::enqueue(const DeviceGBuffer& g, const OffsetTargets& t,
             throw Error(unknown_material(id, p, g.width, counts[n_methods]));
         }
         const int lanes = rt.lanes();
-        const size_t per_entry = static_cast<size_t>(tile_rows_) * (OM_TILE_W / lanes);
         std::vector<cl::Event> done;
         for (size_t k = 0; k < n_methods; ++k) {
             if (counts[k] == 0) continue;
             Dispatch d;
             d.method = methods_[k].params.method;
             d.entries = counts[k];
+            // A work-item per tile row segment, or per two rows (tiles.cl).
+            const int rows = tile_groups(*d.method);
+            const size_t per_entry =
+                static_cast<size_t>((tile_rows_ + rows - 1) / rows) * (OM_TILE_W / lanes);
             d.work_items = d.entries * per_entry;
             T.entry_base = static_cast<om_int>(bases_[k]);
             T.entry_count = static_cast<om_int>(counts[k]);
