@@ -1,6 +1,6 @@
 // The material frame's offset entry: one method's dispatch over its compacted tile entries
-// (classify.cl). A work-item takes OM_LANES pixels of one row of one entry's tile (two rows, one per
-// group, for a method walking two groups: OM_LANE_PAIRS) and traces the lanes of the entry's
+// (classify.cl). A work-item takes OM_LANES pixels of one row of one entry's tile (two rows, one
+// per group, for a method walking two groups: OM_LANE_PAIRS) and traces the lanes of the entry's
 // material with that material's parameters and relief (om_offset_lanes or om_offset_lane_pair, as
 // om_offset does); lanes of other materials are skipped before any fetch and not stored, so each
 // pixel gets the bits its material's pass alone would give it. Pasted after offset.cl.
