@@ -5,7 +5,8 @@
 
 Kernel mutants are applied to a copy of kernels/ that the test binary loads through
 OFFSETMAP_KERNEL_DIR (no rebuild); host mutants are applied in place, the test binary rebuilt,
-and the source restored (and rebuilt) afterwards, whatever happens. A mutant is killed when one
+and the source restored (and rebuilt) afterwards, whatever happens (after a build of the same tree
+running beside them, OFFSETMAP_MUTANTS_AFTER=PID, has ended). A mutant is killed when one
 of its tests fails; it survives when they all pass. A mutant whose `find` text does not occur
 exactly once, whose kernel does not build, or whose host source does not compile is stale: the
 list must be mended. Exit status 1 when any mutant survives or is stale. Standard library only.
@@ -120,6 +121,26 @@ def host_mutant(build, m):
             f.write(original)
 
 
+def wait_for_build_beside():
+    """Host mutants edit the sources in place, so a build of the same tree running beside this
+    check (CI's sanitizer build, its pid in OFFSETMAP_MUTANTS_AFTER) must be done before they
+    start, or it compiles a mutated file. Done: gone, or a zombie its parent has not reaped."""
+    pid = os.environ.get("OFFSETMAP_MUTANTS_AFTER")
+    if not pid:
+        return
+    print(f"mutants: the host mutants wait for process {pid} (a build of this tree) to end",
+          flush=True)
+    while True:
+        try:
+            with open(f"/proc/{int(pid)}/stat") as f:
+                state = f.read().rsplit(")", 1)[1].split()[0]
+        except (OSError, ValueError, IndexError):
+            return
+        if state in ("Z", "X"):
+            return
+        time.sleep(2)
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--build", default=os.path.join(ROOT, "build", "release"))
@@ -153,6 +174,8 @@ def main():
     print(f"mutants: {len(kernels)} kernel (OFFSETMAP_KERNEL_DIR), {len(hosts)} host (rebuilt)")
     with ThreadPoolExecutor(max_workers=max(1, args.jobs)) as pool:
         list(pool.map(one, kernels))
+    if hosts:
+        wait_for_build_beside()
     try:
         for m in hosts:
             t0 = time.time()
