@@ -58,6 +58,12 @@ std::vector<cl::Event> pack_unorm16(Runtime& rt, DeviceHeightField& f,
     return done;
 }
 
+// Whether a field stored by `settings` is packed, given whether its level 0 loses nothing rounded.
+bool packs(const PassSettings& settings, bool lossless) {
+    return settings.heights == HeightStorage::Unorm16 ||
+           (settings.heights == HeightStorage::Auto && lossless);
+}
+
 // Whether rounding level 0 to unorm16 loses nothing: every height within a float's rounding (2^-24,
 // the spacing of floats just below 1) of the multiple of 1/65535 it rounds to. 16-bit files read
 // as themselves; 8-bit ones (c / 255 = 257 c / 65535, converted in one rounding) within that.
@@ -163,9 +169,8 @@ DeviceHeightField upload(Runtime& rt, const HeightMap& map, const PassSettings& 
                          const Image4* normal_map, const std::vector<cl::Event>& wait) {
     validate_height_map(map, "height map");
     validate(settings);
-    const bool packed = settings.heights == HeightStorage::Unorm16 ||
-                        (settings.heights == HeightStorage::Auto && holds_unorm16(map));
-    DeviceHeightField f = allocate_field(rt, map.width, map.height, normal_map, packed);
+    DeviceHeightField f =
+        allocate_field(rt, map.width, map.height, normal_map, packs(settings, holds_unorm16(map)));
     // Level 0 through a buffer that copies the host data as it is created, so the caller's map
     // may go at once; the device copy into the pyramid is enqueued like the rest.
     const size_t n = map.h.size();
@@ -189,9 +194,7 @@ DeviceHeightField upload(Runtime& rt, const DeviceHeights& heights, const PassSe
                     "; a height map has 1 to " + std::to_string(kMaxHeightTexels) + " texels");
     check_input(rt.context(), heights.texels, "the device heights", 1, w, h);
     DeviceHeightField f =
-        allocate_field(rt, w, h, normal_map,
-                       settings.heights == HeightStorage::Unorm16 ||
-                           (settings.heights == HeightStorage::Auto && at_most_16_bits(heights)));
+        allocate_field(rt, w, h, normal_map, packs(settings, at_most_16_bits(heights)));
     cl::Event copied;
     const Input texels = readable_input(rt, heights.texels, w, h, rt.queue(), wait, copied);
     const bool image = texels.image() != nullptr;

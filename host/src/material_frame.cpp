@@ -196,17 +196,13 @@ MaterialFrame::MaterialFrame(std::shared_ptr<Runtime> runtime, std::vector<Frame
     for (Method& m : methods_) tile_kernel(m, true, true, true);
 }
 
-int MaterialFrame::tile_groups(const MethodInfo& method) const {
-    return runtime_->lanes() > 1 && method.lane_pairs ? 2 : 1;
-}
-
 cl::Kernel& MaterialFrame::tile_kernel(Method& m, bool depth, bool fetches, bool flags) {
     const int lanes = runtime_->lanes();
     std::string defines = lanes > 1 ? "#define OM_LANES " + std::to_string(lanes) + "\n" : "";
     if (depth) defines += "#define OM_OUT_DEPTH\n";
     if (fetches) defines += "#define OM_OUT_FETCHES\n";
     if (flags) defines += "#define OM_OUT_FLAGS\n";
-    if (tile_groups(*m.params.method) == 2) defines += "#define OM_LANE_PAIRS\n";
+    if (lane_groups(*m.params.method, lanes) == 2) defines += "#define OM_LANE_PAIRS\n";
     auto it = m.kernels.find(defines);
     if (it == m.kernels.end()) {
         std::vector<std::string> files = offset_program_files(*m.params.method);
@@ -312,7 +308,7 @@ cl::Event MaterialFrame::enqueue(const DeviceGBuffer& g, const OffsetTargets& t,
             d.method = methods_[k].params.method;
             d.entries = counts[k];
             // A work-item per tile row segment, or per two rows (tiles.cl).
-            const int rows = tile_groups(*d.method);
+            const int rows = lane_groups(*d.method, lanes);
             const size_t per_entry =
                 static_cast<size_t>((tile_rows_ + rows - 1) / rows) * (OM_TILE_W / lanes);
             d.work_items = d.entries * per_entry;

@@ -30,7 +30,7 @@ OffsetPass::OffsetPass(std::shared_ptr<Runtime> runtime, const MethodParams& par
     if (!method_ || params_.values.size() != method_->params.size())
         throw Error("the offset pass needs resolved method parameters (resolve_params)");
     lanes_ = runtime_->lanes();
-    groups_ = lanes_ > 1 && method_->lane_pairs ? 2 : 1;
+    groups_ = lane_groups(*method_, lanes_);
     // Compile now (the tools' usual outputs), so a method's build errors surface here.
     kernel(false, true, true, true, runtime_->images());
 }

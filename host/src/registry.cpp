@@ -284,6 +284,8 @@ std::vector<std::string> sampling_program_files(const std::string& file) {
     return {"common/lanes.h", "common/sampling.cl", file};
 }
 
+int lane_groups(const MethodInfo& m, int lanes) { return lanes > 1 && m.lane_pairs ? 2 : 1; }
+
 std::vector<std::string> offset_program_files(const MethodInfo& m) {
     return {"common/lanes.h",  "common/sampling.cl",       "common/ray.cl",
             "common/patch.cl", "methods/" + m.kernel_file, "offset.cl"};

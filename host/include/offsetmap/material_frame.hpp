@@ -85,8 +85,6 @@ class MaterialFrame {
         std::map<std::string, cl::Kernel> kernels;  // by the outputs bound
     };
     cl::Kernel& tile_kernel(Method& m, bool depth, bool fetches, bool flags);
-    // Lane groups a tile work-item walks: 2 (two rows) for a lane-pair method on lanes, else 1.
-    int tile_groups(const MethodInfo& method) const;
     // The queue to enqueue on, after the G-buffer's checks (a material buffer required).
     const cl::CommandQueue& checked_queue(const DeviceGBuffer& g,
                                           const cl::CommandQueue& queue) const;

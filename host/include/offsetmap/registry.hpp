@@ -100,6 +100,10 @@ void parse_assignment(const std::string& item, std::map<std::string, std::string
 std::vector<std::string> sampling_program_files(const std::string& file);
 std::vector<std::string> offset_program_files(const MethodInfo& method);
 
+// Groups of lanes a work-item of `method` walks on a device with `lanes` lanes: 2 for a lane-pair
+// method on lanes (the entry's OM_LANE_PAIRS), else 1.
+int lane_groups(const MethodInfo& method, int lanes);
+
 // The defines that hand a method's parameters to its kernel by name: OM_SLOT_<name> is the slot of
 // OmOffsetParams::p holding it, which OM_PARAM(P, name) reads (om_shared.h).
 std::string param_slot_defines(const MethodInfo& method);
