@@ -96,14 +96,18 @@ struct Bench {
                           : rt->program(files, "#define OM_LANES " + std::to_string(lanes) + "\n");
     }
 
-    // Work-items for n pixels at `per_item` pixels each, in groups of 64.
-    static cl::NDRange lane_range(size_t n, int per_item) {
-        const size_t group = static_cast<size_t>(per_item) * 64;
-        return cl::NDRange((n + group - 1) / group * 64);
+    // Work-items for the G-buffer, one per block of `lanes` pixels (the offset entry's groups),
+    // in groups of 64.
+    static cl::NDRange lane_range(const DeviceGBuffer& g, int lanes) {
+        const size_t blocks = om_image_blocks(g.width, g.height, lanes);
+        return cl::NDRange((blocks + 63) / 64 * 64);
     }
 
-    OmOffsetParams params_for(const DeviceHeightField& f, int pixels) {
-        OmOffsetParams p = offset_params(PassSettings{}, pixels, f.width, f.height);
+    OmOffsetParams params_for(const DeviceHeightField& f, const DeviceGBuffer& g) {
+        OmOffsetParams p =
+            offset_params(PassSettings{}, static_cast<int>(g.pixels()), f.width, f.height);
+        p.gb_width = g.width;
+        p.gb_height = g.height;
         p.mip_levels = f.mip_levels;
         p.packed_heights = packed_heights_offset(f);  // the roofs read what the methods read
         return p;
@@ -121,19 +125,18 @@ struct Bench {
     void bind_fetches(cl::Kernel& k, const DeviceGBuffer& g, const DeviceHeightField& f,
                       const cl::Buffer& sink) {
         const int n = static_cast<int>(g.pixels());
-        k.setArg(0, params_for(f, n));
+        k.setArg(0, params_for(f, g));
         k.setArg(1, f.heights);
         k.setArg(2, g.uv);
         k.setArg(3, sink);
         k.setArg(4, n);
     }
 
-    // A launch of a roofline kernel over n pixels at `per_item` pixels per work-item.
-    std::function<cl::Event()> roof_launch(cl::Kernel& k, size_t n, int per_item) {
-        return [this, &k, n, per_item] {
+    // A launch of a roofline kernel over the G-buffer in blocks of `lanes` pixels.
+    std::function<cl::Event()> roof_launch(cl::Kernel& k, const DeviceGBuffer& g, int lanes) {
+        return [this, &k, range = lane_range(g, lanes)] {
             cl::Event e;
-            rt->queue().enqueueNDRangeKernel(k, cl::NullRange, lane_range(n, per_item),
-                                             cl::NDRange(64), nullptr, &e);
+            rt->queue().enqueueNDRangeKernel(k, cl::NullRange, range, cl::NDRange(64), nullptr, &e);
             return e;
         };
     }
@@ -145,7 +148,7 @@ struct Bench {
         cl::Buffer sink(rt->context(), CL_MEM_WRITE_ONLY, g.pixels() * sizeof(cl_float2));
         cl::Kernel pass(roof_program(1), "om_bench_passthrough");
         bind_passthrough(pass, g, sink);
-        Timing tp = time_launches(roof_launch(pass, g.pixels(), 1), target_ms);
+        Timing tp = time_launches(roof_launch(pass, g, 1), target_ms);
         const double passthrough_ns = tp.median_ms * 1e6 / n;
         const double bytes = 32.0 * n;  // 24 B in, 8 B out
         double kernel_gbps = bytes / (tp.median_ms * 1e-3) * 1e-9;
@@ -168,7 +171,7 @@ struct Bench {
                 const bool dependent = std::string(kind) == "om_bench_fetch_chain";
                 for (int len : {1, 8, 32, 128}) {
                     k.setArg(5, len);
-                    Timing t = time_launches(roof_launch(k, g.pixels(), lanes), target_ms);
+                    Timing t = time_launches(roof_launch(k, g, lanes), target_ms);
                     double per_fetch = (t.median_ms * 1e6 / n - passthrough_ns) / len;
                     if (len == 32) fetch_ns = std::min(fetch_ns, per_fetch);
                     std::printf(
@@ -304,10 +307,11 @@ struct Bench {
         OffsetResult counted = run_offset(*rt, pass, g, f, s, 1);
         const double fetches = mean_fetches(counted);
         // Lanes busy: a work-item's steps last as long as its slowest lane's; the fraction of
-        // lane-steps that fetch for an active lane, for the work-item's row of `lanes` pixels and,
-        // from the same counts, for the tiles of as many pixels it could hold instead.
+        // lane-steps that fetch for an active lane, for the work-item's block of `lanes` pixels
+        // and, from the same counts, for the other shapes it could take instead.
         json busy_by_shape = json::object();
-        for (auto [tw, th] : {std::pair{lanes, 1}, std::pair{8, 2}, std::pair{4, 4}})
+        for (auto [tw, th] :
+             {std::pair{lanes, 1}, std::pair{8, 2}, std::pair{4, 4}, std::pair{4, 2}})
             if (tw * th == lanes)
                 busy_by_shape[std::to_string(tw) + "x" + std::to_string(th)] =
                     lanes_busy(counted.fetches, g.width, g.height, tw, th);
@@ -319,13 +323,13 @@ struct Bench {
         // are taken at the method's count.
         const int roof_fetches = std::max(1, static_cast<int>(std::ceil(fetches - 1e-9)));
         auto count = [&](cl::Kernel& k, int c) {
-            return [&, c, run = roof_launch(k, n, lanes)] {
+            return [&, c, run = roof_launch(k, g, lanes)] {
                 k.setArg(5, c);
                 return run();
             };
         };
         std::vector<std::function<cl::Event()>> launches = {
-            [&] { return pass.enqueue(g, f, s, t); }, roof_launch(roof_pass, n, 1)};
+            [&] { return pass.enqueue(g, f, s, t); }, roof_launch(roof_pass, g, 1)};
         if (fetches > 0)
             for (cl::Kernel* k : {&roof_line, &roof_chain}) {
                 launches.push_back(count(*k, roof_fetches));
@@ -356,7 +360,8 @@ struct Bench {
                 {"chain_roofline_ns_per_pixel", chain_roof},
                 {"chain_roofline_ratio", chain_roof / ns},
                 {"chain_ns_per_fetch", chain_fetch},
-                {"lanes_busy", busy_by_shape[std::to_string(lanes) + "x1"]},
+                {"lanes_busy", busy_by_shape[std::to_string(OM_BLOCK_W(lanes)) + "x" +
+                                             std::to_string(OM_BLOCK_H(lanes))]},
                 {"lanes_busy_by_tile", busy_by_shape},
                 {"precomputed_bytes", pass.precomputed().bytes}};
     }
@@ -482,6 +487,12 @@ int main(int argc, char** argv) {
                    "A/B of two kernel folders (copies of kernels/): the methods (or --methods) "
                    "timed in turns in one process at the main resolution; nothing else runs")
         ->expected(2);
+    std::string ab_scene = "camera";
+    app.add_option("--ab-scene", ab_scene,
+                   "--ab's G-buffer: the camera plane, or random rays (no order between "
+                   "neighbouring pixels)")
+        ->check(CLI::IsMember({"camera", "random"}))
+        ->capture_default_str();
     CLI11_PARSE(app, argc, argv);
     try {
         std::filesystem::create_directories(out_dir);
@@ -524,8 +535,12 @@ int main(int argc, char** argv) {
         s.scale = 0.05f;
         if (!ab.empty()) {
             const int rounds = smoke ? 1 : std::clamp(static_cast<int>(target_ms / 20), 5, 40);
-            b.out["ab"] = compare_kernels({ab[0], ab[1]}, device, select_methods(only),
-                                          camera_gbuffer(main_res), bench_map(1024), s, rounds);
+            const GBuffer gb = ab_scene == "random"
+                                   ? make_scene(RandomScene{main_res.w, main_res.h, 1, 10.0, 90.0})
+                                   : camera_gbuffer(main_res);
+            b.out["ab"] = compare_kernels({ab[0], ab[1]}, device, select_methods(only), gb,
+                                          bench_map(1024), s, rounds);
+            b.out["ab"]["scene"] = ab_scene;
             std::ofstream(out_dir + "/bench-ab.json") << b.out.dump(2) << "\n";
             std::printf("\nwrote %s/bench-ab.json\n", out_dir.c_str());
             return 0;

@@ -13,8 +13,10 @@
 namespace omtest {
 namespace {
 
-// 259 pixels by default: 16 x 16 + 3, so the last work-item holds 3 pixels (and with lane pairs,
-// no second group); 25 x 11 = 275 = 32 x 8 + 19 leaves a second group of 3.
+// A work-item's group of lanes is a block of the image, 4 x 4 pixels for 16 lanes (4 x 2 for 8).
+// 37 x 7 by default: whole blocks, blocks cut by the right edge to one column and by the bottom to
+// three rows (or one), and the corner; 25 x 11 gives 7 x 3 blocks, so with lane pairs the last
+// work-item has no second group.
 GBuffer mixed_scene(int width = 37, int height = 7) {
     GBuffer gb = make_scene(RandomScene{width, height, 99, 0.5, 90.0});
     const float nan = std::numeric_limits<float>::quiet_NaN(),
@@ -95,7 +97,7 @@ TEST(Lanes, EveryLaneCountAndTheImagePathGiveTheSameFrame) {
 TEST(Lanes, TwoGroupsPerWorkItemGiveTheSameFrame) {
     // The methods whose work-items walk two groups of lanes (lane_pairs), against one pixel per
     // work-item: wrap, and clamp with footprint LOD (each group's lanes at their own levels), on
-    // 275 pixels, so the last work-item's second group holds 3.
+    // 25 x 11 pixels: 21 blocks, so the last work-item walks one group.
     HeightMap map = noisy_map(48, 29);
     GBuffer gb = mixed_scene(25, 11);
     PassSettings wrap, other;

@@ -40,8 +40,10 @@ std::vector<float> host_pyramid(const HeightMap& map, int& levels) {
                 int y0 = j * h / ch, y1 = std::max(y0 + 1, (j + 1) * h / ch);
                 float sum = 0.0f;
                 for (int y = y0; y < y1; ++y)
-                    for (int x = x0; x < x1; ++x) sum += all[offset + static_cast<size_t>(y) * w + x];
-                all[child + static_cast<size_t>(j) * cw + i] = sum / static_cast<float>((x1 - x0) * (y1 - y0));
+                    for (int x = x0; x < x1; ++x)
+                        sum += all[offset + static_cast<size_t>(y) * w + x];
+                all[child + static_cast<size_t>(j) * cw + i] =
+                    sum / static_cast<float>((x1 - x0) * (y1 - y0));
             }
         offset = child;
         w = cw;
@@ -67,6 +69,8 @@ Run run(const std::string& method, const std::map<std::string, std::string>& par
     Args a{};
     OmOffsetParams& p = a.params;
     p = offset_params(s, static_cast<int>(gb.pixels()), map.width, map.height);
+    p.gb_width = gb.width;
+    p.gb_height = gb.height;
     p.mip_levels = levels;
     std::copy(values.begin(), values.end(), p.p);
 
@@ -100,7 +104,9 @@ Run run(const std::string& method, const std::map<std::string, std::string>& par
             });
         for (auto& th : pool) th.join();
         if (rep > 0)
-            times.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
+            times.push_back(
+                std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0)
+                    .count());
     }
     if (!times.empty()) {
         std::sort(times.begin(), times.end());

@@ -148,6 +148,8 @@ cl::Event OffsetPass::launch(const DeviceGBuffer& g, const DeviceHeightField& f,
     // a kernel's first launch): every work-item returns at once and nothing is written.
     OmOffsetParams p =
         offset_params(settings, no_pixels ? 0 : static_cast<int>(g.pixels()), f.width, f.height);
+    p.gb_width = no_pixels ? 0 : g.width;
+    p.gb_height = no_pixels ? 0 : g.height;
     p.mip_levels = f.mip_levels;
     p.packed_heights = packed_heights_offset(f);
     std::copy(params_.values.begin(), params_.values.end(), p.p);
@@ -182,9 +184,10 @@ cl::Event OffsetPass::launch(const DeviceGBuffer& g, const DeviceHeightField& f,
             }
         }
         set_optional(k, 5, lod);
-        const size_t per_item = static_cast<size_t>(pixels_per_item());
         const cl::NDRange global =
-            no_pixels ? cl::NDRange(kLocalSize) : padded((g.pixels() + per_item - 1) / per_item);
+            no_pixels
+                ? cl::NDRange(kLocalSize)
+                : padded((om_image_blocks(g.width, g.height, lanes_) + groups_ - 1) / groups_);
         queue.enqueueNDRangeKernel(k, cl::NullRange, global, cl::NDRange(kLocalSize), &deps,
                                    &event);
     } catch (const cl::Error& e) {

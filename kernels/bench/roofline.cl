@@ -9,14 +9,32 @@ __kernel void om_bench_passthrough(__global const float2* uv, __global const flo
     out[i] = uv[i] + view[i].xy * 0.0f;
 }
 
-// `chain` dependent bilinear height fetches per pixel through the methods' sampling layer, OM_LANES
-// pixels per work-item (lanes.h; 1 unless defined): each fetch's position depends on the previous
-// height, as in a march, so none can be skipped or hoisted. Time per fetch = (this - pass-through)
-// / chain.
+// Each lane's pixel: a work-item takes a block of OM_LANES pixels of the image, as the offset
+// entry's groups are (om_shared.h), lanes past the edge repeating its last column or row; the
+// block's own pixels, so a store per lane stays in it. False past the last block.
+OM_INLINE int om_bench_block(const OmOffsetParams* P, OmI* id) {
+    const int bw = OM_BLOCK_W(OM_LANES), bh = OM_BLOCK_H(OM_LANES);
+    const int g = (int)get_global_id(0), per_row = (P->gb_width + bw - 1) / bw;
+    if (g >= om_image_blocks(P->gb_width, P->gb_height, OM_LANES)) return 0;
+    OmI x = min(g % per_row * bw + OM_LANE_IDS % bw, P->gb_width - 1);
+    OmI y = min(g / per_row * bh + OM_LANE_IDS / bw, P->gb_height - 1);
+    *id = y * P->gb_width + x;
+    return 1;
+}
+
+OM_INLINE void om_bench_store(__global float* out, OmI id, OmF r) {
+    for (int k = 0; k < OM_LANES; ++k) out[((int*)&id)[k]] = ((float*)&r)[k];
+}
+
+// `chain` dependent bilinear height fetches per pixel through the methods' sampling layer, a block
+// of OM_LANES pixels per work-item (lanes.h; 1 unless defined): each fetch's position depends on
+// the previous height, as in a march, so none can be skipped or hoisted. Time per fetch = (this -
+// pass-through) / chain.
 __kernel void om_bench_fetch_chain(const OmOffsetParams P, __global const float* heights,
                                    __global const float* uv, __global float* out, int n,
                                    int chain) {
-    OmI id = min((int)get_global_id(0) * OM_LANES + OM_LANE_IDS, n - 1);
+    OmI id;
+    if (!om_bench_block(&P, &id)) return;
     OmField f = om_field(heights, &P, (OmI)0);
     OmF u = OM_GATHER(uv, 2 * id), v = OM_GATHER(uv, 2 * id + 1);
     OmI fetches = 0;
@@ -25,11 +43,7 @@ __kernel void om_bench_fetch_chain(const OmOffsetParams P, __global const float*
         u += 0.37f * h / f.fw;
         v += 0.11f * h / f.fh;
     }
-    OmF r = u + v + OM_TO_FLOAT(fetches) * 0.0f;
-    for (int k = 0; k < OM_LANES; ++k) {
-        int i = (int)get_global_id(0) * OM_LANES + k;
-        if (i < n) out[i] = ((float*)&r)[k];
-    }
+    om_bench_store(out, id, u + v + OM_TO_FLOAT(fetches) * 0.0f);
 }
 
 // `count` independent bilinear fetches per pixel along a line, as a linear search makes them: the
@@ -37,7 +51,8 @@ __kernel void om_bench_fetch_chain(const OmOffsetParams P, __global const float*
 // measured is the roof methods are measured against.
 __kernel void om_bench_fetch_line(const OmOffsetParams P, __global const float* heights,
                                   __global const float* uv, __global float* out, int n, int count) {
-    OmI id = min((int)get_global_id(0) * OM_LANES + OM_LANE_IDS, n - 1);
+    OmI id;
+    if (!om_bench_block(&P, &id)) return;
     OmField f = om_field(heights, &P, (OmI)0);
     OmF u = OM_GATHER(uv, 2 * id), v = OM_GATHER(uv, 2 * id + 1);
     OmF du = 0.61f / f.fw, dv = 0.29f / f.fh, sum = 0.0f;
@@ -45,9 +60,5 @@ __kernel void om_bench_fetch_line(const OmOffsetParams P, __global const float* 
     for (int k = 0; k < count; ++k)
         sum +=
             om_height(&f, u + (float)k * du, v + (float)k * dv, (OmI)1, &fetches OM_IMG_ARG);
-    OmF r = u + v + sum * 0.0f + OM_TO_FLOAT(fetches) * 0.0f;
-    for (int k = 0; k < OM_LANES; ++k) {
-        int i = (int)get_global_id(0) * OM_LANES + k;
-        if (i < n) out[i] = ((float*)&r)[k];
-    }
+    om_bench_store(out, id, u + v + sum * 0.0f + OM_TO_FLOAT(fetches) * 0.0f);
 }

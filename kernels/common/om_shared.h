@@ -110,8 +110,20 @@ enum class ShadowMode : om_int {
 }  // namespace offsetmap
 #endif
 
+// The offset entry's lane groups are blocks of the G-buffer image: 4 x 4 pixels for 16 lanes, 4 x 2
+// for 8, one pixel for 1; blocks are numbered row by row, ceil(width / w) to a row.
+#define OM_BLOCK_W(lanes) ((lanes) == 1 ? 1 : 4)
+#define OM_BLOCK_H(lanes) ((lanes) / OM_BLOCK_W(lanes))
+// Blocks covering a width x height image.
+static inline int om_image_blocks(int width, int height, int lanes) {
+    return ((width + OM_BLOCK_W(lanes) - 1) / OM_BLOCK_W(lanes)) *
+           ((height + OM_BLOCK_H(lanes) - 1) / OM_BLOCK_H(lanes));
+}
+
 typedef struct {
     om_int pixel_count;       // G-buffer pixels (width * height)
+    om_int gb_width;          // G-buffer width and height (0 when pixel_count is)
+    om_int gb_height;
     om_int hf_width;          // height-field texels along u
     om_int hf_height;         // height-field texels along v
     om_int address_mode;      // OM_ADDRESS_*

@@ -55,7 +55,8 @@ class OffsetPass {
     const MethodInfo& method() const { return *method_; }
     const MethodParams& params() const { return params_; }
     int lanes() const { return lanes_; }  // pixels per group of lanes
-    // Pixels per work-item: two groups of lanes for a method with lane pairs, else one.
+    // Pixels per work-item: two groups of lanes for a method with lane pairs, else one. A group is
+    // a block of the image, 4 x 4 pixels for 16 lanes (OM_BLOCK_W, OM_BLOCK_H).
     int pixels_per_item() const { return lanes_ * groups_; }
 
     // The method's precomputed data for the last field it ran on (bytes 0 when it needs none),
