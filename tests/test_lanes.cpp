@@ -94,6 +94,26 @@ TEST(Lanes, EveryLaneCountAndTheImagePathGiveTheSameFrame) {
     }
 }
 
+TEST(Lanes, BlocksCoverEveryPixelOfImagesOfAnySize) {
+    // The block layout alone, quickly (the planted bugs in it run this test): sides 1 to 3 pixels
+    // past a multiple of the block's, images smaller than a block, and whole blocks; pom (one group
+    // a work-item) and cone (two: 4 x 4 is one block, so its work-item walks one group), at 16 and
+    // 8 lanes against one pixel a work-item.
+    HeightMap map = noisy_map(32, 5);
+    PassSettings s;
+    s.scale = 0.1f;
+    for (auto [w, h] : {std::pair{37, 7}, {6, 9}, {4, 4}, {1, 5}, {13, 2}}) {
+        const GBuffer gb = make_scene(RandomScene{w, h, 7, 0.5, 90.0});
+        for (const char* name : {"pom", "cone"}) {
+            const OffsetResult ref = run_with_lanes(1, name, map, gb, s);
+            for (int lanes : {8, 16})
+                expect_same_frame(run_with_lanes(lanes, name, map, gb, s), ref, gb.pixels(),
+                                  std::string(name) + " " + std::to_string(w) + "x" +
+                                      std::to_string(h) + " lanes " + std::to_string(lanes));
+        }
+    }
+}
+
 TEST(Lanes, TwoGroupsPerWorkItemGiveTheSameFrame) {
     // The methods whose work-items walk two groups of lanes (lane_pairs), against one pixel per
     // work-item: wrap, and clamp with footprint LOD (each group's lanes at their own levels), on
