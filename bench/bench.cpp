@@ -104,17 +104,14 @@ struct Bench {
     }
 
     OmOffsetParams params_for(const DeviceHeightField& f, const DeviceGBuffer& g) {
-        OmOffsetParams p =
-            offset_params(PassSettings{}, static_cast<int>(g.pixels()), f.width, f.height);
-        p.gb_width = g.width;
-        p.gb_height = g.height;
+        OmOffsetParams p = offset_params(PassSettings{}, f.width, f.height, g.width, g.height);
         p.mip_levels = f.mip_levels;
         p.packed_heights = packed_heights_offset(f);  // the roofs read what the methods read
         return p;
     }
 
     // Arguments of the roofline microkernels (kernels/bench/roofline.cl): pass-through reads the
-    // G-buffer; the fetch kernels (chain, line) its uv and the field, their count (argument 5)
+    // G-buffer; the fetch kernels (chain, line) its uv and the field, their count (argument 4)
     // set per launch.
     static void bind_passthrough(cl::Kernel& k, const DeviceGBuffer& g, const cl::Buffer& sink) {
         k.setArg(0, g.uv);
@@ -124,12 +121,10 @@ struct Bench {
     }
     void bind_fetches(cl::Kernel& k, const DeviceGBuffer& g, const DeviceHeightField& f,
                       const cl::Buffer& sink) {
-        const int n = static_cast<int>(g.pixels());
         k.setArg(0, params_for(f, g));
         k.setArg(1, f.heights);
         k.setArg(2, g.uv);
         k.setArg(3, sink);
-        k.setArg(4, n);
     }
 
     // A launch of a roofline kernel over the G-buffer in blocks of `lanes` pixels.
@@ -170,7 +165,7 @@ struct Bench {
                 bind_fetches(k, g, field, sink);
                 const bool dependent = std::string(kind) == "om_bench_fetch_chain";
                 for (int len : {1, 8, 32, 128}) {
-                    k.setArg(5, len);
+                    k.setArg(4, len);
                     Timing t = time_launches(roof_launch(k, g, lanes), target_ms);
                     double per_fetch = (t.median_ms * 1e6 / n - passthrough_ns) / len;
                     if (len == 32) fetch_ns = std::min(fetch_ns, per_fetch);
@@ -324,7 +319,7 @@ struct Bench {
         const int roof_fetches = std::max(1, static_cast<int>(std::ceil(fetches - 1e-9)));
         auto count = [&](cl::Kernel& k, int c) {
             return [&, c, run = roof_launch(k, g, lanes)] {
-                k.setArg(5, c);
+                k.setArg(4, c);
                 return run();
             };
         };

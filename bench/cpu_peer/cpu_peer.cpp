@@ -68,9 +68,7 @@ Run run(const std::string& method, const std::map<std::string, std::string>& par
 
     Args a{};
     OmOffsetParams& p = a.params;
-    p = offset_params(s, static_cast<int>(gb.pixels()), map.width, map.height);
-    p.gb_width = gb.width;
-    p.gb_height = gb.height;
+    p = offset_params(s, map.width, map.height, gb.width, gb.height);
     p.mip_levels = levels;
     std::copy(values.begin(), values.end(), p.p);
 
@@ -91,7 +89,7 @@ Run run(const std::string& method, const std::map<std::string, std::string>& par
     a.out_flags = r.flags.data();
 
     unsigned n_threads = threads ? threads : std::max(1u, std::thread::hardware_concurrency());
-    const int n = p.pixel_count;
+    const int n = static_cast<int>(gb.pixels());
     std::vector<double> times;
     for (int rep = 0; rep <= repeats; ++rep) {  // rep 0 warms caches and page tables
         auto t0 = std::chrono::steady_clock::now();

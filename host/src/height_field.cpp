@@ -152,7 +152,7 @@ void finish_field(Runtime& rt, DeviceHeightField& f, const PassSettings& setting
         f.normals = device_buffer(rt.context(), CL_MEM_READ_WRITE, n * sizeof(cl_float4),
                                   "the " + size + " normals");
         cl::Kernel k(rt.program(sampling_program_files("prep/normals.cl")), "om_normals");
-        set_args(k, offset_params(settings, 0, f.width, f.height), f.heights, f.normals);
+        set_args(k, offset_params(settings, f.width, f.height), f.heights, f.normals);
         cl::Event normals;
         rt.queue().enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(f.width, f.height),
                                         cl::NullRange, &heights_done, &normals);

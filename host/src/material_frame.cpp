@@ -115,7 +115,7 @@ MaterialFrame::MaterialFrame(std::shared_ptr<Runtime> runtime, std::vector<Frame
             }
         }
         OmMaterialSlot& slot = slots_[s];
-        slot.P = offset_params(m.settings, 0, f.width, f.height);
+        slot.P = offset_params(m.settings, f.width, f.height);
         slot.P.mip_levels = f.mip_levels;
         slot.P.packed_heights = packed_heights_offset(f);
         std::copy(m.params.values.begin(), m.params.values.end(), slot.P.p);

@@ -146,10 +146,8 @@ cl::Event OffsetPass::launch(const DeviceGBuffer& g, const DeviceHeightField& f,
     build_precomputed(f, settings);
     // Over no pixels, the launch only makes the driver generate the kernel's code (PoCL does it at
     // a kernel's first launch): every work-item returns at once and nothing is written.
-    OmOffsetParams p =
-        offset_params(settings, no_pixels ? 0 : static_cast<int>(g.pixels()), f.width, f.height);
-    p.gb_width = no_pixels ? 0 : g.width;
-    p.gb_height = no_pixels ? 0 : g.height;
+    OmOffsetParams p = no_pixels ? offset_params(settings, f.width, f.height)
+                                 : offset_params(settings, f.width, f.height, g.width, g.height);
     p.mip_levels = f.mip_levels;
     p.packed_heights = packed_heights_offset(f);
     std::copy(params_.values.begin(), params_.values.end(), p.p);

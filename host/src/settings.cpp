@@ -7,9 +7,10 @@
 
 namespace offsetmap {
 
-OmOffsetParams offset_params(const PassSettings& s, int pixels, int hf_w, int hf_h) {
+OmOffsetParams offset_params(const PassSettings& s, int hf_w, int hf_h, int gb_w, int gb_h) {
     OmOffsetParams p{};
-    p.pixel_count = pixels;
+    p.gb_width = gb_w;
+    p.gb_height = gb_h;
     p.hf_width = hf_w;
     p.hf_height = hf_h;
     p.address_mode = static_cast<om_int>(s.address);

@@ -31,8 +31,7 @@ OM_INLINE void om_bench_store(__global float* out, OmI id, OmF r) {
 // the previous height, as in a march, so none can be skipped or hoisted. Time per fetch = (this -
 // pass-through) / chain.
 __kernel void om_bench_fetch_chain(const OmOffsetParams P, __global const float* heights,
-                                   __global const float* uv, __global float* out, int n,
-                                   int chain) {
+                                   __global const float* uv, __global float* out, int chain) {
     OmI id;
     if (!om_bench_block(&P, &id)) return;
     OmField f = om_field(heights, &P, (OmI)0);
@@ -50,7 +49,7 @@ __kernel void om_bench_fetch_chain(const OmOffsetParams P, __global const float*
 // positions do not depend on earlier heights, so fetches can overlap. The fastest fetch rate
 // measured is the roof methods are measured against.
 __kernel void om_bench_fetch_line(const OmOffsetParams P, __global const float* heights,
-                                  __global const float* uv, __global float* out, int n, int count) {
+                                  __global const float* uv, __global float* out, int count) {
     OmI id;
     if (!om_bench_block(&P, &id)) return;
     OmField f = om_field(heights, &P, (OmI)0);

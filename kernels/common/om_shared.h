@@ -121,8 +121,7 @@ static inline int om_image_blocks(int width, int height, int lanes) {
 }
 
 typedef struct {
-    om_int pixel_count;       // G-buffer pixels (width * height)
-    om_int gb_width;          // G-buffer width and height (0 when pixel_count is)
+    om_int gb_width;          // G-buffer width and height in pixels (0 x 0 outside the offset pass)
     om_int gb_height;
     om_int hf_width;          // height-field texels along u
     om_int hf_height;         // height-field texels along v

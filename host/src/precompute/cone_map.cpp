@@ -21,7 +21,7 @@ PrecomputeSpec::Built build(Runtime& rt, const DeviceHeightField& f, const PassS
     const int B = OM_CONE_BLOCK;
     const int bw = (f.width + B - 1) / B, bh = (f.height + B - 1) / B;
     cl::Program program = rt.program(sampling_program_files(kConeMap.prep_file));
-    OmOffsetParams p = offset_params(settings, 0, f.width, f.height);
+    OmOffsetParams p = offset_params(settings, f.width, f.height);
     cl::Buffer blocks(rt.context(), CL_MEM_READ_WRITE,
                       static_cast<size_t>(bw) * bh * sizeof(float));
     PrecomputeSpec::Built out;

@@ -22,7 +22,7 @@ size_t bytes(const MethodParams& p, const PassSettings&, int, int) {
 PrecomputeSpec::Built build(Runtime& rt, const DeviceHeightField& f, const PassSettings& settings,
                             const MethodParams& params) {
     const int res = static_cast<int>(params["res"]), layers = static_cast<int>(params["layers"]);
-    OmOffsetParams p = offset_params(settings, 0, f.width, f.height);
+    OmOffsetParams p = offset_params(settings, f.width, f.height);
     cl::Program program = rt.program(sampling_program_files(kDistanceMap.prep_file));
     // The column maxima are a step of the build, freed with it.
     cl::Buffer colmax(rt.context(), CL_MEM_READ_WRITE,

@@ -36,7 +36,7 @@ PrecomputeSpec::Built build(Runtime& rt, const DeviceHeightField& f, const PassS
                           std::max<size_t>(floats(settings, f.width, f.height), 1) * sizeof(float));
     if (top == 0) return out;  // no hierarchy: the walk is exact's
     cl::Program program = rt.program(sampling_program_files(kMaxPyramid.prep_file));
-    OmOffsetParams p = offset_params(settings, 0, f.width, f.height);
+    OmOffsetParams p = offset_params(settings, f.width, f.height);
     cl::Kernel first(program, "om_maxmip_first");
     set_args(first, p, f.heights, out.data, wp >> 1, hp >> 1);
     std::vector<cl::Event>& events = out.events;
