@@ -375,15 +375,16 @@ void print_row(const json& r, const char* extra = "") {
 }
 
 // Two copies of the kernel sources (folders like kernels/) timed in one process: per method,
-// rounds of A, B, A on the same G-buffer and map, each round's ratio B / mean(A, A), median and
-// quartiles. Two processes run minutes apart differ by more than most kernel changes here.
+// rounds of A, B, A on the same G-buffer and map (or, for a G-buffer with material ids, as a
+// material frame of one material per map, ids 1, 2, ...), each round's ratio B / mean(A, A), median
+// and quartiles. Two processes run minutes apart differ by more than most kernel changes here.
 json compare_kernels(const std::array<std::string, 2>& dirs, const std::string& device,
                      const std::vector<const MethodInfo*>& methods, const GBuffer& gbuffer,
-                     const HeightMap& map, const PassSettings& s, int rounds) {
+                     const std::vector<HeightMap>& maps, const PassSettings& s, int rounds) {
     struct Side {
         std::shared_ptr<Runtime> rt;
         DeviceGBuffer g;
-        DeviceHeightField f;
+        std::vector<DeviceHeightField> f;
         OffsetTargets t;
     };
     std::array<Side, 2> side;
@@ -393,26 +394,49 @@ json compare_kernels(const std::array<std::string, 2>& dirs, const std::string& 
         x.rt = Runtime::create(device);
         x.rt->set_kernel_dir(dirs[k]);
         x.g = upload(*x.rt, gbuffer);
-        x.f = upload(*x.rt, map, s);
+        for (const HeightMap& map : maps) x.f.push_back(upload(*x.rt, map, s));
         x.t.uv = cl::Buffer(x.rt->context(), CL_MEM_WRITE_ONLY, n * sizeof(cl_float2));
         x.t.depth = cl::Buffer(x.rt->context(), CL_MEM_WRITE_ONLY, n * sizeof(float));
     }
+    // With a material id per pixel, each method runs as a material frame of one material per map.
+    const bool frame = !gbuffer.material.empty();
     std::printf(
         "\n%s (A) against %s (B), %zu pixels, %d rounds of A B A\n  %-18s %10s %10s %8s %15s\n",
         dirs[0].c_str(), dirs[1].c_str(), n, rounds, "method", "A ns/px", "B ns/px", "B / A",
         "quartiles");
     json rows = json::array();
     for (const MethodInfo* m : methods) {
-        OffsetPass a(side[0].rt, m->name, {}), b(side[1].rt, m->name, {});
-        auto launch = [&](OffsetPass& p, Side& x) {
-            cl::Event e = p.enqueue(x.g, x.f, s, x.t);
-            e.wait();
-            return event_ms(e);
-        };
-        for (int w = 0; w < 2; ++w) launch(a, side[0]), launch(b, side[1]);
+        std::array<std::function<double()>, 2> run;
+        std::array<std::unique_ptr<OffsetPass>, 2> pass;
+        std::array<std::unique_ptr<MaterialFrame>, 2> frames;
+        for (int k = 0; k < 2; ++k) {
+            Side& x = side[k];
+            if (frame) {
+                std::vector<FrameMaterial> table;
+                for (size_t i = 0; i < x.f.size(); ++i)
+                    table.push_back(bench_material(static_cast<int>(i) + 1,
+                                                   std::to_string(maps[i].width) + "^2", x.f[i], s,
+                                                   m->name));
+                frames[k] = std::make_unique<MaterialFrame>(x.rt, table);
+                MaterialFrame* f = frames[k].get();
+                run[k] = [f, &x] {
+                    f->enqueue(x.g, x.t).wait();
+                    return f->kernel_ms();
+                };
+            } else {
+                pass[k] = std::make_unique<OffsetPass>(x.rt, m->name);
+                OffsetPass* p = pass[k].get();
+                run[k] = [p, &x, &s] {
+                    cl::Event e = p->enqueue(x.g, x.f[0], s, x.t);
+                    e.wait();
+                    return event_ms(e);
+                };
+            }
+        }
+        for (int w = 0; w < 2; ++w) run[0](), run[1]();
         std::vector<double> ta, tb, ratio;
         for (int r = 0; r < rounds; ++r) {
-            double a1 = launch(a, side[0]), b1 = launch(b, side[1]), a2 = launch(a, side[0]);
+            double a1 = run[0](), b1 = run[1](), a2 = run[0]();
             ta.push_back(0.5 * (a1 + a2));
             tb.push_back(b1);
             ratio.push_back(b1 / ta.back());
@@ -484,9 +508,10 @@ int main(int argc, char** argv) {
         ->expected(2);
     std::string ab_scene = "camera";
     app.add_option("--ab-scene", ab_scene,
-                   "--ab's G-buffer: the camera plane, or random rays (no order between "
-                   "neighbouring pixels)")
-        ->check(CLI::IsMember({"camera", "random"}))
+                   "--ab's G-buffer: the camera plane, random rays (no order between "
+                   "neighbouring pixels), or the camera plane as a material frame of four maps "
+                   "(1024^2, 256^2, 512^2, 128^2), each method for all four")
+        ->check(CLI::IsMember({"camera", "random", "materials"}))
         ->capture_default_str();
     CLI11_PARSE(app, argc, argv);
     try {
@@ -530,11 +555,16 @@ int main(int argc, char** argv) {
         s.scale = 0.05f;
         if (!ab.empty()) {
             const int rounds = smoke ? 1 : std::clamp(static_cast<int>(target_ms / 20), 5, 40);
-            const GBuffer gb = ab_scene == "random"
-                                   ? make_scene(RandomScene{main_res.w, main_res.h, 1, 10.0, 90.0})
-                                   : camera_gbuffer(main_res);
-            b.out["ab"] = compare_kernels({ab[0], ab[1]}, device, select_methods(only), gb,
-                                          bench_map(1024), s, rounds);
+            GBuffer gb = ab_scene == "random"
+                             ? make_scene(RandomScene{main_res.w, main_res.h, 1, 10.0, 90.0})
+                             : camera_gbuffer(main_res);
+            std::vector<HeightMap> maps = {bench_map(1024)};
+            if (ab_scene == "materials") {
+                for (int size : {256, 512, 128}) maps.push_back(bench_map(size));
+                lay_out_materials(gb, {1, 2, 3, 4});
+            }
+            b.out["ab"] =
+                compare_kernels({ab[0], ab[1]}, device, select_methods(only), gb, maps, s, rounds);
             b.out["ab"]["scene"] = ab_scene;
             std::ofstream(out_dir + "/bench-ab.json") << b.out.dump(2) << "\n";
             std::printf("\nwrote %s/bench-ab.json\n", out_dir.c_str());

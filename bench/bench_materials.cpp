@@ -9,17 +9,9 @@
 
 namespace offsetmap::bench {
 
-namespace {
-
-struct Table {
-    std::vector<HeightMap> maps;
-    std::vector<PassSettings> settings;
-    std::vector<DeviceHeightField> fields;
-};
-
-FrameMaterial material(int id, const std::string& name, const DeviceHeightField& f,
-                       const PassSettings& s, const std::string& method,
-                       const std::map<std::string, std::string>& params = {}) {
+FrameMaterial bench_material(int id, const std::string& name, const DeviceHeightField& f,
+                             const PassSettings& s, const std::string& method,
+                             const std::map<std::string, std::string>& params) {
     FrameMaterial m;
     m.id = id;
     m.name = name;
@@ -28,6 +20,14 @@ FrameMaterial material(int id, const std::string& name, const DeviceHeightField&
     m.params = resolve_params(find_method(method), params);
     return m;
 }
+
+namespace {
+
+struct Table {
+    std::vector<HeightMap> maps;
+    std::vector<PassSettings> settings;
+    std::vector<DeviceHeightField> fields;
+};
 
 // One frame: classification and dispatches, kernel time (profiling events) and the wall time from
 // enqueue to completion (it includes the counts' read-back between them).
@@ -72,10 +72,11 @@ nlohmann::json bench_materials(std::shared_ptr<Runtime> rt, const Resolution& re
                             f128 = upload(*rt, bench_map(128), s);
     // Four materials whose methods differ in cost, as a table might pick them.
     const std::vector<FrameMaterial> four = {
-        material(1, "1024^2", f1024, s, "pom", {{"min_samples", "8"}, {"max_samples", "32"}}),
-        material(2, "256^2", f256, s, "relief"),
-        material(3, "512^2 smooth", f512, smooth, "parallax-iterative", {{"iterations", "2"}}),
-        material(4, "128^2", f128, s, "secant")};
+        bench_material(1, "1024^2", f1024, s, "pom", {{"min_samples", "8"}, {"max_samples", "32"}}),
+        bench_material(2, "256^2", f256, s, "relief"),
+        bench_material(3, "512^2 smooth", f512, smooth, "parallax-iterative",
+                       {{"iterations", "2"}}),
+        bench_material(4, "128^2", f128, s, "secant")};
     lay_out_materials(gb, {1, 2, 3, 4});
     DeviceGBuffer g = upload(*rt, gb);
     OffsetTargets t;
@@ -114,8 +115,8 @@ nlohmann::json bench_materials(std::shared_ptr<Runtime> rt, const Resolution& re
     // against the whole screen; the rest is id 0 (no relief).
     {
         const std::vector<FrameMaterial> one = {
-            material(2, "256^2", f256, s, "pom"),
-            material(5, "1024^2", f1024, s, "relief", {{"linear", "32"}, {"binary", "8"}})};
+            bench_material(2, "256^2", f256, s, "pom"),
+            bench_material(5, "1024^2", f1024, s, "relief", {{"linear", "32"}, {"binary", "8"}})};
         auto ids_for = [&](auto is_exact) {
             GBuffer h = gb;
             for (int y = 0; y < h.height; ++y)

@@ -18,8 +18,8 @@
 // OM_LANE_PAIRS, OM_IMAGES, OM_LOD when the LOD system is on, OM_OUT_DEPTH / OM_OUT_FETCHES /
 // OM_OUT_FLAGS for the optional outputs bound.
 
-// A full work-item's G-buffer (interleaved uv and view) split into planes with vector loads and
-// shuffles, and its uv' interleaved back. Works on global or private memory (generic macros).
+// A group's G-buffer (interleaved uv and view) gathered into private memory, split into planes with
+// vector loads and shuffles.
 #if OM_LANES == 8
 #define om_load_full(pu, pv, u, v, vx, vy, vz)            \
     do {                                                  \
@@ -31,9 +31,6 @@
         *(vy) = (float8)(b_.s159d, c_.s159d);             \
         *(vz) = (float8)(b_.s26ae, c_.s26ae);             \
     } while (0)
-#define om_store_uv(ou, ov, p)                                                                     \
-    vstore16(shuffle2((ou), (ov), (uint16)(0, 8, 1, 9, 2, 10, 3, 11, 4, 12, 5, 13, 6, 14, 7, 15)), \
-             0, p)
 #elif OM_LANES == 16
 #define om_load_full(pu, pv, u, v, vx, vy, vz)                                 \
     do {                                                                       \
@@ -45,15 +42,6 @@
         *(vx) = (float16)(c_.s048c, d_.s048c, e_.s048c, f_.s048c);             \
         *(vy) = (float16)(c_.s159d, d_.s159d, e_.s159d, f_.s159d);             \
         *(vz) = (float16)(c_.s26ae, d_.s26ae, e_.s26ae, f_.s26ae);             \
-    } while (0)
-#define om_store_uv(ou, ov, p)                                                                     \
-    do {                                                                                           \
-        vstore16(shuffle2((ou), (ov),                                                              \
-                          (uint16)(0, 16, 1, 17, 2, 18, 3, 19, 4, 20, 5, 21, 6, 22, 7, 23)),       \
-                 0, p);                                                                            \
-        vstore16(shuffle2((ou), (ov),                                                              \
-                          (uint16)(8, 24, 9, 25, 10, 26, 11, 27, 12, 28, 13, 29, 14, 30, 15, 31)), \
-                 1, p);                                                                            \
     } while (0)
 #endif
 
@@ -173,94 +161,13 @@ OM_INLINE void om_offset_lane_pair(const OmOffsetParams* P, const OmLaneIn* in_a
 }
 #endif
 
-// The G-buffer's pixels base .. base + count - 1 (count in [1, OM_LANES]) as lane planes; lanes
-// past count repeat the last pixel.
-OM_INLINE void om_load_gbuffer(__global const float* gb_uv, __global const float* gb_view, int base,
-                               int count, OmF* u, OmF* v, OmF* vx, OmF* vy, OmF* vz) {
-#if OM_LANES == 1
-    *u = gb_uv[2 * base];
-    *v = gb_uv[2 * base + 1];
-    *vx = gb_view[4 * base];
-    *vy = gb_view[4 * base + 1];
-    *vz = gb_view[4 * base + 2];
-#else
-    if (count == OM_LANES) {
-        om_load_full(gb_uv + 2 * base, gb_view + 4 * base, u, v, vx, vy, vz);
-    } else {
-        float tu[2 * OM_LANES], tv[4 * OM_LANES];
-        for (int k = 0; k < OM_LANES; ++k) {
-            int id = base + min(k, count - 1);
-            tu[2 * k] = gb_uv[2 * id];
-            tu[2 * k + 1] = gb_uv[2 * id + 1];
-            for (int c = 0; c < 4; ++c) tv[4 * k + c] = gb_view[4 * id + c];
-        }
-        om_load_full(tu, tv, u, v, vx, vy, vz);
-    }
-#endif
-}
-
-// Stores the lanes among the first `count` whose `keep` is non-zero: vector stores when that is
-// all OM_LANES of them.
-OM_INLINE void om_store_lanes(__global float* out_uv, __global float* out_depth,
-                              __global uint* out_fetches, __global uint* out_flags, int base,
-                              int count, OmI keep, OmF ou, OmF ov, OmF t, OmI fetches, OmI flags) {
-#if OM_LANES == 1
-    if (!keep) return;
-    out_uv[2 * base] = ou;
-    out_uv[2 * base + 1] = ov;
-#ifdef OM_OUT_DEPTH
-    out_depth[base] = t;
-#endif
-#ifdef OM_OUT_FETCHES
-    out_fetches[base] = (uint)fetches;
-#endif
-#ifdef OM_OUT_FLAGS
-    out_flags[base] = (uint)flags;
-#endif
-#else
-    if (count == OM_LANES && all(keep != 0)) {
-        om_store_uv(ou, ov, out_uv + 2 * base);
-#ifdef OM_OUT_DEPTH
-        OM_VSTORE(t, out_depth + base);
-#endif
-#ifdef OM_OUT_FETCHES
-        OM_VSTORE(fetches, (__global int*)out_fetches + base);
-#endif
-#ifdef OM_OUT_FLAGS
-        OM_VSTORE(flags, (__global int*)out_flags + base);
-#endif
-        return;
-    }
-    float pu[OM_LANES], pv[OM_LANES], pt[OM_LANES];
-    int pf[OM_LANES], pg[OM_LANES], pk[OM_LANES];
-    OM_VSTORE(ou, pu);
-    OM_VSTORE(ov, pv);
-    OM_VSTORE(t, pt);
-    OM_VSTORE(fetches, pf);
-    OM_VSTORE(flags, pg);
-    OM_VSTORE(keep, pk);
-    for (int k = 0; k < count; ++k) {
-        if (!pk[k]) continue;
-        out_uv[2 * (base + k)] = pu[k];
-        out_uv[2 * (base + k) + 1] = pv[k];
-#ifdef OM_OUT_DEPTH
-        out_depth[base + k] = pt[k];
-#endif
-#ifdef OM_OUT_FETCHES
-        out_fetches[base + k] = (uint)pf[k];
-#endif
-#ifdef OM_OUT_FLAGS
-        out_flags[base + k] = (uint)pg[k];
-#endif
-    }
-#endif
-}
-
 // Lane groups as blocks of the image rather than runs of a row: the rays of a 4 x 4 block start
 // closer together than those of 16 pixels in a row, so their fetches share more cache lines and
 // their walks end closer together (1080p camera frame, 4 x 4 against 16 x 1, in turns: AVX-512
 // pom 0.91, steep 0.90, exact 0.92, cone 0.95 of the time; AVX2 target pom 0.83, steep 0.87;
-// random rays 0.88-1.05).
+// random rays 0.88-1.05). The offset entry takes OM_BW x OM_BH blocks of the whole image; the
+// material frame's tiles take blocks no taller than a tile (om_tile_block_h), so a block's width
+// is 4, 8 or 16 pixels.
 #define OM_BW OM_BLOCK_W(OM_LANES)
 #define OM_BH OM_BLOCK_H(OM_LANES)
 #if OM_LANES > 1 && OM_BW % 4 != 0
@@ -269,27 +176,40 @@ OM_INLINE void om_store_lanes(__global float* out_uv, __global float* out_depth,
 
 typedef struct {
     int x0, y0;  // the block's first pixel
-    int full;    // every pixel of the block lies in the image
+    int x1, y1;  // its pixels lie in [x0, x1) x [y0, y1): the image's or the tile's edge cuts it
+    int bw;      // pixels per block row: lane k is pixel (x0 + k % bw, y0 + k / bw)
+    int stride;  // the image's width
+    int full;    // no edge cuts it
 } OmBlock;
 
-OM_INLINE OmBlock om_block(const OmOffsetParams* P, int group) {
-    const int per_row = (P->gb_width + OM_BW - 1) / OM_BW;
+OM_INLINE OmBlock om_block_at(int x0, int y0, int x1, int y1, int bw, int stride) {
     OmBlock b;
-    b.x0 = group % per_row * OM_BW;
-    b.y0 = group / per_row * OM_BH;
-    b.full = b.x0 + OM_BW <= P->gb_width && b.y0 + OM_BH <= P->gb_height;
+    b.x0 = x0;
+    b.y0 = y0;
+    b.x1 = min(x1, x0 + bw);
+    b.y1 = min(y1, y0 + OM_LANES / bw);
+    b.bw = bw;
+    b.stride = stride;
+    b.full = b.x1 - x0 == bw && b.y1 - y0 == OM_LANES / bw;
     return b;
 }
 
-// Lane k's pixel: lanes past the image's right or bottom edge repeat its last column or row.
-OM_INLINE int om_block_pixel(const OmOffsetParams* P, OmBlock b, int k) {
-    const int x = min(b.x0 + k % OM_BW, P->gb_width - 1);
-    const int y = min(b.y0 + k / OM_BW, P->gb_height - 1);
-    return y * P->gb_width + x;
+// The offset entry's group-th block of the image.
+OM_INLINE OmBlock om_block(const OmOffsetParams* P, int group) {
+    const int per_row = (P->gb_width + OM_BW - 1) / OM_BW;
+    const int x0 = group % per_row * OM_BW, y0 = group / per_row * OM_BH;
+    return om_block_at(x0, y0, P->gb_width, P->gb_height, OM_BW, P->gb_width);
 }
 
-OM_INLINE int om_block_has(const OmOffsetParams* P, OmBlock b, int k) {
-    return b.x0 + k % OM_BW < P->gb_width && b.y0 + k / OM_BW < P->gb_height;
+// Lane k's pixel: lanes past the block's cut repeat its last column or row.
+OM_INLINE int om_block_pixel(OmBlock b, int k) {
+    const int x = min(b.x0 + k % b.bw, b.x1 - 1);
+    const int y = min(b.y0 + k / b.bw, b.y1 - 1);
+    return y * b.stride + x;
+}
+
+OM_INLINE int om_block_has(OmBlock b, int k) {
+    return b.x0 + k % b.bw < b.x1 && b.y0 + k / b.bw < b.y1;
 }
 
 // The G-buffer lines of the blocks after this one, asked for before this block's trace: a block
@@ -303,7 +223,7 @@ OM_INLINE int om_block_has(const OmOffsetParams* P, OmBlock b, int k) {
 #endif
 
 // Lanes 4 r .. 4 r + 3 of a group are 4 neighbouring pixels of a row of its block, from OM_RUN4.
-#define OM_RUN4(P, b, r) (((b).y0 + 4 * (r) / OM_BW) * (P)->gb_width + (b).x0 + 4 * (r) % OM_BW)
+#define OM_RUN4(b, r) (((b).y0 + 4 * (r) / (b).bw) * (b).stride + (b).x0 + 4 * (r) % (b).bw)
 #if OM_LANES == 16
 #define OM_ROW4(x, r) \
     ((r) == 0 ? (x).lo.lo : (r) == 1 ? (x).lo.hi : (r) == 2 ? (x).hi.lo : (x).hi.hi)
@@ -314,23 +234,27 @@ OM_INLINE int om_block_has(const OmOffsetParams* P, OmBlock b, int k) {
 #endif
 
 // The block's G-buffer as lane planes: each row of 4 pixels two vector loads and shuffles when the
-// block is whole, a load per lane when the image's edge cuts it.
-OM_INLINE void om_load_block(const OmOffsetParams* P, __global const float* gb_uv,
-                             __global const float* gb_view, OmBlock b, OmF* u, OmF* v, OmF* vx,
-                             OmF* vy, OmF* vz) {
+// block is whole, a load per lane when an edge cuts it.
+OM_INLINE void om_load_block(__global const float* gb_uv, __global const float* gb_view, OmBlock b,
+                             OmF* u, OmF* v, OmF* vx, OmF* vy, OmF* vz) {
 #if OM_LANES == 1
-    om_load_gbuffer(gb_uv, gb_view, om_block_pixel(P, b, 0), 1, u, v, vx, vy, vz);
+    const int id = om_block_pixel(b, 0);
+    *u = gb_uv[2 * id];
+    *v = gb_uv[2 * id + 1];
+    *vx = gb_view[4 * id];
+    *vy = gb_view[4 * id + 1];
+    *vz = gb_view[4 * id + 2];
 #else
     if (b.full) {
         float4 ru[OM_LANES / 4], rv[OM_LANES / 4], rx[OM_LANES / 4], ry[OM_LANES / 4],
             rz[OM_LANES / 4];
         for (int r = 0; r < OM_LANES / 4; ++r) {
-            const int id = OM_RUN4(P, b, r);
+            const int id = OM_RUN4(b, r);
             const float8 a = vload8(0, gb_uv + 2 * id);
             const float16 c = vload16(0, gb_view + 4 * id);
-            OM_PREFETCH(gb_view + 4 * (id + OM_BW));
-            OM_PREFETCH(gb_view + 4 * (id + 2 * OM_BW));
-            OM_PREFETCH(gb_uv + 2 * (id + 2 * OM_BW));
+            OM_PREFETCH(gb_view + 4 * (id + b.bw));
+            OM_PREFETCH(gb_view + 4 * (id + 2 * b.bw));
+            OM_PREFETCH(gb_uv + 2 * (id + 2 * b.bw));
             ru[r] = a.even;
             rv[r] = a.odd;
             rx[r] = c.s048c;
@@ -346,7 +270,7 @@ OM_INLINE void om_load_block(const OmOffsetParams* P, __global const float* gb_u
     }
     float tu[2 * OM_LANES], tv[4 * OM_LANES];
     for (int k = 0; k < OM_LANES; ++k) {
-        const int id = om_block_pixel(P, b, k);
+        const int id = om_block_pixel(b, k);
         tu[2 * k] = gb_uv[2 * id];
         tu[2 * k + 1] = gb_uv[2 * id + 1];
         for (int c = 0; c < 4; ++c) tv[4 * k + c] = gb_view[4 * id + c];
@@ -355,30 +279,45 @@ OM_INLINE void om_load_block(const OmOffsetParams* P, __global const float* gb_u
 #endif
 }
 
-// One float per pixel (the lod plane) as lanes.
-OM_INLINE OmF om_load_block_f(const OmOffsetParams* P, __global const float* p, OmBlock b) {
+// One float per pixel (the lod plane, the material ids) as lanes.
+OM_INLINE OmF om_load_block_f(__global const float* p, OmBlock b) {
 #if OM_LANES == 1
-    return p[om_block_pixel(P, b, 0)];
+    return p[om_block_pixel(b, 0)];
 #else
+    if (b.full) {
+        float4 rows[OM_LANES / 4];
+        for (int r = 0; r < OM_LANES / 4; ++r) rows[r] = vload4(0, p + OM_RUN4(b, r));
+        return OM_JOIN4(rows);
+    }
     float t[OM_LANES];
-    for (int k = 0; k < OM_LANES; ++k) t[k] = p[om_block_pixel(P, b, k)];
+    for (int k = 0; k < OM_LANES; ++k) t[k] = p[om_block_pixel(b, k)];
     return OM_VLOAD(t);
 #endif
 }
 
-// Stores the block's pixels that lie in the image: a row of 4 at a time with vector stores when the
-// block is whole.
-OM_INLINE void om_store_block(const OmOffsetParams* P, __global float* out_uv,
-                              __global float* out_depth, __global uint* out_fetches,
-                              __global uint* out_flags, OmBlock b, OmF ou, OmF ov, OmF t,
-                              OmI fetches, OmI flags) {
+// Stores the lanes whose `keep` is non-zero and whose pixels lie in the block: a row of 4 at a
+// time with vector stores when that is all of them.
+OM_INLINE void om_store_block(__global float* out_uv, __global float* out_depth,
+                              __global uint* out_fetches, __global uint* out_flags, OmBlock b,
+                              OmI keep, OmF ou, OmF ov, OmF t, OmI fetches, OmI flags) {
 #if OM_LANES == 1
-    om_store_lanes(out_uv, out_depth, out_fetches, out_flags, om_block_pixel(P, b, 0), 1, 1, ou,
-                   ov, t, fetches, flags);
+    if (!keep || !om_block_has(b, 0)) return;
+    const int id = om_block_pixel(b, 0);
+    out_uv[2 * id] = ou;
+    out_uv[2 * id + 1] = ov;
+#ifdef OM_OUT_DEPTH
+    out_depth[id] = t;
+#endif
+#ifdef OM_OUT_FETCHES
+    out_fetches[id] = (uint)fetches;
+#endif
+#ifdef OM_OUT_FLAGS
+    out_flags[id] = (uint)flags;
+#endif
 #else
-    if (b.full) {
+    if (b.full && all(keep != 0)) {
         for (int r = 0; r < OM_LANES / 4; ++r) {
-            const int id = OM_RUN4(P, b, r);
+            const int id = OM_RUN4(b, r);
             vstore8(shuffle2(OM_ROW4(ou, r), OM_ROW4(ov, r), (uint8)(0, 4, 1, 5, 2, 6, 3, 7)), 0,
                     out_uv + 2 * id);
 #ifdef OM_OUT_DEPTH
@@ -394,15 +333,16 @@ OM_INLINE void om_store_block(const OmOffsetParams* P, __global float* out_uv,
         return;
     }
     float pu[OM_LANES], pv[OM_LANES], pt[OM_LANES];
-    int pf[OM_LANES], pg[OM_LANES];
+    int pf[OM_LANES], pg[OM_LANES], pk[OM_LANES];
     OM_VSTORE(ou, pu);
     OM_VSTORE(ov, pv);
     OM_VSTORE(t, pt);
     OM_VSTORE(fetches, pf);
     OM_VSTORE(flags, pg);
+    OM_VSTORE(keep, pk);
     for (int k = 0; k < OM_LANES; ++k) {
-        if (!om_block_has(P, b, k)) continue;
-        const int id = om_block_pixel(P, b, k);
+        if (!pk[k] || !om_block_has(b, k)) continue;
+        const int id = om_block_pixel(b, k);
         out_uv[2 * id] = pu[k];
         out_uv[2 * id + 1] = pv[k];
 #ifdef OM_OUT_DEPTH
@@ -436,10 +376,10 @@ __kernel void om_offset(const OmOffsetParams P, __global const float2* gb_uv2,
     __global const float* gb_view = (__global const float*)gb_view4;
     __global float* out_uv = (__global float*)out_uv2;
     OmF u, v, vx, vy, vz;
-    om_load_block(&P, gb_uv, gb_view, blk, &u, &v, &vx, &vy, &vz);
+    om_load_block(gb_uv, gb_view, blk, &u, &v, &vx, &vy, &vz);
     OmF m = 0.0f;
 #ifdef OM_LOD
-    m = om_load_block_f(&P, lod, blk);
+    m = om_load_block_f(lod, blk);
 #endif
 #ifdef OM_LANE_PAIRS
     // The method's two-group walk (om_trace_pair) over this work-item's two blocks; past the last
@@ -455,22 +395,23 @@ __kernel void om_offset(const OmOffsetParams P, __global const float2* gb_uv2,
     in_a.m = m;
     in_a.skip = in_b.skip = 0;
     in_b.m = 0.0f;
-    om_load_block(&P, gb_uv, gb_view, blk_b, &in_b.u, &in_b.v, &in_b.vx, &in_b.vy, &in_b.vz);
+    om_load_block(gb_uv, gb_view, blk_b, &in_b.u, &in_b.v, &in_b.vx, &in_b.vy, &in_b.vz);
 #ifdef OM_LOD
-    in_b.m = om_load_block_f(&P, lod, blk_b);
+    in_b.m = om_load_block_f(lod, blk_b);
 #endif
     OmLaneOut a, b;
     om_offset_lane_pair(&P, &in_a, &in_b, heights, aux, &a, &b OM_IMG_ARG);
-    om_store_block(&P, out_uv, out_depth, out_fetches, out_flags, blk, a.ou, a.ov, a.t, a.fetches,
-                   a.flags);
+    om_store_block(out_uv, out_depth, out_fetches, out_flags, blk, (OmI)1, a.ou, a.ov, a.t,
+                   a.fetches, a.flags);
     if (has_b)
-        om_store_block(&P, out_uv, out_depth, out_fetches, out_flags, blk_b, b.ou, b.ov, b.t,
+        om_store_block(out_uv, out_depth, out_fetches, out_flags, blk_b, (OmI)1, b.ou, b.ov, b.t,
                        b.fetches, b.flags);
 #else
     OmF ou, ov, t;
     OmI fetches, flags;
     om_offset_lanes(&P, u, v, vx, vy, vz, (OmI)0, m, heights, aux, &ou, &ov, &t, &fetches,
                     &flags OM_IMG_ARG);
-    om_store_block(&P, out_uv, out_depth, out_fetches, out_flags, blk, ou, ov, t, fetches, flags);
+    om_store_block(out_uv, out_depth, out_fetches, out_flags, blk, (OmI)1, ou, ov, t, fetches,
+                   flags);
 #endif
 }

@@ -163,12 +163,14 @@ TEST(MaterialFrame, EachPixelGetsItsMaterialsPassAloneBitForBit) {
     auto rt = runtime();
     const int lanes = rt->lanes();
     Table table = make_table(*rt, table_rows());
-    // 77 x 45: partial tiles at the right and bottom, rows that end inside a work-item.
+    // 77 x 45: partial tiles at the right and bottom, blocks cut by the image's right and bottom
+    // edges and by the tile's bottom. Tile rows 8, 3 and 1 give blocks 4, 2 and 1 rows tall at 16
+    // lanes (2, 2, 1 at 8 lanes), an even and an odd count of them per tile for lane pairs.
     const GBuffer gb = mixed_gbuffer(77, 45, {1, 5, 2, 9, 7});
     DeviceGBuffer g = upload(*rt, gb);
-    for (int lane_count : {lanes, 1}) {
+    for (int lane_count : {lanes, 8, 1}) {
         rt->set_lanes(lane_count);
-        for (int rows : {kDefaultTileRows, 3}) {
+        for (int rows : {kDefaultTileRows, 3, 1}) {
             SCOPED_TRACE("lanes " + std::to_string(lane_count) + ", tile rows " +
                          std::to_string(rows));
             MaterialFrame frame(rt, table.materials, rows);

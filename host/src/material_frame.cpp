@@ -307,10 +307,10 @@ cl::Event MaterialFrame::enqueue(const DeviceGBuffer& g, const OffsetTargets& t,
             Dispatch d;
             d.method = methods_[k].params.method;
             d.entries = counts[k];
-            // A work-item per tile row segment, or per two rows (tiles.cl).
-            const int rows = lane_groups(*d.method, lanes);
+            // A work-item per block of a tile, or per two blocks (tiles.cl).
+            const int groups = lane_groups(*d.method, lanes);
             const size_t per_entry =
-                static_cast<size_t>((tile_rows_ + rows - 1) / rows) * (OM_TILE_W / lanes);
+                static_cast<size_t>((om_tile_blocks(lanes, tile_rows_) + groups - 1) / groups);
             d.work_items = d.entries * per_entry;
             T.entry_base = static_cast<om_int>(bases_[k]);
             T.entry_count = static_cast<om_int>(counts[k]);

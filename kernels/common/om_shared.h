@@ -198,12 +198,25 @@ typedef struct {
 } OmShadeParams;
 
 // The material frame (offsetmap/material_frame.hpp): the screen in tiles of OM_TILE_W x tile_h
-// pixels (OM_TILE_W a multiple of every lane count, so a tile row is whole work-items), each
+// pixels (OM_TILE_W a multiple of every block's width, so a tile holds whole blocks), each
 // classified by the materials it holds into one entry (tile, material slot) per material present,
 // appended to the list of that material's method. Slots index the frame's material table (at most
 // OM_MAX_MATERIALS: a tile's materials fit one 32-bit mask).
 #define OM_TILE_W 16
 #define OM_MAX_MATERIALS 32
+
+// A tile's lane groups are blocks as in the offset entry, but no taller than the tile: the tallest
+// power of two up to OM_BLOCK_H rows, so a block row stays a multiple of 4 pixels and divides
+// OM_TILE_W. Blocks are numbered row by row within the tile; the last row of blocks may be cut.
+static inline int om_tile_block_h(int lanes, int tile_h) {
+    int h = OM_BLOCK_H(lanes);
+    while (h > 1 && h > tile_h) h /= 2;
+    return h;
+}
+static inline int om_tile_blocks(int lanes, int tile_h) {
+    const int h = om_tile_block_h(lanes, tile_h);
+    return OM_TILE_W / (lanes / h) * ((tile_h + h - 1) / h);
+}
 
 typedef struct {
     om_int width, height;  // the G-buffer

@@ -67,7 +67,7 @@ class MaterialFrame {
     struct Dispatch {
         const MethodInfo* method = nullptr;
         size_t entries = 0;     // (tile, material) entries it traced
-        size_t work_items = 0;  // entries x tile rows x work-items per tile row
+        size_t work_items = 0;  // entries x work-items per tile (a block each, or two)
         cl::Event event;
     };
     const std::vector<Dispatch>& dispatches() const { return dispatches_; }
