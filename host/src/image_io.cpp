@@ -83,8 +83,15 @@ Rgb8 contact_sheet(const std::vector<std::pair<std::string, Rgb8>>& tiles, int c
         }
         OIIO::ImageBufAlgo::paste(sheet, x0, y0 + label_h, 0, 0, tile);
         const float white[3] = {0.92f, 0.92f, 0.92f};
+        // A long label is set smaller until it fits its tile, rather than run into the next one.
         // A missing font only loses the label, never the sheet.
-        OIIO::ImageBufAlgo::render_text(sheet, x0 + 4, y0 + label_h - 8, tiles[n].first, 20,
+        auto fits = [&](int size) {
+            const OIIO::ROI r = OIIO::ImageBufAlgo::text_size(tiles[n].first, size, "DejaVuSans");
+            return !r.defined() || r.width() <= tw - 8;
+        };
+        int size = 20;
+        while (size > 10 && !fits(size)) --size;
+        OIIO::ImageBufAlgo::render_text(sheet, x0 + 4, y0 + label_h - 8, tiles[n].first, size,
                                         "DejaVuSans", white);
         (void)OIIO::geterror();
     }
