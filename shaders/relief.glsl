@@ -40,10 +40,11 @@ int om_step_count(float n) { return max(1, int(n + 0.5)); }
 // and i.
 int om_linear_search(OmRay r, int n, out float h_prev, out float h_cur) {
     float hp = 1.0, inv_n = 1.0 / float(n);
+    // Sample i at uv0 + i duv: the top plane's point, then steps of (t_exit - t_enter) / n.
+    vec2 uv0 = r.uv - r.t_enter * r.v.xy, duv = -(r.t_exit - r.t_enter) * inv_n * r.v.xy;
     for (int i = 0;; ++i) {
         float lambda = float(i) * inv_n;
-        float t = om_ray_t(r, lambda);
-        float h = om_height(r.uv - t * r.v.xy);
+        float h = om_height(fma(vec2(float(i)), duv, uv0));
         if (h >= 1.0 - lambda || i >= n) {
             h_prev = hp;
             h_cur = h;

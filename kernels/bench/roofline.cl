@@ -54,10 +54,13 @@ __kernel void om_bench_fetch_line(const OmOffsetParams P, __global const float* 
     if (!om_bench_block(&P, &id)) return;
     OmField f = om_field(heights, &P, (OmI)0);
     OmF u = OM_GATHER(uv, 2 * id), v = OM_GATHER(uv, 2 * id + 1);
-    OmF du = 0.61f / f.fw, dv = 0.29f / f.fh, sum = 0.0f;
+    // Stepped in cell coordinates, as the linear search steps (om_height_cell).
+    OmF cx = OM_CELL(u, f.fw), cy = OM_CELL(v, f.fh), sum = 0.0f;
     OmI fetches = 0;
-    for (int k = 0; k < count; ++k)
-        sum +=
-            om_height(&f, u + (float)k * du, v + (float)k * dv, (OmI)1, &fetches OM_IMG_ARG);
+    for (int k = 0; k < count; ++k) {
+        OmF fk = (OmF)(float)k;
+        sum += om_height_cell(&f, fma(fk, 0.61f, cx), fma(fk, 0.29f, cy), (OmI)1,
+                              &fetches OM_IMG_ARG);
+    }
     om_bench_store(out, id, u + v + sum * 0.0f + OM_TO_FLOAT(fetches) * 0.0f);
 }

@@ -36,8 +36,8 @@ typedef struct {
 
 OM_INLINE OmWalk om_walk(const OmRay* r, const OmField* f) {
     OmWalk w;
-    w.cx = clamp(r->u * f->fw - 0.5f, -1.0e8f, 1.0e8f);
-    w.cy = clamp(r->v * f->fh - 0.5f, -1.0e8f, 1.0e8f);
+    w.cx = clamp(OM_CELL(r->u, f->fw), -1.0e8f, 1.0e8f);
+    w.cy = clamp(OM_CELL(r->v, f->fh), -1.0e8f, 1.0e8f);
     w.dx = r->vx * f->fw;
     w.dy = r->vy * f->fh;
     w.si = OM_SEL((OmI)1, (OmI)-1, w.dx > 0.0f);

@@ -104,11 +104,17 @@ OM_INLINE OmSearchHit om_linear_search(const OmRay* r, const OmField* f, OmI n, 
     hit.h_prev = 1.0f;
     hit.h_cur = 0.0f;
     OmF h_prev = 1.0f, inv_n = 1.0f / OM_TO_FLOAT(n);
+    // Sample i at cell coordinates c0 + i dc: the top plane's point, then one step of
+    // (t_exit - t_enter) / n along -V.xy.
+    OmF dt = (r->t_exit - r->t_enter) * inv_n;
+    OmF cx0 = OM_CELL(r->u - r->t_enter * r->vx, f->fw);
+    OmF cy0 = OM_CELL(r->v - r->t_enter * r->vy, f->fh);
+    OmF dcx = -dt * r->vx * f->fw, dcy = -dt * r->vy * f->fh;
     OmI searching = active;
     for (int i = 0; OM_ANY(searching); ++i) {
-        OmF lambda = OM_TO_FLOAT((OmI)i) * inv_n;
-        OmF t = om_ray_t(r, lambda);
-        OmF h = om_height(f, r->u - t * r->vx, r->v - t * r->vy, searching, fetches OM_IMG_ARG);
+        OmF fi = (OmF)(float)i, lambda = fi * inv_n;
+        OmF h = om_height_cell(f, fma(fi, dcx, cx0), fma(fi, dcy, cy0), searching,
+                               fetches OM_IMG_ARG);
         OmI found = searching & (h >= 1.0f - lambda || (OmI)i >= n);
         hit.index = OM_SEL(hit.index, (OmI)i, found);
         hit.h_prev = OM_SEL(hit.h_prev, h_prev, found);

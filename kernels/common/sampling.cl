@@ -19,6 +19,11 @@ typedef struct {
     __global const uint* packed;
 } OmField;
 
+// Cell coordinate of u (or v) on an axis of n texels: texel i's centre, (i + 1/2) / n, is c = i,
+// and cell i (the bilinear patch between centres i and i + 1) holds c in [i, i + 1). Every kernel
+// that turns uv into texels goes through it.
+#define OM_CELL(u, n) ((u) * (n)-0.5f)
+
 // The field at each lane's mip level, clamped to the levels present. Level k is max(1, W >> k) x
 // max(1, H >> k) texels stored after level k - 1; texel centres follow the same convention at every
 // level, so a level samples the same uv as level 0.
@@ -172,15 +177,23 @@ OM_INLINE void om_corners(const OmField* f, OmI i, OmI j, OmF* k00, OmF* k10, Om
     *k11 = OM_HEIGHTS(f->heights, r1 + i1);
 }
 
-// The four corners of the patch under (u, v) and the position (a, b) inside it.
-OM_INLINE void om_patch(const OmField* f, OmF u, OmF v, OmF* a, OmF* b, OmF* k00, OmF* k10,
-                        OmF* k01, OmF* k11 OM_IMG_PARAM) {
-    OmF cx = clamp(u * f->fw - 0.5f, -1.0e8f, 1.0e8f);
-    OmF cy = clamp(v * f->fh - 0.5f, -1.0e8f, 1.0e8f);
+// The four corners of the patch under cell coordinates (cx, cy) = (u W - 1/2, v H - 1/2) and the
+// position (a, b) inside it. Coordinates beyond +-1e8 are clamped there, so the cell index stays an
+// int and the address mode still sees a point far outside the map.
+OM_INLINE void om_patch_cell(const OmField* f, OmF cx, OmF cy, OmF* a, OmF* b, OmF* k00, OmF* k10,
+                             OmF* k01, OmF* k11 OM_IMG_PARAM) {
+    cx = clamp(cx, -1.0e8f, 1.0e8f);
+    cy = clamp(cy, -1.0e8f, 1.0e8f);
     OmF fx = OM_LFLOOR(cx), fy = OM_LFLOOR(cy);
     *a = cx - fx;
     *b = cy - fy;
     om_corners(f, OM_TO_INT(fx), OM_TO_INT(fy), k00, k10, k01, k11 OM_IMG_ARG);
+}
+
+// The four corners of the patch under (u, v) and the position (a, b) inside it.
+OM_INLINE void om_patch(const OmField* f, OmF u, OmF v, OmF* a, OmF* b, OmF* k00, OmF* k10,
+                        OmF* k01, OmF* k11 OM_IMG_PARAM) {
+    om_patch_cell(f, OM_CELL(u, f->fw), OM_CELL(v, f->fh), a, b, k00, k10, k01, k11 OM_IMG_ARG);
 }
 
 // The patch's height at (a, b): each lerp one fused multiply-add (PoCL's mix is a subtraction, a
@@ -201,6 +214,16 @@ OM_INLINE OmF om_height_at(const OmField* f, OmF u, OmF v OM_IMG_PARAM) {
 OM_INLINE OmF om_height(const OmField* f, OmF u, OmF v, OmI active, OmI* fetches OM_IMG_PARAM) {
     *fetches += OM_ONE(active);
     return om_height_at(f, u, v OM_IMG_ARG);
+}
+
+// The same at cell coordinates (om_patch_cell): a search whose samples are evenly spaced along the
+// ray steps them there, one multiply-add per axis and sample (pom 0.97 of the time, both targets).
+OM_INLINE OmF om_height_cell(const OmField* f, OmF cx, OmF cy, OmI active,
+                             OmI* fetches OM_IMG_PARAM) {
+    OmF a, b, k00, k10, k01, k11;
+    om_patch_cell(f, cx, cy, &a, &b, &k00, &k10, &k01, &k11 OM_IMG_ARG);
+    *fetches += OM_ONE(active);
+    return om_bilinear(k00, k10, k01, k11, a, b);
 }
 
 // Bilinear height and its exact gradient (dH/du, dH/dv) on the patch: the gradient of the bilinear

@@ -19,8 +19,8 @@ __kernel void om_column_max(const OmOffsetParams P, __global const float* height
     float x0 = (float)i / res, x1 = (float)(i + 1) / res;
     float y0 = (float)j / res, y1 = (float)(j + 1) / res;
     // Patch lines in uv: u = (n + 0.5) / W.
-    int nx0 = (int)floor(x0 * f.fw - 0.5f) + 1, nx1 = (int)ceil(x1 * f.fw - 0.5f) - 1;
-    int ny0 = (int)floor(y0 * f.fh - 0.5f) + 1, ny1 = (int)ceil(y1 * f.fh - 0.5f) - 1;
+    int nx0 = (int)floor(OM_CELL(x0, f.fw)) + 1, nx1 = (int)ceil(OM_CELL(x1, f.fw)) - 1;
+    int ny0 = (int)floor(OM_CELL(y0, f.fh)) + 1, ny1 = (int)ceil(OM_CELL(y1, f.fh)) - 1;
     float m = 0.0f;
     for (int gy = ny0 - 1; gy <= ny1 + 1; ++gy) {
         float v = gy < ny0 ? y0 : (gy > ny1 ? y1 : ((float)gy + 0.5f) / f.fh);
