@@ -1,6 +1,7 @@
 // The eye ray, per lane: p(t) = (u, v, 0) - t V enters the relief at the top plane z = s (1 - r)
-// and leaves it at the bottom z = -s r (docs/design.md, "The ray"). Validation and the grazing rule,
-// without branches (a rejected lane gets a harmless ray: uv 0, V = +z, and its result is dropped).
+// and leaves it at the bottom z = -s r (docs/design.md, "The ray"). Validation and the grazing
+// rule, without branches (a rejected lane gets a harmless ray: uv 0, V = +z, and its result is
+// dropped).
 // Also the searches the marching methods share: the linear search and the slope step.
 
 typedef struct {
