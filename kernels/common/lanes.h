@@ -50,8 +50,9 @@
 #endif
 // Whether any lane has a != b or c != d (ints), for a branch almost never taken. Under AVX2 the
 // lanes' differences ORed and tested at once (vptest): 16 compares' mask was packed to bytes
-// first, about 20 instructions a patch read (A/B: the marching and cell-walk methods 0.96-0.99 of
-// the time). AVX-512 keeps the compares, whose masks are free there (the XOR form: 1.01-1.03x).
+// first, about 20 instructions a patch read (A/B: the marching and cell-walk methods 0.95-1.00 of
+// the time). AVX-512 keeps the compares, whose masks are free there (the differences ORed and
+// compared once: 1.01-1.03x the time).
 #if defined(OM_POCL) && defined(OM_CLANG_LANE_BUILTINS) && defined(__AVX__) && \
     !defined(__AVX512F__)
 #define OM_VANY_NE2(a, b, c, d) (__builtin_reduce_or(((a) ^ (b)) | ((c) ^ (d))) != 0)
@@ -112,6 +113,7 @@ typedef int16 OmI;
 #else
 #error "OM_LANES must be 1, 8 or 16"
 #endif
+#define OM_ANY_NE(a, b) OM_ANY_NE2(a, b, a, b)
 
 // Heights come from a float buffer (the CPU path), or with OM_IMAGES through an image1d_buffer_t
 // view of the same buffer (a GPU's texture path; the same floats, so the same frame). OpenCL C

@@ -165,7 +165,7 @@ OM_INLINE void om_corners(const OmField* f, OmI i, OmI j, OmF* k00, OmF* k10, Om
     // predicted branch lets the gathers start before the test is done, a mask delays every
     // dependent fetch by its reduction. Without the hint, the code PoCL made for pom's search
     // was 20 % slower than with the mask; with it every method is as fast or faster (A/B runs).
-    if (__builtin_expect(!OM_ANY_NE2(i1, i0 + 1, i1, i0 + 1), 1)) {
+    if (__builtin_expect(!OM_ANY_NE(i1, i0 + 1), 1)) {
         om_gather_pairs(f->heights, r0 + i0, k00, k10);
         om_gather_pairs(f->heights, r1 + i0, k01, k11);
         return;
