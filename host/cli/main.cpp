@@ -1,6 +1,7 @@
 // offsetmap: command-line front end (methods, gbuffer, render, demo).
 #include <CLI/CLI.hpp>
 #include <cstdio>
+#include <cstdlib>
 #include <iostream>
 #include <new>
 #include <nlohmann/json.hpp>
@@ -44,6 +45,40 @@ void print_methods(bool json) {
                       << ", " << p.max_value << "]" << (p.integer ? " integer" : "")
                       << (p.at_most.empty() ? "" : ", <= " + p.at_most) << "  " << p.doc << "\n";
     }
+}
+
+// Each OpenCL device with what the passes would do there: its type, the pixels a work-item of the
+// lane methods takes, heights through images or buffers; the default choice marked.
+void print_devices() {
+    const std::vector<DeviceEntry> all = list_devices();
+    const char* env = std::getenv("OFFSETMAP_DEVICE");
+    const int chosen = choose_device(all, env ? env : "");
+    if (all.empty()) std::cout << "no OpenCL platform\n";
+    for (size_t k = 0; k < all.size(); ++k) {
+        const DeviceEntry& e = all[k];
+        if (!e.device()) {
+            std::cout << "  " << e.name << ": no devices\n";
+            continue;
+        }
+        const cl_device_type t = e.device.getInfo<CL_DEVICE_TYPE>();
+        const std::string type = (t & CL_DEVICE_TYPE_GPU)           ? "GPU"
+                                 : (t & CL_DEVICE_TYPE_CPU)         ? "CPU"
+                                 : (t & CL_DEVICE_TYPE_ACCELERATOR) ? "accelerator"
+                                                                    : "other";
+        const int lanes = Runtime::default_lanes(e.device);
+        std::string version = e.device.getInfo<CL_DEVICE_VERSION>();
+        version.erase(version.find_last_not_of(" \t\r\n") + 1);
+        std::cout << (static_cast<int>(k) == chosen ? "* " : "  ") << e.name << ": " << type << ", "
+                  << version << ", " << e.device.getInfo<CL_DEVICE_MAX_COMPUTE_UNITS>()
+                  << " compute units; " << lanes << (lanes == 1 ? " pixel" : " pixels")
+                  << " a work-item, heights from "
+                  << (Runtime::default_images(e.device) ? "images" : "buffers")
+                  << (e.device.getInfo<CL_DEVICE_IMAGE_SUPPORT>() ? "" : " (no image support)")
+                  << "\n";
+    }
+    std::cout << "(* the default choice"
+              << (env && *env ? std::string(", $OFFSETMAP_DEVICE=") + env : std::string()) +
+                     "; OFFSETMAP_LANES and OFFSETMAP_IMAGES override lanes and images)\n";
 }
 
 struct RenderRequest {
@@ -165,6 +200,9 @@ int main(int argc, char** argv) {
     auto* cmd_methods = app.add_subcommand("methods", "list the methods and their parameters");
     bool json = false;
     cmd_methods->add_flag("--json", json, "machine-readable output");
+
+    auto* cmd_devices = app.add_subcommand(
+        "devices", "list the OpenCL devices: type, lanes and image or buffer path the passes use");
 
     auto* cmd_gbuffer = app.add_subcommand("gbuffer", "write a G-buffer EXR from a scene source");
     SceneOptions gb_scene;
@@ -324,6 +362,7 @@ int main(int argc, char** argv) {
     quiet_decoders(true);
     try {
         if (*cmd_methods) print_methods(json);
+        if (*cmd_devices) print_devices();
         if (*cmd_gbuffer) {
             gb_scene.check();
             if (gb_depth.empty()) {

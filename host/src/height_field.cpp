@@ -10,10 +10,12 @@
 namespace offsetmap {
 namespace {
 
+const cl_uint kZero = 0;
+
 // The mip chain after `after`; returns the last level's event (or `after` when there is none).
 std::vector<cl::Event> build_mips(Runtime& rt, DeviceHeightField& f, std::vector<cl::Event> after) {
     if (f.mip_levels < 2) return after;
-    cl::Kernel k(rt.program({"prep/mips.cl"}), "om_mip_level");
+    cl::Kernel k = rt.kernel(rt.program({"prep/mips.cl"}), "om_mip_level");
     int w = f.width, h = f.height, offset = 0;
     for (int level = 1; level < f.mip_levels; ++level) {
         int cw = std::max(1, w / 2), ch = std::max(1, h / 2), child = offset + w * h;
@@ -36,12 +38,12 @@ std::vector<cl::Event> pack_unorm16(Runtime& rt, DeviceHeightField& f,
     if (!f.packed) return after;
     const cl::Program& program = rt.program({"prep/unorm16.cl"});
     const int words = static_cast<int>(mip_pyramid_floats(f.width, f.height, f.mip_levels));
-    cl::Kernel round(program, "om_round_heights");
+    cl::Kernel round = rt.kernel(program, "om_round_heights");
     set_args(round, f.heights, words);
     cl::Event rounded;
     rt.queue().enqueueNDRangeKernel(round, cl::NullRange, cl::NDRange(words), cl::NullRange, &after,
                                     &rounded);
-    cl::Kernel pack(program, "om_pack_heights");
+    cl::Kernel pack = rt.kernel(program, "om_pack_heights");
     std::vector<cl::Event> done;
     int w = f.width, h = f.height, offset = 0;
     for (int level = 0; level < f.mip_levels; ++level) {
@@ -151,7 +153,8 @@ void finish_field(Runtime& rt, DeviceHeightField& f, const PassSettings& setting
     } else {
         f.normals = device_buffer(rt.context(), CL_MEM_READ_WRITE, n * sizeof(cl_float4),
                                   "the " + size + " normals");
-        cl::Kernel k(rt.program(sampling_program_files("prep/normals.cl")), "om_normals");
+        cl::Kernel k =
+            rt.kernel(rt.program(sampling_program_files("prep/normals.cl")), "om_normals");
         set_args(k, offset_params(settings, f.width, f.height), f.heights, f.normals);
         cl::Event normals;
         rt.queue().enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(f.width, f.height),
@@ -165,6 +168,35 @@ void finish_field(Runtime& rt, DeviceHeightField& f, const PassSettings& setting
 
 }  // namespace
 
+namespace {
+
+// Level 0 of `f` from `texels` (a buffer of `storage` values or an image) by the import kernel,
+// after `wait`; returns its event, and the clamped-value counter in `count`. Both uploads write
+// level 0 this way, on the device: a host-side copy into part of the pyramid is also where
+// Oclgrind 21.10 loses track of the buffer's initialised bytes (it resizes its shadow of the whole
+// buffer to the copy), so a store into level 1 then runs past that shadow.
+cl::Event import_level0(Runtime& rt, DeviceHeightField& f, const Input& texels, bool depth_map,
+                        std::vector<cl::Event> after, cl::Buffer& count) {
+    const bool image = texels.image() != nullptr;
+    cl::Kernel k = rt.kernel(rt.program({"common/lanes.h", "common/storage.cl", "prep/import.cl"},
+                                        image ? "#define OM_IMAGE_HEIGHTS\n" : ""),
+                             "om_import_heights");
+    count = device_buffer(rt.context(), CL_MEM_READ_WRITE | CL_MEM_COPY_HOST_PTR, sizeof(cl_uint),
+                          "the clamped-height counter", &kZero);
+    if (image)
+        k.setArg(0, texels.image);
+    else
+        k.setArg(0, texels.buffer);
+    set_args_from(k, 1, static_cast<cl_int>(texels.storage), f.width, f.height,
+                  static_cast<cl_int>(depth_map), f.heights, count);
+    cl::Event filled;
+    rt.queue().enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(f.width, f.height), cl::NullRange,
+                                    &after, &filled);
+    return filled;
+}
+
+}  // namespace
+
 DeviceHeightField upload(Runtime& rt, const HeightMap& map, const PassSettings& settings,
                          const Image4* normal_map, const std::vector<cl::Event>& wait) {
     validate_height_map(map, "height map");
@@ -172,15 +204,16 @@ DeviceHeightField upload(Runtime& rt, const HeightMap& map, const PassSettings& 
     DeviceHeightField f =
         allocate_field(rt, map.width, map.height, normal_map, packs(settings, holds_unorm16(map)));
     // Level 0 through a buffer that copies the host data as it is created, so the caller's map
-    // may go at once; the device copy into the pyramid is enqueued like the rest.
-    const size_t n = map.h.size();
-    cl::Buffer level0 = device_buffer(
-        rt.context(), CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, n * sizeof(float),
+    // may go at once; the import into the pyramid is enqueued like the rest. The map's heights lie
+    // in [0, 1] (validated), so the import keeps them bit for bit.
+    Input texels;
+    texels.buffer = device_buffer(
+        rt.context(), CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, map.h.size() * sizeof(float),
         "the " + std::to_string(map.width) + "x" + std::to_string(map.height) + " heights",
         map.h.data());
-    cl::Event copied;
-    rt.queue().enqueueCopyBuffer(level0, f.heights, 0, 0, n * sizeof(float), &wait, &copied);
-    finish_field(rt, f, settings, normal_map, copied);
+    cl::Buffer count;
+    const cl::Event filled = import_level0(rt, f, texels, false, wait, count);
+    finish_field(rt, f, settings, normal_map, filled);
     return f;
 }
 
@@ -197,25 +230,10 @@ DeviceHeightField upload(Runtime& rt, const DeviceHeights& heights, const PassSe
         allocate_field(rt, w, h, normal_map, packs(settings, at_most_16_bits(heights)));
     cl::Event copied;
     const Input texels = readable_input(rt, heights.texels, w, h, rt.queue(), wait, copied);
-    const bool image = texels.image() != nullptr;
-    cl::Kernel k(rt.program({"common/lanes.h", "common/storage.cl", "prep/import.cl"},
-                            image ? "#define OM_IMAGE_HEIGHTS\n" : ""),
-                 "om_import_heights");
-    cl::Buffer count = device_buffer(rt.context(), CL_MEM_READ_WRITE, sizeof(cl_uint),
-                                     "the clamped-height counter");
-    if (image)
-        k.setArg(0, texels.image);
-    else
-        k.setArg(0, texels.buffer);
-    set_args_from(k, 1, static_cast<cl_int>(texels.storage), w, h,
-                  static_cast<cl_int>(heights.depth_map), f.heights, count);
-    cl::Event zeroed, filled;
-    rt.queue().enqueueFillBuffer(count, cl_uint(0), 0, sizeof(cl_uint), &wait, &zeroed);
     std::vector<cl::Event> after = wait;
-    after.push_back(zeroed);
     if (copied()) after.push_back(copied);
-    rt.queue().enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(w, h), cl::NullRange, &after,
-                                    &filled);
+    cl::Buffer count;
+    const cl::Event filled = import_level0(rt, f, texels, heights.depth_map != 0, after, count);
     finish_field(rt, f, settings, normal_map, filled);
     if (clamped) *clamped = count;
     return f;

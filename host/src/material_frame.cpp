@@ -190,27 +190,27 @@ MaterialFrame::MaterialFrame(std::shared_ptr<Runtime> runtime, std::vector<Frame
         throw Error("cannot gather the material table on the device: " +
                     describe_cl_error(e.err()));
     }
-    classify_ = cl::Kernel(rt.program({"frame/classify.cl"}), "om_classify");
-    shade_ = cl::Kernel(rt.program(sampling_program_files("shade.cl")), "om_shade_materials");
+    classify_ = rt.kernel(rt.program({"frame/classify.cl"}), "om_classify");
+    shade_ = rt.kernel(rt.program(sampling_program_files("shade.cl")), "om_shade_materials");
     // Compile the usual variant now, so a method's build errors surface here.
     for (Method& m : methods_) tile_kernel(m, true, true, true);
 }
 
 cl::Kernel& MaterialFrame::tile_kernel(Method& m, bool depth, bool fetches, bool flags) {
-    const int lanes = runtime_->lanes();
-    std::string defines = lanes > 1 ? "#define OM_LANES " + std::to_string(lanes) + "\n" : "";
-    if (depth) defines += "#define OM_OUT_DEPTH\n";
-    if (fetches) defines += "#define OM_OUT_FETCHES\n";
-    if (flags) defines += "#define OM_OUT_FLAGS\n";
-    if (lane_groups(*m.params.method, lanes) == 2) defines += "#define OM_LANE_PAIRS\n";
+    OffsetVariant v;
+    v.lanes = runtime_->lanes();
+    v.depth = depth;
+    v.fetches = fetches;
+    v.flags = flags;
+    const std::string defines = offset_program_defines(*m.params.method, v, true);
     auto it = m.kernels.find(defines);
     if (it == m.kernels.end()) {
         std::vector<std::string> files = offset_program_files(*m.params.method);
         files.push_back("frame/tiles.cl");
-        const std::string all = defines + param_slot_defines(*m.params.method);
-        it =
-            m.kernels.emplace(defines, cl::Kernel(runtime_->program(files, all), "om_offset_tiles"))
-                .first;
+        it = m.kernels
+                 .emplace(defines,
+                          runtime_->kernel(runtime_->program(files, defines), "om_offset_tiles"))
+                 .first;
     }
     return it->second;
 }

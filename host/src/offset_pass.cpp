@@ -37,20 +37,20 @@ OffsetPass::OffsetPass(std::shared_ptr<Runtime> runtime, const MethodParams& par
 
 cl::Kernel& OffsetPass::kernel(bool lod, bool depth, bool fetches, bool flags, bool images) {
     // One program per combination actually used: each drops the branches it does not need.
-    std::string defines = lanes_ > 1 ? "#define OM_LANES " + std::to_string(lanes_) + "\n" : "";
-    if (groups_ == 2) defines += "#define OM_LANE_PAIRS\n";
-    if (images) defines += "#define OM_IMAGES\n";
-    if (lod) defines += "#define OM_LOD\n";
-    if (depth) defines += "#define OM_OUT_DEPTH\n";
-    if (fetches) defines += "#define OM_OUT_FETCHES\n";
-    if (flags) defines += "#define OM_OUT_FLAGS\n";
-    defines += param_slot_defines(*method_);
+    OffsetVariant v;
+    v.lanes = lanes_;
+    v.images = images;
+    v.lod = lod;
+    v.depth = depth;
+    v.fetches = fetches;
+    v.flags = flags;
+    const std::string defines = offset_program_defines(*method_, v);
     auto it = kernels_.find(defines);
     if (it == kernels_.end())
         it = kernels_
-                 .emplace(defines,
-                          cl::Kernel(runtime_->program(offset_program_files(*method_), defines),
-                                     "om_offset"))
+                 .emplace(defines, runtime_->kernel(
+                                       runtime_->program(offset_program_files(*method_), defines),
+                                       "om_offset"))
                  .first;
     return it->second;
 }
@@ -112,7 +112,7 @@ cl::Buffer OffsetPass::footprint(const DeviceGBuffer& g, const DeviceHeightField
         footprint_pixels_ = g.pixels();
     }
     if (!footprint_kernel_())
-        footprint_kernel_ = cl::Kernel(rt.program({"prep/footprint.cl"}), "om_footprint_lod");
+        footprint_kernel_ = rt.kernel(rt.program({"prep/footprint.cl"}), "om_footprint_lod");
     cl::Kernel& k = footprint_kernel_;
     set_args(k, g.uv, g.width, g.height, static_cast<float>(f.width), static_cast<float>(f.height),
              footprint_);

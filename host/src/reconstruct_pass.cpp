@@ -62,7 +62,7 @@ cl::Kernel& ReconstructPass::kernel(const EngineGBuffer& in) {
     if (it == kernels_.end()) {
         cl::Program program = runtime_->program(
             {"common/lanes.h", "common/storage.cl", "gbuffer/reconstruct.cl"}, defines);
-        it = kernels_.emplace(defines, cl::Kernel(program, "om_reconstruct")).first;
+        it = kernels_.emplace(defines, runtime_->kernel(program, "om_reconstruct")).first;
     }
     return it->second;
 }

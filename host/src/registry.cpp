@@ -291,6 +291,17 @@ std::vector<std::string> offset_program_files(const MethodInfo& m) {
             "common/patch.cl", "methods/" + m.kernel_file, "offset.cl"};
 }
 
+std::string offset_program_defines(const MethodInfo& method, const OffsetVariant& v, bool tiles) {
+    std::string defines = v.lanes > 1 ? "#define OM_LANES " + std::to_string(v.lanes) + "\n" : "";
+    if (lane_groups(method, v.lanes) == 2) defines += "#define OM_LANE_PAIRS\n";
+    if (v.images && !tiles) defines += "#define OM_IMAGES\n";
+    if (v.lod && !tiles) defines += "#define OM_LOD\n";
+    if (v.depth) defines += "#define OM_OUT_DEPTH\n";
+    if (v.fetches) defines += "#define OM_OUT_FETCHES\n";
+    if (v.flags) defines += "#define OM_OUT_FLAGS\n";
+    return defines + param_slot_defines(method);
+}
+
 std::string param_slot_defines(const MethodInfo& m) {
     std::string out;
     for (size_t k = 0; k < m.params.size(); ++k)

@@ -22,6 +22,32 @@ std::string full_name(const cl::Platform& p, const cl::Device& d) {
     return p.getInfo<CL_PLATFORM_NAME>() + " / " + d.getInfo<CL_DEVICE_NAME>();
 }
 
+// A driver's build log as one line: its first error line (else its first line), and how many lines
+// it had. The whole log goes to $OFFSETMAP_BUILD_LOG when that names a file.
+std::string log_summary(const std::string& log, const std::string& none) {
+    std::vector<std::string> lines;
+    std::istringstream in(log);
+    for (std::string line; std::getline(in, line);)
+        if (line.find_first_not_of(" \t\r") != std::string::npos) lines.push_back(line);
+    if (lines.empty()) return none;
+    std::string first = lines.front();
+    for (const auto& line : lines)
+        if (lower(line).find("error") != std::string::npos) {
+            first = line;
+            break;
+        }
+    const size_t start = first.find_first_not_of(" \t");
+    first = first.substr(start, first.find_last_not_of(" \t\r") + 1 - start);
+    if (const char* path = std::getenv("OFFSETMAP_BUILD_LOG"); path && *path) {
+        std::ofstream(path, std::ios::app) << log << "\n";
+        return first + " (the log's " + std::to_string(lines.size()) + " lines are in " + path +
+               ")";
+    }
+    if (lines.size() == 1) return first;
+    return first + " (" + std::to_string(lines.size()) +
+           " lines in the driver's log; OFFSETMAP_BUILD_LOG=FILE keeps them)";
+}
+
 }  // namespace
 
 std::string describe_cl_error(int code) {
@@ -36,11 +62,54 @@ std::string describe_cl_error(int code) {
             return "the device could not allocate a buffer (CL_MEM_OBJECT_ALLOCATION_FAILURE)";
         case CL_INVALID_BUFFER_SIZE:
             return "a buffer has an invalid size (CL_INVALID_BUFFER_SIZE)";
+        case CL_INVALID_KERNEL_NAME:
+            return "the program has no such kernel, or the driver could not link it "
+                   "(CL_INVALID_KERNEL_NAME)";
+        case CL_INVALID_PROGRAM_EXECUTABLE:
+            return "the program did not build (CL_INVALID_PROGRAM_EXECUTABLE)";
         case -1001:
             return "no OpenCL platform found (is an ICD such as pocl-opencl-icd installed?)";
         default:
             return "OpenCL error " + std::to_string(code);
     }
+}
+
+std::vector<DeviceEntry> list_devices() {
+    std::vector<cl::Platform> platforms;
+    try {
+        cl::Platform::get(&platforms);
+    } catch (const cl::Error& e) {
+        throw Error("cannot list OpenCL platforms: " + describe_cl_error(e.err()));
+    }
+    std::vector<DeviceEntry> all;
+    for (auto& p : platforms) {
+        std::vector<cl::Device> devices;
+        try {
+            p.getDevices(CL_DEVICE_TYPE_ALL, &devices);
+        } catch (const cl::Error&) {
+            // A platform without devices (rusticl with no driver enabled, Clover with no GPU)
+            // answers CL_DEVICE_NOT_FOUND: listed as empty, never a reason to fail.
+        }
+        if (devices.empty()) all.push_back({p, cl::Device(), p.getInfo<CL_PLATFORM_NAME>()});
+        for (auto& d : devices) all.push_back({p, d, full_name(p, d)});
+    }
+    return all;
+}
+
+int choose_device(const std::vector<DeviceEntry>& all, const std::string& filter) {
+    int first = -1;
+    for (size_t k = 0; k < all.size(); ++k) {
+        if (!all[k].device()) continue;
+        if (!filter.empty()) {
+            if (lower(all[k].name).find(lower(filter)) != std::string::npos)
+                return static_cast<int>(k);
+            continue;
+        }
+        if (all[k].device.getInfo<CL_DEVICE_TYPE>() & CL_DEVICE_TYPE_GPU)
+            return static_cast<int>(k);
+        if (first < 0) first = static_cast<int>(k);
+    }
+    return first;
 }
 
 std::shared_ptr<Runtime> Runtime::create(const std::string& filter_arg) {
@@ -49,48 +118,28 @@ std::shared_ptr<Runtime> Runtime::create(const std::string& filter_arg) {
         const char* env = std::getenv("OFFSETMAP_DEVICE");
         if (env) filter = env;
     }
-    std::vector<cl::Platform> platforms;
-    try {
-        cl::Platform::get(&platforms);
-    } catch (const cl::Error& e) {
-        throw Error("cannot list OpenCL platforms: " + describe_cl_error(e.err()));
-    }
-    std::vector<std::pair<cl::Platform, cl::Device>> all;
-    for (auto& p : platforms) {
-        std::vector<cl::Device> devices;
-        try {
-            p.getDevices(CL_DEVICE_TYPE_ALL, &devices);
-        } catch (const cl::Error&) {
-            continue;  // a platform without devices is not an error while another has one
-        }
-        for (auto& d : devices) all.emplace_back(p, d);
-    }
-    if (all.empty())
+    const std::vector<DeviceEntry> all = list_devices();
+    std::string names;
+    for (auto& e : all)
+        if (e.device()) names += (names.empty() ? "" : "; ") + e.name;
+    if (names.empty())
         throw Error("no OpenCL device found: install an OpenCL driver (e.g. pocl-opencl-icd)");
-    const std::pair<cl::Platform, cl::Device>* chosen = nullptr;
-    if (!filter.empty()) {
-        for (auto& pd : all)
-            if (lower(full_name(pd.first, pd.second)).find(lower(filter)) != std::string::npos) {
-                chosen = &pd;
-                break;
-            }
-        if (!chosen) {
-            std::string names;
-            for (auto& pd : all)
-                names += (names.empty() ? "" : "; ") + full_name(pd.first, pd.second);
-            throw Error("no OpenCL device matches '" + filter + "' (devices here: " + names + ")");
-        }
-    } else {
-        for (auto& pd : all)
-            if (pd.second.getInfo<CL_DEVICE_TYPE>() & CL_DEVICE_TYPE_GPU) {
-                chosen = &pd;
-                break;
-            }
-        if (!chosen) chosen = &all.front();
-    }
-    cl::Context context(chosen->second);
-    cl::CommandQueue queue(context, chosen->second, CL_QUEUE_PROFILING_ENABLE);
-    return std::make_shared<Runtime>(context, chosen->second, queue);
+    const int chosen = choose_device(all, filter);
+    if (chosen < 0)
+        throw Error("no OpenCL device matches '" + filter + "' (devices here: " + names + ")");
+    const cl::Device& device = all[chosen].device;
+    cl::Context context(device);
+    cl::CommandQueue queue(context, device, CL_QUEUE_PROFILING_ENABLE);
+    return std::make_shared<Runtime>(context, device, queue);
+}
+
+int Runtime::default_lanes(const cl::Device& device) {
+    return (device.getInfo<CL_DEVICE_TYPE>() & CL_DEVICE_TYPE_CPU) ? 16 : 1;
+}
+
+bool Runtime::default_images(const cl::Device& device) {
+    return (device.getInfo<CL_DEVICE_TYPE>() & CL_DEVICE_TYPE_GPU) &&
+           device.getInfo<CL_DEVICE_IMAGE_SUPPORT>();
 }
 
 Runtime::Runtime(cl::Context context, cl::Device device, cl::CommandQueue queue)
@@ -99,15 +148,14 @@ Runtime::Runtime(cl::Context context, cl::Device device, cl::CommandQueue queue)
     cl::Platform platform(device_.getInfo<CL_DEVICE_PLATFORM>());
     is_pocl_ = platform.getInfo<CL_PLATFORM_NAME>().find("Portable Computing Language") !=
                std::string::npos;
-    lanes_ = (device_.getInfo<CL_DEVICE_TYPE>() & CL_DEVICE_TYPE_CPU) ? 16 : 1;
+    lanes_ = default_lanes(device_);
     if (const char* env = std::getenv("OFFSETMAP_LANES"); env && *env) {
         const std::string text = env;
         if (text != "1" && text != "8" && text != "16")
             throw Error("OFFSETMAP_LANES must be 1, 8 or 16, got '" + text + "'");
         lanes_ = std::stoi(text);
     }
-    images_ = (device_.getInfo<CL_DEVICE_TYPE>() & CL_DEVICE_TYPE_GPU) &&
-              device_.getInfo<CL_DEVICE_IMAGE_SUPPORT>();
+    images_ = default_images(device_);
     if (const char* env = std::getenv("OFFSETMAP_IMAGES"); env && *env) {
         const std::string text = env;
         if (text != "0" && text != "1")
@@ -139,37 +187,63 @@ cl::Program Runtime::program(const std::vector<std::string>& files, const std::s
     auto it = programs_.find(key);
     if (it != programs_.end()) return it->second;
 
-    // On a CPU without AVX-512, clang warns for every float16/int16 argument that its ABI differs
-    // from AVX-512's (-Wpsabi). PoCL compiles the kernels and its builtin library for the same
-    // target, so the ABIs agree and the warning says nothing; every other warning stays on.
-    std::string source =
-        is_pocl_ ? "#define OM_POCL 1\n#pragma clang diagnostic ignored \"-Wpsabi\"\n" : "";
-    source += defines + "\n" + kernel_source("common/om_shared.h", kernel_dir_) + "\n";
-    for (const auto& f : files)
-        source += "#line 1 \"" + f + "\"\n" + kernel_source(f, kernel_dir_) + "\n";
+    const std::string source = program_source(files, defines, is_pocl_, kernel_dir_);
+    std::string what;
+    for (const auto& f : files) what += (what.empty() ? "" : " + ") + f;
     cl::Program program(context_, source);
     try {
         program.build({device_}, build_options().c_str());
     } catch (const cl::BuildError& e) {
         std::string log;
         for (const auto& entry : e.getBuildLog()) log += entry.second;
-        std::string what;
-        for (const auto& f : files) what += (what.empty() ? "" : " + ") + f;
-        throw Error("kernel build failed for " + what + " on " + device_name() + ":\n" + log);
+        throw Error("kernel build failed for " + what + " on " + device_name() + ": " +
+                    log_summary(log, "no log"));
     } catch (const cl::Error& e) {
-        throw Error("kernel build failed on " + device_name() + ": " + describe_cl_error(e.err()));
+        throw Error("kernel build failed for " + what + " on " + device_name() + ": " +
+                    describe_cl_error(e.err()));
     }
     for (const auto& entry : program.getBuildInfo<CL_PROGRAM_BUILD_LOG>())
-        if (entry.second.find("warning") != std::string::npos) {
-            std::string what;
-            for (const auto& f : files) what += (what.empty() ? "" : " + ") + f;
+        if (entry.second.find("warning") != std::string::npos)
             warnings_.push_back(what + ":\n" + entry.second);
-        }
+    names_[program()] = what;
     programs_.emplace(key, program);
     return program;
 }
 
+std::string Runtime::program_source(const std::vector<std::string>& files,
+                                    const std::string& defines, bool pocl, const std::string& dir) {
+    // On a CPU without AVX-512, clang warns for every float16/int16 argument that its ABI differs
+    // from AVX-512's (-Wpsabi). PoCL compiles the kernels and its builtin library for the same
+    // target, so the ABIs agree and the warning says nothing; every other warning stays on.
+    std::string source =
+        pocl ? "#define OM_POCL 1\n#pragma clang diagnostic ignored \"-Wpsabi\"\n" : "";
+    source += defines + "\n#line 1 \"common/om_shared.h\"\n" +
+              kernel_source("common/om_shared.h", dir) + "\n";
+    for (const auto& f : files) source += "#line 1 \"" + f + "\"\n" + kernel_source(f, dir) + "\n";
+    return source;
+}
+
 std::string Runtime::build_options() const { return "-cl-std=CL1.2"; }
+
+cl::Kernel Runtime::kernel(const cl::Program& program, const std::string& name) const {
+    try {
+        return cl::Kernel(program, name.c_str());
+    } catch (const cl::Error& e) {
+        std::string what = "a program", log;
+        {
+            std::lock_guard<std::mutex> lock(mutex_);
+            auto it = names_.find(program());
+            if (it != names_.end()) what = it->second;
+        }
+        try {
+            log = program.getBuildInfo<CL_PROGRAM_BUILD_LOG>(device_);
+        } catch (const cl::Error&) {
+        }
+        throw Error("cannot create kernel '" + name + "' of " + what + " on " + device_name() +
+                    ": " + describe_cl_error(e.err()) +
+                    "; the driver's log: " + log_summary(log, "empty"));
+    }
+}
 
 size_t Runtime::programs_built() const {
     std::lock_guard<std::mutex> lock(mutex_);
@@ -185,6 +259,7 @@ void Runtime::set_kernel_dir(const std::string& dir) {
     std::lock_guard<std::mutex> lock(mutex_);
     kernel_dir_ = dir;
     programs_.clear();
+    names_.clear();
 }
 
 std::string kernel_source(const std::string& path, const std::string& dir_arg) {

@@ -64,7 +64,7 @@ void check_shade_buffers(const cl::Context& context, const cl::Buffer& uv, const
 }
 
 ShadePass::ShadePass(std::shared_ptr<Runtime> runtime) : runtime_(std::move(runtime)) {
-    kernel_ = cl::Kernel(runtime_->program(sampling_program_files("shade.cl")), "om_shade");
+    kernel_ = runtime_->kernel(runtime_->program(sampling_program_files("shade.cl")), "om_shade");
 }
 
 cl::Event ShadePass::enqueue(const cl::Buffer& uv, const cl::Buffer& flags, const DeviceGBuffer& g,

@@ -11,17 +11,30 @@
 
 // Every helper is forced inline: PoCL kept the larger ones (patch corners, ray set-up, linear
 // search) as calls that pass 16-lane vectors through memory, which made `none` 2x slower.
-#define OM_INLINE inline __attribute__((always_inline))
+// Static as well: a plain `inline` function is C99's inline definition, which emits no body, so a
+// compiler that does not inline it (clang with the LLVM passes off, as SPIR-V front ends may run)
+// links against a function that does not exist. OM_PLAIN_CALLS (the Oclgrind check,
+// tests/portability) keeps them as calls: inlined, clang marks their struct results with
+// llvm.experimental.noalias.scope.decl, which Oclgrind 21.10 cannot run.
+#ifdef OM_PLAIN_CALLS
+#define OM_INLINE static inline
+#else
+#define OM_INLINE static inline __attribute__((always_inline))
+#endif
 
 // PoCL's floor() (scalar and vector) and any() are library routines with branches; clang's
-// builtins are one rounding instruction and an OR reduction. Where the compiler has them (clang
-// 15, the PoCL of Debian 12) they are used; results are the same.
+// builtins are one rounding instruction and an OR reduction; results are the same. Only on PoCL,
+// which compiles them for its own CPU target: a driver that goes through SPIR-V (rusticl, and
+// through it most GPU stacks) gets LLVM intrinsics its translator rejects
+// (llvm.vector.reduce.or), so every other device gets plain OpenCL C 1.2.
 #ifdef OM_POCL
 #define om_floor(x) __builtin_floorf(x)
+#define OM_LIKELY(c) __builtin_expect((c), 1)
 #else
 #define om_floor(x) floor(x)
+#define OM_LIKELY(c) (c)
 #endif
-#if defined(__has_builtin)
+#if defined(OM_POCL) && defined(__has_builtin)
 #if __has_builtin(__builtin_elementwise_floor) && __has_builtin(__builtin_reduce_or)
 #define OM_CLANG_LANE_BUILTINS 1
 #endif

@@ -3,7 +3,13 @@
 #ifndef OM_SHARED_H
 #define OM_SHARED_H
 
-#ifdef __OPENCL_VERSION__
+// OpenCL C defines __OPENCL_C_VERSION__ (1.2 and later); __OPENCL_VERSION__ is the platform's, which
+// an offline compiler (clang for SPIR-V) leaves undefined.
+#if defined(__OPENCL_C_VERSION__) || defined(__OPENCL_VERSION__)
+#define OM_OPENCL_C 1
+#endif
+
+#ifdef OM_OPENCL_C
 typedef float om_float;
 typedef int om_int;
 typedef uint om_uint;
@@ -92,7 +98,7 @@ static inline float om_cone_ratio(om_uint q) {
     (((((j) >> 5) * (tiles_x) + ((i) >> 5)) << 10) + ((((j) >> 2) & 7) << 7) + \
      ((((i) >> 2) & 7) << 4) + (((j)&3) << 2) + ((i)&3))
 
-#ifndef __OPENCL_VERSION__
+#ifndef OM_OPENCL_C
 namespace offsetmap {
 enum class AddressMode : om_int { Wrap = OM_ADDRESS_WRAP, Clamp = OM_ADDRESS_CLAMP };
 enum class GrazingPolicy : om_int {
@@ -241,10 +247,10 @@ typedef struct {
     om_int albedo_offset;   // its albedo's first float4 in the frame's albedo buffer
 } OmMaterialSlot;
 
-#ifdef __OPENCL_VERSION__
+#ifdef OM_OPENCL_C
 // The slot of material value m (id -> slot table of id_limit entries), or -1 when m is not an
 // integer id the table holds.
-inline int om_slot_of(float m, int id_limit, __global const int* slot_of_id) {
+static inline int om_slot_of(float m, int id_limit, __global const int* slot_of_id) {
     const int id = m >= 1.0f && m < (float)id_limit ? (int)m : 0;
     return id > 0 && (float)id == m ? slot_of_id[id] : -1;
 }

@@ -58,6 +58,7 @@ OM_INLINE OmField om_field_of(__global const float* heights, int width, int heig
     P.hf_height = height;
     P.address_mode = wrap ? OM_ADDRESS_WRAP : OM_ADDRESS_CLAMP;
     P.mip_levels = 1;
+    P.packed_heights = 0;  // float heights: om_field reads it (left unset, rusticl read garbage)
     return om_field(heights, &P, (OmI)0);
 }
 
@@ -149,7 +150,7 @@ OM_INLINE void om_corners(const OmField* f, OmI i, OmI j, OmF* k00, OmF* k10, Om
     // Unorm16 words: the patch is one pair of words (half the gathered elements of two float
     // pairs, and one cache line), unless a lane's column or row wraps or is clamped at the edge.
     // The floats beside them hold the same values, so either way gives the same bits.
-    if (f->packed && __builtin_expect(!OM_ANY_NE2(i1, i0 + 1, j1, j0 + 1), 1)) {
+    if (f->packed && OM_LIKELY(!OM_ANY_NE2(i1, i0 + 1, j1, j0 + 1))) {
         OmI w0, w1;
         om_word_pairs(f->packed, r0 + i0, &w0, &w1);
         *k00 = OM_UNORM16_LOW(w0);
@@ -165,7 +166,7 @@ OM_INLINE void om_corners(const OmField* f, OmI i, OmI j, OmF* k00, OmF* k10, Om
     // predicted branch lets the gathers start before the test is done, a mask delays every
     // dependent fetch by its reduction. Without the hint, the code PoCL made for pom's search
     // was 20 % slower than with the mask; with it every method is as fast or faster (A/B runs).
-    if (__builtin_expect(!OM_ANY_NE(i1, i0 + 1), 1)) {
+    if (OM_LIKELY(!OM_ANY_NE(i1, i0 + 1))) {
         om_gather_pairs(f->heights, r0 + i0, k00, k10);
         om_gather_pairs(f->heights, r1 + i0, k01, k11);
         return;

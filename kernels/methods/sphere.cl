@@ -90,8 +90,8 @@ OM_INLINE void om_sphere_step(const OmRay* r, const OmField* f, const OmOffsetPa
     const int cells = (int)OM_PARAM(P, cells);
     OmF t = s->t;
     OmI i = s->i, j = s->j, done = s->done, placed = s->placed;
-    OmI walking = !done & ((t < s->t_voxel) | s->entered);
-    OmI tracing = !done & !walking;
+    OmI walking = (!done) & ((t < s->t_voxel) | s->entered);
+    OmI tracing = (!done) & (!walking);
     OmI spent = tracing & (s->traced >= s->steps);
     tracing &= !spent;
     // Out of sphere steps: with cells the rest of the ray is walked (the answer stays exact's);

@@ -104,6 +104,18 @@ std::vector<std::string> offset_program_files(const MethodInfo& method);
 // method on lanes (the entry's OM_LANE_PAIRS), else 1.
 int lane_groups(const MethodInfo& method, int lanes);
 
+// Which build of a method's offset program a pass asks for (kernels/offset.cl's OM_* switches).
+struct OffsetVariant {
+    int lanes = 1;        // OM_LANES (with OM_LANE_PAIRS where lane_groups says 2)
+    bool images = false;  // OM_IMAGES: heights through an image1d_buffer view
+    bool lod = false;     // OM_LOD
+    bool depth = false, fetches = false, flags = false;  // OM_OUT_*: the optional outputs bound
+};
+// The defines of that build: the offset entry's (om_offset), or with `tiles` the material frame's
+// tile entry's (om_offset_tiles, which takes neither images nor LOD); the parameter slots included.
+std::string offset_program_defines(const MethodInfo& method, const OffsetVariant& v,
+                                   bool tiles = false);
+
 // The defines that hand a method's parameters to its kernel by name: OM_SLOT_<name> is the slot of
 // OmOffsetParams::p holding it, which OM_PARAM(P, name) reads (om_shared.h).
 std::string param_slot_defines(const MethodInfo& method);

@@ -30,7 +30,8 @@ class Runtime {
     bool is_pocl() const { return is_pocl_; }
 
     // Pixels per work-item for lane methods (kernels/common/lanes.h): 16 on a CPU device, where
-    // they fill SIMD registers, 1 on a GPU; $OFFSETMAP_LANES (1, 8 or 16) or set_lanes overrides.
+    // they fill SIMD registers, 1 on a GPU (default_lanes); $OFFSETMAP_LANES (1, 8 or 16) or
+    // set_lanes overrides.
     int lanes() const { return lanes_; }
     void set_lanes(int lanes);
 
@@ -39,10 +40,22 @@ class Runtime {
     // support; $OFFSETMAP_IMAGES (0 or 1) or set_images overrides. The frame is the same.
     bool images() const { return images_; }
     void set_images(bool images);
+    // The defaults the constructor gives a device, before the environment's overrides.
+    static int default_lanes(const cl::Device& device);
+    static bool default_images(const cl::Device& device);
 
     // The program assembled from the shared header, then `files` (paths under kernels/) in order,
     // after `defines` ("-D" style lines are not used: `defines` is OpenCL C text). Built once.
     cl::Program program(const std::vector<std::string>& files, const std::string& defines = "");
+    // Kernel `name` of a program built here; on failure an Error naming the kernel, the program's
+    // files, the device and the driver's first log line.
+    cl::Kernel kernel(const cl::Program& program, const std::string& name) const;
+    // The text program() builds: the shared header, then `files`, after `defines`; with `pocl`,
+    // PoCL's switches first (OM_POCL: its compiler builtins and target intrinsics). Kernel files
+    // from `dir` as kernel_source reads them.
+    static std::string program_source(const std::vector<std::string>& files,
+                                      const std::string& defines, bool pocl,
+                                      const std::string& dir = "");
     // The options every program is built with.
     std::string build_options() const;
     // Programs built so far (each a compile; a pass's first frame after prepare adds none).
@@ -74,9 +87,22 @@ class Runtime {
     bool images_ = false;
     mutable std::mutex mutex_;
     std::map<std::string, cl::Program> programs_;
+    std::map<cl_program, std::string> names_;  // each built program's files, for errors
     std::vector<std::string> warnings_;
     std::string kernel_dir_;
 };
+
+// Every OpenCL device of every platform, as "platform / device" names; a platform without devices
+// is one entry with a null device. Throws Error when the platforms cannot be listed.
+struct DeviceEntry {
+    cl::Platform platform;
+    cl::Device device;
+    std::string name;
+};
+std::vector<DeviceEntry> list_devices();
+// The entry Runtime::create picks: the first whose name contains `filter` (case-insensitive), or
+// with no filter the first GPU, else the first device; -1 when none does.
+int choose_device(const std::vector<DeviceEntry>& all, const std::string& filter);
 
 // Text of a kernel file (path relative to kernels/): read from `dir` when given, else from
 // $OFFSETMAP_KERNEL_DIR when that is set (for editing kernels without rebuilding), else the text

@@ -27,7 +27,7 @@ PrecomputeSpec::Built build(Runtime& rt, const DeviceHeightField& f, const PassS
     PrecomputeSpec::Built out;
     out.data =
         cl::Buffer(rt.context(), CL_MEM_READ_WRITE, bytes(params, settings, f.width, f.height));
-    cl::Kernel kb(program, "om_cone_blocks");
+    cl::Kernel kb = rt.kernel(program, "om_cone_blocks");
     set_args(kb, p, f.heights, bw, bh, blocks);
     cl::Event e1;
     std::vector<cl::Event> after_field = field_ready(f);
@@ -42,7 +42,7 @@ PrecomputeSpec::Built build(Runtime& rt, const DeviceHeightField& f, const PassS
     // Wrapped block indices name the same cells only when blocks tile the map.
     const int blocks_valid =
         settings.address == AddressMode::Clamp || (f.width % B == 0 && f.height % B == 0);
-    cl::Kernel kc(program, "om_cone_map");
+    cl::Kernel kc = rt.kernel(program, "om_cone_map");
     set_args(kc, p, f.heights, blocks, bw, bh, blocks_valid, global_max, params["max_ratio"],
              out.data);
     out.events = enqueue_with_progress(

@@ -29,9 +29,9 @@ PrecomputeSpec::Built build(Runtime& rt, const DeviceHeightField& f, const PassS
                       static_cast<size_t>(res) * res * sizeof(float));
     PrecomputeSpec::Built out;
     out.data = cl::Buffer(rt.context(), CL_MEM_READ_WRITE, voxels(params) * sizeof(float));
-    cl::Kernel kc(program, "om_column_max");
+    cl::Kernel kc = rt.kernel(program, "om_column_max");
     set_args(kc, p, f.heights, res, colmax);
-    cl::Kernel kd(program, "om_distance_map");
+    cl::Kernel kd = rt.kernel(program, "om_distance_map");
     set_args(kd, p, colmax, res, layers, out.data);
     cl::Event e1;
     std::vector<cl::Event> after_field = field_ready(f);

@@ -37,14 +37,14 @@ PrecomputeSpec::Built build(Runtime& rt, const DeviceHeightField& f, const PassS
     if (top == 0) return out;  // no hierarchy: the walk is exact's
     cl::Program program = rt.program(sampling_program_files(kMaxPyramid.prep_file));
     OmOffsetParams p = offset_params(settings, f.width, f.height);
-    cl::Kernel first(program, "om_maxmip_first");
+    cl::Kernel first = rt.kernel(program, "om_maxmip_first");
     set_args(first, p, f.heights, out.data, wp >> 1, hp >> 1);
     std::vector<cl::Event>& events = out.events;
     events.resize(1);
     std::vector<cl::Event> after_field = field_ready(f);
     rt.queue().enqueueNDRangeKernel(first, cl::NullRange, cl::NDRange(wp >> 1, hp >> 1),
                                     cl::NullRange, &after_field, &events[0]);
-    cl::Kernel next(program, "om_maxmip_next");
+    cl::Kernel next = rt.kernel(program, "om_maxmip_next");
     int offset = 0;
     for (int k = 2; k <= top; ++k) {
         const int pw = wp >> (k - 1), ph = hp >> (k - 1), cw = wp >> k, ch = hp >> k;

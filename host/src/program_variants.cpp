@@ -1,0 +1,107 @@
+#include "offsetmap/program_variants.hpp"
+
+#include <algorithm>
+
+#include "offsetmap/registry.hpp"
+
+namespace offsetmap {
+namespace {
+
+std::string lanes_define(int lanes) {
+    return lanes > 1 ? "#define OM_LANES " + std::to_string(lanes) + "\n" : "";
+}
+
+void add_offset_variants(std::vector<ProgramVariant>& out) {
+    for (const MethodInfo& m : methods()) {
+        for (int lanes : {1, 8, 16})
+            for (bool images : {false, true})
+                for (bool lod : {false, true})
+                    for (bool outputs : {false, true}) {
+                        OffsetVariant v;
+                        v.lanes = lanes;
+                        v.images = images;
+                        v.lod = lod;
+                        v.depth = v.fetches = v.flags = outputs;
+                        std::string name = "offset/" + m.name + "/lanes" + std::to_string(lanes);
+                        if (images) name += "-images";
+                        if (lod) name += "-lod";
+                        if (outputs) name += "-outputs";
+                        out.push_back(
+                            {name, offset_program_files(m), offset_program_defines(m, v)});
+                    }
+        for (int lanes : {1, 8, 16})
+            for (bool outputs : {false, true}) {
+                OffsetVariant v;
+                v.lanes = lanes;
+                v.depth = v.fetches = v.flags = outputs;
+                std::vector<std::string> files = offset_program_files(m);
+                files.push_back("frame/tiles.cl");
+                out.push_back({"tiles/" + m.name + "/lanes" + std::to_string(lanes) +
+                                   (outputs ? "-outputs" : ""),
+                               files, offset_program_defines(m, v, true)});
+            }
+    }
+}
+
+void add_reconstruct_variants(std::vector<ProgramVariant>& out) {
+    const std::vector<std::string> files = {"common/lanes.h", "common/storage.cl",
+                                            "gbuffer/reconstruct.cl"};
+    const char* inputs[] = {"DEPTH", "FRAME", "TANGENT", "UV"};
+    // Storage -1: every input an image; else every input a buffer of that OM_STORAGE_* value.
+    for (int lanes : {1, 8, 16})
+        for (int storage = -1; storage <= 4; ++storage)
+            for (bool quaternion : {false, true})
+                for (int light = 0; light < 3; ++light) {
+                    // Every storage and form at one lane; at 8 and 16 the float and image forms.
+                    if (lanes > 1 && storage > 0) continue;
+                    std::string d = lanes_define(lanes);
+                    for (const char* input : inputs) {
+                        if (quaternion && std::string(input) == "TANGENT") continue;
+                        d += storage < 0 ? std::string("#define OM_IMAGE_") + input + " 1\n"
+                                         : std::string("#define OM_STORAGE_") + input + " " +
+                                               std::to_string(storage) + "\n";
+                    }
+                    if (quaternion) d += "#define OM_QUATERNION_FRAME\n";
+                    if (light > 0) d += "#define OM_LIT\n";
+                    if (light > 1) d += "#define OM_POINT_LIGHT\n";
+                    out.push_back(
+                        {"reconstruct/lanes" + std::to_string(lanes) +
+                             (storage < 0 ? "-images" : "-storage" + std::to_string(storage)) +
+                             (quaternion ? "-quaternion" : "") +
+                             (light == 1   ? "-lit"
+                              : light == 2 ? "-point"
+                                           : ""),
+                         files, d});
+                }
+}
+
+}  // namespace
+
+std::vector<ProgramVariant> program_variants() {
+    std::vector<ProgramVariant> out;
+    add_offset_variants(out);
+    add_reconstruct_variants(out);
+    out.push_back({"prep/mips", {"prep/mips.cl"}, ""});
+    out.push_back({"prep/unorm16", {"prep/unorm16.cl"}, ""});
+    out.push_back({"prep/normals", sampling_program_files("prep/normals.cl"), ""});
+    out.push_back({"prep/footprint", {"prep/footprint.cl"}, ""});
+    const std::vector<std::string> import = {"common/lanes.h", "common/storage.cl",
+                                             "prep/import.cl"};
+    out.push_back({"prep/import", import, ""});
+    out.push_back({"prep/import-image", import, "#define OM_IMAGE_HEIGHTS\n"});
+    std::vector<std::string> prep;  // each precompute's kernels, once
+    for (const MethodInfo& m : methods())
+        if (m.precompute &&
+            std::find(prep.begin(), prep.end(), m.precompute->prep_file) == prep.end())
+            prep.push_back(m.precompute->prep_file);
+    for (const std::string& file : prep)
+        out.push_back({file.substr(0, file.rfind('.')), sampling_program_files(file), ""});
+    out.push_back({"frame/classify", {"frame/classify.cl"}, ""});
+    out.push_back({"shade", sampling_program_files("shade.cl"), ""});
+    for (int lanes : {1, 8, 16})
+        out.push_back({"bench/roofline/lanes" + std::to_string(lanes),
+                       sampling_program_files("bench/roofline.cl"), lanes_define(lanes)});
+    return out;
+}
+
+}  // namespace offsetmap
