@@ -39,7 +39,7 @@ for m in none parallax parallax-iterative steep pom relief secant cone maxmip sp
 done
 run_case pom-clamp-float-lod 1 "$all" render --method pom "${frame[@]}" --address clamp \
     --height-storage float --lod-threshold 2
-run_case pom-images 1 "$all" env OFFSETMAP_IMAGES=1 "$om" render --method pom "${frame[@]}"
+OFFSETMAP_IMAGES=1 run_case pom-images 1 "$all" render --method pom "${frame[@]}"
 run_case shade-hard 1 "$all" render --method pom "${frame[@]}" --shadows hard --color-out "$work/h.png"
 run_case shade-soft 1 "$all" render --method relief "${frame[@]}" --shadows soft --color-out "$work/s.png"
 run_case random-exact 1 "$all" render --method exact --scene random --width 17 --height 11 \
