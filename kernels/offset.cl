@@ -39,9 +39,9 @@
                 f_ = vload16(3, pv);                                           \
         *(u) = (float16)(a_.even, b_.even);                                    \
         *(v) = (float16)(a_.odd, b_.odd);                                      \
-        *(vx) = (float16)(c_.s048c, d_.s048c, e_.s048c, f_.s048c);             \
-        *(vy) = (float16)(c_.s159d, d_.s159d, e_.s159d, f_.s159d);             \
-        *(vz) = (float16)(c_.s26ae, d_.s26ae, e_.s26ae, f_.s26ae);             \
+        *(vx) = OM_CAT4(c_.s048c, d_.s048c, e_.s048c, f_.s048c);               \
+        *(vy) = OM_CAT4(c_.s159d, d_.s159d, e_.s159d, f_.s159d);               \
+        *(vz) = OM_CAT4(c_.s26ae, d_.s26ae, e_.s26ae, f_.s26ae);               \
     } while (0)
 #endif
 
@@ -227,7 +227,7 @@ OM_INLINE int om_block_has(OmBlock b, int k) {
 #if OM_LANES == 16
 #define OM_ROW4(x, r) \
     ((r) == 0 ? (x).lo.lo : (r) == 1 ? (x).lo.hi : (r) == 2 ? (x).hi.lo : (x).hi.hi)
-#define OM_JOIN4(a) ((OmF)((a)[0], (a)[1], (a)[2], (a)[3]))
+#define OM_JOIN4(a) OM_CAT4((a)[0], (a)[1], (a)[2], (a)[3])
 #elif OM_LANES == 8
 #define OM_ROW4(x, r) ((r) == 0 ? (x).lo : (x).hi)
 #define OM_JOIN4(a) ((OmF)((a)[0], (a)[1]))

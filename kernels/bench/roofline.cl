@@ -16,8 +16,8 @@ OM_INLINE int om_bench_block(const OmOffsetParams* P, OmI* id) {
     const int bw = OM_BLOCK_W(OM_LANES), bh = OM_BLOCK_H(OM_LANES);
     const int g = (int)get_global_id(0), per_row = (P->gb_width + bw - 1) / bw;
     if (g >= om_image_blocks(P->gb_width, P->gb_height, OM_LANES)) return 0;
-    OmI x = min(g % per_row * bw + OM_LANE_IDS % bw, P->gb_width - 1);
-    OmI y = min(g / per_row * bh + OM_LANE_IDS / bw, P->gb_height - 1);
+    OmI x = min(g % per_row * bw + OM_LANE_IDS % bw, (OmI)(P->gb_width - 1));
+    OmI y = min(g / per_row * bh + OM_LANE_IDS / bw, (OmI)(P->gb_height - 1));
     *id = y * P->gb_width + x;
     return 1;
 }

@@ -4,7 +4,9 @@
 // the compiler then keeps every pixel of a work-item in one SIMD register (docs/design.md, "Why":
 // PoCL does not vectorise data-dependent loops across work-items by itself).
 // Masks (comparison results) are OmI: 1 / 0 as scalars, -1 / 0 as vectors; use the macros below,
-// which work with either.
+// which work with either. Integer min, max and clamp take OmI arguments only, never a scalar
+// beside a lane vector (write `max(w, (OmI)1)`): Oclgrind 21.10's (gentype, sgentype) forms
+// return garbage past the first element, and its walks then ran differently from run to run.
 #ifndef OM_LANES
 #define OM_LANES 1
 #endif
@@ -153,6 +155,10 @@ typedef int16 OmI;
 #define OM_IMG_ARG
 #define OM_HEIGHTS(p, i) OM_GATHER(p, i)
 #endif
+
+// Four float4 as one float16, built as two float8 halves: Oclgrind 21.10 assembles the four-way
+// literal (float16)(a, b, c, d) wrongly at -O0 (lanes from other memory, different from run to run).
+#define OM_CAT4(a, b, c, d) ((float16)((float8)((a), (b)), (float8)((c), (d))))
 
 // 1 where the mask is set, else 0 (for counting), with either mask convention.
 #define OM_ONE(m) ((m)&1)

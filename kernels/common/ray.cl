@@ -15,7 +15,7 @@ typedef struct {
 } OmRay;
 
 OM_INLINE OmI om_step_count(const OmRay* r, OmF n) {
-    return max(1, min(OM_TO_INT(n * r->detail + 0.5f), r->step_cap));
+    return max((OmI)1, min(OM_TO_INT(n * r->detail + 0.5f), r->step_cap));
 }
 
 OM_INLINE OmF om_ray_t(const OmRay* r, OmF lambda) {

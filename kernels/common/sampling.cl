@@ -32,13 +32,13 @@ OM_INLINE OmField om_field(__global const float* heights, const OmOffsetParams* 
     f.heights = heights;
     f.wrap = P->address_mode == OM_ADDRESS_WRAP;
     f.pot = (P->hf_width & (P->hf_width - 1)) == 0 && (P->hf_height & (P->hf_height - 1)) == 0;
-    level = clamp(level, 0, max(P->mip_levels - 1, 0));
+    level = clamp(level, (OmI)0, (OmI)max(P->mip_levels - 1, 0));
     OmI w = P->hf_width, h = P->hf_height, offset = 0;
     for (int k = 0; k < P->mip_levels - 1 && OM_ANY(level > k); ++k) {
         OmI below = k < level;
         offset = OM_SEL(offset, offset + w * h, below);
-        w = OM_SEL(w, max(w / 2, 1), below);
-        h = OM_SEL(h, max(h / 2, 1), below);
+        w = OM_SEL(w, max(w / 2, (OmI)1), below);
+        h = OM_SEL(h, max(h / 2, (OmI)1), below);
     }
     f.aux = 0;
     f.packed = P->packed_heights ? (__global const uint*)(heights + P->packed_heights) : 0;
@@ -105,10 +105,10 @@ OM_INLINE void om_patch_address(const OmField* f, OmI i, OmI j, OmI* i0, OmI* i1
         *j0 = om_wrap(j, f->height);
         *j1 = OM_SEL(*j0 + 1, 0, *j0 + 1 == f->height);
     } else {
-        *i0 = clamp(i, 0, f->width - 1);
-        *i1 = clamp(i + 1, 0, f->width - 1);
-        *j0 = clamp(j, 0, f->height - 1);
-        *j1 = clamp(j + 1, 0, f->height - 1);
+        *i0 = clamp(i, (OmI)0, f->width - 1);
+        *i1 = clamp(i + 1, (OmI)0, f->width - 1);
+        *j0 = clamp(j, (OmI)0, f->height - 1);
+        *j1 = clamp(j + 1, (OmI)0, f->height - 1);
     }
 }
 

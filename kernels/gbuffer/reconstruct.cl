@@ -45,10 +45,10 @@
         } else {                                                                            \
             const float16 a_ = OM_VL16(p, storage, e_, 0), b_ = OM_VL16(p, storage, e_, 1), \
                           c_ = OM_VL16(p, storage, e_, 2), d_ = OM_VL16(p, storage, e_, 3); \
-            v##0 = (float16)(a_.s048c, b_.s048c, c_.s048c, d_.s048c);                       \
-            v##1 = (float16)(a_.s159d, b_.s159d, c_.s159d, d_.s159d);                       \
-            v##2 = (float16)(a_.s26ae, b_.s26ae, c_.s26ae, d_.s26ae);                       \
-            v##3 = (float16)(a_.s37bf, b_.s37bf, c_.s37bf, d_.s37bf);                       \
+            v##0 = OM_CAT4(a_.s048c, b_.s048c, c_.s048c, d_.s048c);                         \
+            v##1 = OM_CAT4(a_.s159d, b_.s159d, c_.s159d, d_.s159d);                         \
+            v##2 = OM_CAT4(a_.s26ae, b_.s26ae, c_.s26ae, d_.s26ae);                         \
+            v##3 = OM_CAT4(a_.s37bf, b_.s37bf, c_.s37bf, d_.s37bf);                         \
         }                                                                                   \
     } while (0)
 #define OM_HAS_FULL_LOAD(storage) ((storage) <= 1)

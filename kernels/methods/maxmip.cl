@@ -89,7 +89,7 @@ OM_INLINE OmF om_trace(const OmRay* r, const OmField* f, const OmOffsetParams* P
         OmI block = live & (k > 0);
         OmI descend = 0;
         if (OM_ANY(block)) {
-            OmI km = max(k - 1, 0), wk = (OmI)Wp >> k;
+            OmI km = max(k - 1, (OmI)0), wk = (OmI)Wp >> k;
             OmI offset = ((OmI)Wp >> km) * ((OmI)Hp >> km) * (((OmI)1 << (2 * km)) - 1) / 3;
             // Clamp: outside the tile the edge block on that side bounds the extruded relief.
             OmI si = OM_SEL(bi, OM_SEL(((OmI)(W - 1)) >> k, (OmI)0, ti < 0), clamped & (ti != 0));

@@ -20,7 +20,7 @@ OM_INLINE OmF om_sphere_distance(const OmField* f, const OmOffsetParams* P, int 
                                  OmF u, OmF v, OmF z) {
     OmF x = clamp(u * (float)res, -1.0e7f, 1.0e7f), y = clamp(v * (float)res, -1.0e7f, 1.0e7f);
     OmI i = OM_TO_INT(OM_LFLOOR(x)), j = OM_TO_INT(OM_LFLOOR(y));
-    OmI k = clamp(OM_TO_INT(z), 0, layers - 1);
+    OmI k = clamp(OM_TO_INT(z), (OmI)0, (OmI)(layers - 1));
     const int wrap = P->address_mode == OM_ADDRESS_WRAP;
     i = om_address(i, (OmI)res, wrap);
     j = om_address(j, (OmI)res, wrap);
