@@ -205,9 +205,7 @@ struct Bench {
         std::vector<double> kernel_ms;
         const int reps = target_ms > 0 ? 9 : 1;
         double memcpy_gbps = host_memcpy_gbps(18 * n, reps, [&] {
-            cl::Event e = pass.enqueue(g, f, s, t);
-            e.wait();
-            kernel_ms.push_back(event_ms(e));
+            kernel_ms.push_back(launch_ms([&] { return pass.enqueue(g, f, s, t); }));
         });
         std::sort(kernel_ms.begin(), kernel_ms.end());
         double kernel_gbps = 36.0 * n / (kernel_ms[kernel_ms.size() / 2] * 1e-3) * 1e-9;
@@ -420,17 +418,14 @@ json compare_kernels(const std::array<std::string, 2>& dirs, const std::string& 
                 frames[k] = std::make_unique<MaterialFrame>(x.rt, table);
                 MaterialFrame* f = frames[k].get();
                 run[k] = [f, &x] {
+                    if (host_clock()) return launch_ms([&] { return f->enqueue(x.g, x.t); });
                     f->enqueue(x.g, x.t).wait();
                     return f->kernel_ms();
                 };
             } else {
                 pass[k] = std::make_unique<OffsetPass>(x.rt, m->name);
                 OffsetPass* p = pass[k].get();
-                run[k] = [p, &x, &s] {
-                    cl::Event e = p->enqueue(x.g, x.f[0], s, x.t);
-                    e.wait();
-                    return event_ms(e);
-                };
+                run[k] = [p, &x, &s] { return launch_ms([&] { return p->enqueue(x.g, x.f[0], s, x.t); }); };
             }
         }
         for (int w = 0; w < 2; ++w) run[0](), run[1]();
@@ -491,8 +486,11 @@ int main(int argc, char** argv) {
     app.add_option("--out", out_dir, "output folder")->capture_default_str();
     app.add_option("--device", device, "OpenCL platform/device substring ($OFFSETMAP_DEVICE)");
     app.add_option("--target-ms", target_ms, "time spent per measurement")->capture_default_str();
-    bool charts = true;
+    bool charts = true, wall_clock = false;
     app.add_flag("!--no-charts", charts, "skip bench/plot_bench.py");
+    app.add_flag("--host-clock", wall_clock,
+                 "time launches by the host's clock (enqueue to completion) even where events "
+                 "carry times: to compare with a device whose events do not");
     std::vector<std::string> only;
     app.add_option(
         "--methods", only,
@@ -518,6 +516,7 @@ int main(int argc, char** argv) {
         std::filesystem::create_directories(out_dir);
         Bench b;
         b.rt = Runtime::create(device);
+        host_clock() = wall_clock || !b.rt->profiling();
         quick = quick || smoke;
         b.target_ms = smoke ? 0.0 : quick ? std::min(target_ms, 100.0) : target_ms;
         const cl::Device& d = b.rt->device();
@@ -532,12 +531,16 @@ int main(int argc, char** argv) {
         // The bench maps hold 16-bit heights: words wherever the reads go through buffers.
         b.out["height_storage"] = b.rt->images() ? "float" : "unorm16";
         b.out["quick"] = quick;
+        b.out["clock"] = host_clock() ? "host" : "profiling events";
         std::printf(
             "offsetmap_bench on %s\n  driver %s, %s, %u compute units, kernels built with "
             "-cl-std=CL1.2, local size 64, lane methods %d pixels per work-item, heights via %s\n",
             b.rt->device_name().c_str(), b.out["driver"].get<std::string>().c_str(),
             b.out["opencl"].get<std::string>().c_str(), d.getInfo<CL_DEVICE_MAX_COMPUTE_UNITS>(),
             b.rt->lanes(), b.rt->images() ? "images (floats)" : "buffers (unorm16 words)");
+        if (host_clock())
+            std::printf("  timed by the host's clock (enqueue to completion)%s\n",
+                        b.rt->profiling() ? "" : ": the device's events carry no times");
 
         const std::vector<Resolution> all_res = {
             {"720p", 1280, 720}, {"1080p", 1920, 1080}, {"4K", 3840, 2160}};

@@ -212,9 +212,7 @@ TEST(CallerContext, OutOfOrderQueueGivesTheInOrderFrame) {
     // Every dependency inside the library (upload, mips, normals, precomputes, the footprint
     // pre-pass) must be an event: on an out-of-order queue nothing else orders them.
     cl::Device device = runtime()->device();
-    const auto props = device.getInfo<CL_DEVICE_QUEUE_PROPERTIES>();
-    ASSERT_TRUE(props & CL_QUEUE_OUT_OF_ORDER_EXEC_MODE_ENABLE)
-        << runtime()->device_name() << " has no out-of-order queue";
+    SKIP_WITHOUT_OUT_OF_ORDER_QUEUE(device);
     cl::Context context(device);
     cl::CommandQueue queue(context, device,
                            CL_QUEUE_OUT_OF_ORDER_EXEC_MODE_ENABLE | CL_QUEUE_PROFILING_ENABLE);
@@ -285,7 +283,7 @@ TEST(CallerContext, OneRuntimeServesSeveralQueues) {
     auto rt = std::make_shared<Runtime>(context, device, own);
     const std::vector<cl::CommandQueue> queues = {
         cl::CommandQueue(), cl::CommandQueue(context, device),
-        cl::CommandQueue(context, device, CL_QUEUE_OUT_OF_ORDER_EXEC_MODE_ENABLE)};
+        out_of_order_queue(context, device)};
     HeightMap map = smooth_map(64);
     GBuffer host = make_scene(RandomScene{40, 24, 23, 8.0, 90.0});
     const size_t n = host.pixels();

@@ -78,11 +78,11 @@ DeviceHeights store(const cl::Context& context, const HeightMap& map, Case c, He
 // Float and half decode exactly: the field is the host upload's, bit for bit. unorm codes decode
 // by a division (buffers: OpenCL's, within 2.5 ulp; images: the format's conversion, within 1.5
 // ulp), so level 0 is within 2.5 ulp of the correctly rounded quotient. Built on an out-of-order
-// queue: the import, mips and normals are ordered by events alone.
+// queue where the device has one: the import, mips and normals are ordered by events alone.
 TEST(DeviceHeights, EveryStorageGivesTheHostUploadsField) {
     cl::Device device = runtime()->device();
     cl::Context context(device);
-    cl::CommandQueue queue(context, device, CL_QUEUE_OUT_OF_ORDER_EXEC_MODE_ENABLE);
+    cl::CommandQueue queue = out_of_order_queue(context, device);
     auto rt = std::make_shared<Runtime>(context, device, queue);
     const HeightMap map = make_map(75, 42, [](int i, int j) {
         return 0.5f + 0.45f * std::sin(0.31f * i + 0.1f) * std::cos(0.23f * j + 0.4f);

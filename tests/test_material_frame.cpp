@@ -244,6 +244,7 @@ TEST(MaterialFrame, ShadesEachMaterialWithItsOwnMaps) {
 // Every step chained by events: an out-of-order queue of the context gives the same frame.
 TEST(MaterialFrame, AnOutOfOrderQueueGivesTheSameFrame) {
     auto rt = runtime();
+    SKIP_WITHOUT_OUT_OF_ORDER_QUEUE(rt->device());
     Table table = make_table(*rt, table_rows());
     const GBuffer gb = mixed_gbuffer(50, 30, {1, 5, 2, 9, 7}, 8);
     DeviceGBuffer g = upload(*rt, gb);

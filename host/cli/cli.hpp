@@ -125,6 +125,8 @@ void show_progress(Runtime& runtime);
 
 // "pom min_samples=8 max_samples=32": a method with every parameter's value.
 std::string method_text(const MethodParams& p);
+// "kernel 0.128 ms", or where the device gives no kernel times (Runtime::profiling) says so.
+std::string kernel_time_text(double ms);
 
 // `offsetmap frame`: a rasterized frame around the pass (and the forward peer).
 struct FrameCommand {

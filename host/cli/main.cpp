@@ -120,14 +120,14 @@ int render(const ReliefOptions& relief, const ShadingOptions& shading, const Sce
     if (traced_n == 0)
         std::printf(
             "%s on %s: %dx%d pixels, none traced (every pixel is empty, back-facing or "
-            "invalid), kernel %.3f ms\n",
+            "invalid), %s\n",
             req.method.c_str(), rt->device_name().c_str(), gb.width, gb.height,
-            result.median_kernel_ms());
+            kernel_time_text(result.median_kernel_ms()).c_str());
     else
-        std::printf(
-            "%s on %s: %dx%d pixels, %zu traced, %.2f fetches/pixel, kernel %.3f ms, %s heights\n",
-            req.method.c_str(), rt->device_name().c_str(), gb.width, gb.height, traced_n,
-            mean_fetches(result), result.median_kernel_ms(), field.packed ? "unorm16" : "float");
+        std::printf("%s on %s: %dx%d pixels, %zu traced, %.2f fetches/pixel, %s, %s heights\n",
+                    req.method.c_str(), rt->device_name().c_str(), gb.width, gb.height, traced_n,
+                    mean_fetches(result), kernel_time_text(result.median_kernel_ms()).c_str(),
+                    field.packed ? "unorm16" : "float");
 
     if (!req.uv_out.empty()) write_uv_exr(req.uv_out, result);
     if (!req.color_out.empty()) {

@@ -2,6 +2,7 @@
 // method, `auto` by error budget), its table against exact, and the demo's material frame.
 #include <unistd.h>
 
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -46,6 +47,13 @@ std::string method_text(const MethodParams& p) {
         s += " " + p.method->params[k].name + "=" + v;
     }
     return s;
+}
+
+std::string kernel_time_text(double ms) {
+    if (!std::isfinite(ms)) return "kernel not timed (the device's profiling timer is not a clock)";
+    char text[48];
+    std::snprintf(text, sizeof text, "kernel %.3f ms", ms);
+    return text;
 }
 
 int run_materials_job(const MaterialsJob& job, const ReliefOptions& relief,
@@ -145,10 +153,10 @@ int run_materials_job(const MaterialsJob& job, const ReliefOptions& relief,
     const std::vector<double> ns = material_ns_per_pixel(*rt, *frame, gb, job.repeats);
 
     std::printf(
-        "materials (%s) on %s: %s %dx%d, %zu materials, tiles %dx%d, kernel %.3f ms "
+        "materials (%s) on %s: %s %dx%d, %zu materials, tiles %dx%d, %s "
         "(classification %.3f ms)\n",
         job.table.c_str(), rt->device_name().c_str(), scene.describe().c_str(), gb.width, gb.height,
-        table.size(), OM_TILE_W, job.tile_rows, frame_ms, classify_ms);
+        table.size(), OM_TILE_W, job.tile_rows, kernel_time_text(frame_ms).c_str(), classify_ms);
     std::printf("%4s %-12s %-56s %8s %8s %8s %9s %9s\n", "id", "material", "method", "pixels",
                 "ns/px", "fetches", "mean err", "p95 err");
     nlohmann::json rows = nlohmann::json::array();

@@ -19,14 +19,15 @@ class Runtime {
     // The queue it creates has profiling on. Throws Error when nothing matches.
     static std::shared_ptr<Runtime> create(const std::string& filter = "");
 
-    // Wraps the caller's objects; passes enqueue on `queue`. Timing needs a profiling queue.
+    // Wraps the caller's objects; passes enqueue on `queue`. Timing needs a profiling queue on a
+    // device whose profiling timestamps are a clock (probed on a queue of the runtime's own).
     Runtime(cl::Context context, cl::Device device, cl::CommandQueue queue);
 
     const cl::Context& context() const { return context_; }
     const cl::Device& device() const { return device_; }
     const cl::CommandQueue& queue() const { return queue_; }
     std::string device_name() const;  // "platform / device"
-    bool profiling() const { return profiling_; }
+    bool profiling() const { return profiling_; }  // events time kernels (else no kernel times)
     bool is_pocl() const { return is_pocl_; }
 
     // Pixels per work-item for lane methods (kernels/common/lanes.h): 16 on a CPU device, where
