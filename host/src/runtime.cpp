@@ -133,8 +133,18 @@ std::shared_ptr<Runtime> Runtime::create(const std::string& filter_arg) {
     return std::make_shared<Runtime>(context, device, queue);
 }
 
+namespace {
+
+bool on_pocl(const cl::Device& device) {
+    return cl::Platform(device.getInfo<CL_DEVICE_PLATFORM>())
+               .getInfo<CL_PLATFORM_NAME>()
+               .find("Portable Computing Language") != std::string::npos;
+}
+
+}  // namespace
+
 int Runtime::default_lanes(const cl::Device& device) {
-    return (device.getInfo<CL_DEVICE_TYPE>() & CL_DEVICE_TYPE_CPU) ? 16 : 1;
+    return on_pocl(device) && (device.getInfo<CL_DEVICE_TYPE>() & CL_DEVICE_TYPE_CPU) ? 16 : 1;
 }
 
 bool Runtime::default_images(const cl::Device& device) {
@@ -166,9 +176,7 @@ Runtime::Runtime(cl::Context context, cl::Device device, cl::CommandQueue queue)
     : context_(std::move(context)), device_(std::move(device)), queue_(std::move(queue)) {
     profiling_ = (queue_.getInfo<CL_QUEUE_PROPERTIES>() & CL_QUEUE_PROFILING_ENABLE) != 0 &&
                  profiling_timer_works(context_, device_);
-    cl::Platform platform(device_.getInfo<CL_DEVICE_PLATFORM>());
-    is_pocl_ = platform.getInfo<CL_PLATFORM_NAME>().find("Portable Computing Language") !=
-               std::string::npos;
+    is_pocl_ = on_pocl(device_);
     lanes_ = default_lanes(device_);
     if (const char* env = std::getenv("OFFSETMAP_LANES"); env && *env) {
         const std::string text = env;

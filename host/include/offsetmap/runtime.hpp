@@ -30,9 +30,10 @@ class Runtime {
     bool profiling() const { return profiling_; }  // events time kernels (else no kernel times)
     bool is_pocl() const { return is_pocl_; }
 
-    // Pixels per work-item for lane methods (kernels/common/lanes.h): 16 on a CPU device, where
-    // they fill SIMD registers, 1 on a GPU (default_lanes); $OFFSETMAP_LANES (1, 8 or 16) or
-    // set_lanes overrides.
+    // Pixels per work-item for lane methods (kernels/common/lanes.h): 16 on PoCL's CPU device,
+    // where they fill SIMD registers, 1 elsewhere (default_lanes): a GPU, and a CPU driver that
+    // puts work-items in SIMD lanes itself (rusticl's llvmpipe, docs/data/bench-rusticl.md);
+    // $OFFSETMAP_LANES (1, 8 or 16) or set_lanes overrides.
     int lanes() const { return lanes_; }
     void set_lanes(int lanes);
 
