@@ -6,10 +6,12 @@
 # Oclgrind exits 0 whatever it finds, so its log is read: each report opens with a line at column
 # 0 (its details are indented), and any such line fails the case.
 # Plugins: --data-races --check-api, beside Oclgrind's own checks of every access against its
-# buffer's bounds. Not --uninitialized: in Oclgrind 21.10 it reports values that are provably
-# written (docs/design.md, "Portability"). Built with -cl-opt-disable -DOM_PLAIN_CALLS: optimised,
-# Oclgrind 21.10 mis-evaluates `xor <N x i1>, true` (a vector `!` gives -2, not 0) and cannot run
-# freeze, llvm.ctpop or llvm.experimental.noalias.scope.decl.
+# buffer's bounds; --uninitialized too on the one-map runs of `none` (import, mips, unorm16 words,
+# normals, reconstruction, shading): elsewhere Oclgrind 21.10's plugin reports values that are
+# provably written, and at 16 lanes it crashes (docs/design.md, "Portability"). Built with
+# -cl-opt-disable -DOM_PLAIN_CALLS: optimised, Oclgrind 21.10 mis-evaluates `xor <N x i1>, true`
+# (a vector `!` gives -2, not 0) and cannot run freeze, llvm.ctpop or
+# llvm.experimental.noalias.scope.decl.
 #   oclgrind_check.sh OFFSETMAP_CLI MAP WORK_DIR [CASE_FILTER]
 set -uo pipefail
 om=$1 map=$(realpath "$2") work=$3 only=${4:-}
@@ -22,8 +24,9 @@ run_case() {
     [ -n "$only" ] && [[ ! $name =~ $only ]] && return 0
     local log="$work/$name.log" start=$SECONDS
     rm -f "$log"
+    # shellcheck disable=SC2086  # $uninit is one flag or none
     OFFSETMAP_LANES=$lanes timeout 900 oclgrind --build-options "-cl-opt-disable -DOM_PLAIN_CALLS" \
-        --data-races --check-api --log "$log" "$om" "$@" >"$work/$name.out" 2>&1
+        --data-races --check-api ${uninit:-} --log "$log" "$om" "$@" >"$work/$name.out" 2>&1
     local rc=$? reports=0
     [ -f "$log" ] && reports=$(grep -c '^[^[:space:]]' "$log")
     # A check of a wrong execution proves nothing: a render's pixel and fetch counts must be the
@@ -56,6 +59,14 @@ for m in none parallax parallax-limited parallax-slope parallax-iterative steep 
     OFFSETMAP_IMAGES=1 run_case "$m-images" 1 render --method "$m" "${frame[@]}" "${set[@]}"
     run_case "$m-lanes16" 16 render --method "$m" "${frame[@]}" "${set[@]}"
 done
+# Every value the preparation kernels, the reconstruction and the shade pass write is initialised.
+uninit=--uninitialized run_case none-uninit 1 render --method none "${frame[@]}"
+uninit=--uninitialized OFFSETMAP_IMAGES=1 run_case none-images-uninit 1 render --method none \
+    "${frame[@]}"
+uninit=--uninitialized run_case none-float-clamp-lod-uninit 1 render --method none "${frame[@]}" \
+    --height-storage float --address clamp --lod-threshold 2
+uninit=--uninitialized run_case shade-hard-uninit 1 render --method none "${frame[@]}" \
+    --shadows hard --color-out "$work/hn.png"
 run_case pom-clamp-float-lod 1 render --method pom "${frame[@]}" --address clamp \
     --height-storage float --lod-threshold 2
 run_case exact-clamp-float 1 render --method exact "${frame[@]}" --address clamp \
@@ -78,6 +89,8 @@ OFFSETMAP_IMAGES=1 run_case materials-images 1 render --materials "$work/materia
 # The engine form (depth, camera and frame) goes through the reconstruction kernel.
 run_case gbuffer-engine 1 gbuffer --engine-form reversed --width 19 --height 13 -o "$work/e.exr"
 run_case engine-form 1 render --gbuffer "$work/e.exr" --height-map "$map" --method relief
+uninit=--uninitialized run_case engine-form-uninit 1 render --gbuffer "$work/e.exr" \
+    --height-map "$map" --method none
 run_case pom-lanes8 8 render --method pom "${frame[@]}"
 run_case exact-lanes8 8 render --method exact "${frame[@]}"
 run_case materials-lanes16 16 render --materials "$work/materials.json" --gbuffer "$work/ids.exr"
