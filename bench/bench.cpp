@@ -92,8 +92,7 @@ struct Bench {
     // The roofline microkernels at `lanes` pixels per work-item (1: the file's default).
     cl::Program roof_program(int lanes) {
         const std::vector<std::string> files = sampling_program_files("bench/roofline.cl");
-        return lanes == 1 ? rt->program(files)
-                          : rt->program(files, "#define OM_LANES " + std::to_string(lanes) + "\n");
+        return rt->program(files, lanes_define(lanes));
     }
 
     // Work-items for the G-buffer, one per block of `lanes` pixels (the offset entry's groups),
@@ -425,7 +424,9 @@ json compare_kernels(const std::array<std::string, 2>& dirs, const std::string& 
             } else {
                 pass[k] = std::make_unique<OffsetPass>(x.rt, m->name);
                 OffsetPass* p = pass[k].get();
-                run[k] = [p, &x, &s] { return launch_ms([&] { return p->enqueue(x.g, x.f[0], s, x.t); }); };
+                run[k] = [p, &x, &s] {
+                    return launch_ms([&] { return p->enqueue(x.g, x.f[0], s, x.t); });
+                };
             }
         }
         for (int w = 0; w < 2; ++w) run[0](), run[1]();

@@ -2,14 +2,11 @@
 
 #include <algorithm>
 
+#include "offsetmap/engine_gbuffer.hpp"
 #include "offsetmap/registry.hpp"
 
 namespace offsetmap {
 namespace {
-
-std::string lanes_define(int lanes) {
-    return lanes > 1 ? "#define OM_LANES " + std::to_string(lanes) + "\n" : "";
-}
 
 void add_offset_variants(std::vector<ProgramVariant>& out) {
     for (const MethodInfo& m : methods()) {
@@ -44,34 +41,24 @@ void add_offset_variants(std::vector<ProgramVariant>& out) {
 }
 
 void add_reconstruct_variants(std::vector<ProgramVariant>& out) {
-    const std::vector<std::string> files = {"common/lanes.h", "common/storage.cl",
-                                            "gbuffer/reconstruct.cl"};
-    const char* inputs[] = {"DEPTH", "FRAME", "TANGENT", "UV"};
-    // Storage -1: every input an image; else every input a buffer of that OM_STORAGE_* value.
+    // Every input an image (kImageInput), or every input a buffer of one OM_STORAGE_* value.
     for (int lanes : {1, 8, 16})
-        for (int storage = -1; storage <= 4; ++storage)
+        for (int storage = kImageInput; storage <= 4; ++storage)
             for (bool quaternion : {false, true})
-                for (int light = 0; light < 3; ++light) {
+                for (LightKind light :
+                     {LightKind::None, LightKind::Directional, LightKind::Point}) {
                     // Every storage and form at one lane; at 8 and 16 the float and image forms.
                     if (lanes > 1 && storage > 0) continue;
-                    std::string d = lanes_define(lanes);
-                    for (const char* input : inputs) {
-                        if (quaternion && std::string(input) == "TANGENT") continue;
-                        d += storage < 0 ? std::string("#define OM_IMAGE_") + input + " 1\n"
-                                         : std::string("#define OM_STORAGE_") + input + " " +
-                                               std::to_string(storage) + "\n";
-                    }
-                    if (quaternion) d += "#define OM_QUATERNION_FRAME\n";
-                    if (light > 0) d += "#define OM_LIT\n";
-                    if (light > 1) d += "#define OM_POINT_LIGHT\n";
                     out.push_back(
                         {"reconstruct/lanes" + std::to_string(lanes) +
                              (storage < 0 ? "-images" : "-storage" + std::to_string(storage)) +
                              (quaternion ? "-quaternion" : "") +
-                             (light == 1   ? "-lit"
-                              : light == 2 ? "-point"
-                                           : ""),
-                         files, d});
+                             (light == LightKind::Directional ? "-lit"
+                              : light == LightKind::Point     ? "-point"
+                                                              : ""),
+                         reconstruct_program_files(),
+                         reconstruct_program_defines(lanes, {storage, storage, storage, storage},
+                                                     quaternion, light)});
                 }
 }
 

@@ -3,6 +3,7 @@
 
 #include "launch.hpp"
 #include "offsetmap/engine_gbuffer.hpp"
+#include "offsetmap/registry.hpp"
 
 namespace offsetmap {
 namespace {
@@ -39,29 +40,39 @@ DeviceGBuffer allocate_gbuffer(Runtime& rt, int width, int height, bool light, b
 
 ReconstructPass::ReconstructPass(std::shared_ptr<Runtime> runtime) : runtime_(std::move(runtime)) {}
 
-cl::Kernel& ReconstructPass::kernel(const EngineGBuffer& in) {
-    const bool quaternion = in.frame == FrameForm::Quaternion;
+std::vector<std::string> reconstruct_program_files() {
+    return {"common/lanes.h", "common/storage.cl", "gbuffer/reconstruct.cl"};
+}
+
+std::string reconstruct_program_defines(int lanes, const std::array<int, 4>& inputs,
+                                        bool quaternion, LightKind light) {
     // Per input: an image, or a buffer of a storage the decoding is specialised for.
-    const int lanes = runtime_->lanes();
-    std::string defines = lanes > 1 ? "#define OM_LANES " + std::to_string(lanes) + "\n" : "";
-    auto input = [&](const Input& i, const char* name) {
-        if (i.image())
-            defines += std::string("#define OM_IMAGE_") + name + " 1\n";
-        else if (i.buffer())
-            defines += std::string("#define OM_STORAGE_") + name + " " +
-                       std::to_string(static_cast<int>(i.storage)) + "\n";
-    };
-    input(in.depth, "DEPTH");
-    input(in.normal, "FRAME");
-    if (!quaternion) input(in.tangent, "TANGENT");
-    input(in.uv, "UV");
+    std::string defines = lanes_define(lanes);
+    const char* names[] = {"DEPTH", "FRAME", "TANGENT", "UV"};
+    for (int k = 0; k < 4; ++k) {
+        if (quaternion && k == 2) continue;
+        if (inputs[k] == kImageInput)
+            defines += std::string("#define OM_IMAGE_") + names[k] + " 1\n";
+        else if (inputs[k] != kNoInput)
+            defines += std::string("#define OM_STORAGE_") + names[k] + " " +
+                       std::to_string(inputs[k]) + "\n";
+    }
     if (quaternion) defines += "#define OM_QUATERNION_FRAME\n";
-    if (in.light.kind != LightKind::None) defines += "#define OM_LIT\n";
-    if (in.light.kind == LightKind::Point) defines += "#define OM_POINT_LIGHT\n";
+    if (light != LightKind::None) defines += "#define OM_LIT\n";
+    if (light == LightKind::Point) defines += "#define OM_POINT_LIGHT\n";
+    return defines;
+}
+
+cl::Kernel& ReconstructPass::kernel(const EngineGBuffer& in) {
+    auto code = [](const Input& i) {
+        return i.image() ? kImageInput : i.buffer() ? static_cast<int>(i.storage) : kNoInput;
+    };
+    const std::string defines = reconstruct_program_defines(
+        runtime_->lanes(), {code(in.depth), code(in.normal), code(in.tangent), code(in.uv)},
+        in.frame == FrameForm::Quaternion, in.light.kind);
     auto it = kernels_.find(defines);
     if (it == kernels_.end()) {
-        cl::Program program = runtime_->program(
-            {"common/lanes.h", "common/storage.cl", "gbuffer/reconstruct.cl"}, defines);
+        cl::Program program = runtime_->program(reconstruct_program_files(), defines);
         it = kernels_.emplace(defines, runtime_->kernel(program, "om_reconstruct")).first;
     }
     return it->second;

@@ -291,8 +291,12 @@ std::vector<std::string> offset_program_files(const MethodInfo& m) {
             "common/patch.cl", "methods/" + m.kernel_file, "offset.cl"};
 }
 
+std::string lanes_define(int lanes) {
+    return lanes > 1 ? "#define OM_LANES " + std::to_string(lanes) + "\n" : "";
+}
+
 std::string offset_program_defines(const MethodInfo& method, const OffsetVariant& v, bool tiles) {
-    std::string defines = v.lanes > 1 ? "#define OM_LANES " + std::to_string(v.lanes) + "\n" : "";
+    std::string defines = lanes_define(v.lanes);
     if (lane_groups(method, v.lanes) == 2) defines += "#define OM_LANE_PAIRS\n";
     if (v.images && !tiles) defines += "#define OM_IMAGES\n";
     if (v.lod && !tiles) defines += "#define OM_LOD\n";

@@ -79,6 +79,15 @@ struct EngineGBuffer {
 // and writable: the reconstruct pass's output, the offset and shade passes' input.
 DeviceGBuffer allocate_gbuffer(Runtime& runtime, int width, int height, bool light, bool lod);
 
+// The reconstruction's program (kernels/gbuffer/reconstruct.cl) and its build for one combination
+// of inputs: each of depth, frame (normal or quaternion), tangent and uv read from an image
+// (kImageInput), from a buffer of OM_STORAGE_* `inputs[k]` values, or (kNoInput) not at all; the
+// tangent is never read in the quaternion form.
+constexpr int kImageInput = -1, kNoInput = -2;
+std::vector<std::string> reconstruct_program_files();
+std::string reconstruct_program_defines(int lanes, const std::array<int, 4>& inputs,
+                                        bool quaternion, LightKind light);
+
 // Reconstructs `out` (uv, view and, with a light, light) from the engine's G-buffer. Sky (depth
 // at the far plane) becomes an empty pixel (NaN uv); a degenerate frame or a depth that is not
 // finite a NaN V, which the offset pass flags INVALID, passing uv through.

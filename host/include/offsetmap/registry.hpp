@@ -104,6 +104,9 @@ std::vector<std::string> offset_program_files(const MethodInfo& method);
 // method on lanes (the entry's OM_LANE_PAIRS), else 1.
 int lane_groups(const MethodInfo& method, int lanes);
 
+// "#define OM_LANES n" for n pixels a work-item (lanes.h), nothing for 1 (the kernels' default).
+std::string lanes_define(int lanes);
+
 // Which build of a method's offset program a pass asks for (kernels/offset.cl's OM_* switches).
 struct OffsetVariant {
     int lanes = 1;        // OM_LANES (with OM_LANE_PAIRS where lane_groups says 2)
