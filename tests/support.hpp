@@ -89,6 +89,60 @@ inline void record_figure(const std::string& key, double value) {
     out << "\n}\n";
 }
 
+// What a long run must not grow (soaks): resident memory, and the process's objects a leak of
+// OpenCL or GL objects shows in (threads, open files, memory mappings: a driver's buffers and
+// loaded kernel builds), from /proc/self.
+struct ProcessCounts {
+    double rss_kib = 0;
+    long threads = 0, files = 0, mappings = 0;
+};
+
+inline ProcessCounts process_counts() {
+    ProcessCounts c;
+    std::ifstream status("/proc/self/status");
+    std::string line;
+    while (std::getline(status, line)) {
+        if (line.rfind("VmRSS:", 0) == 0) c.rss_kib = std::atof(line.c_str() + 6);
+        if (line.rfind("Threads:", 0) == 0) c.threads = std::atol(line.c_str() + 8);
+    }
+    for (auto it = std::filesystem::directory_iterator("/proc/self/fd");
+         it != std::filesystem::directory_iterator(); ++it)
+        ++c.files;
+    std::ifstream maps("/proc/self/maps");
+    while (std::getline(maps, line)) ++c.mappings;
+    return c;
+}
+
+// A soak's record: the counts after each frame (or each `frames_per_sample`); checks that from
+// sample `settle` on resident
+// memory stays within 1 % of its value there and the object counts do not grow at all.
+struct Soak {
+    int frames_per_sample = 1;
+    std::vector<ProcessCounts> frames;
+    void sample() { frames.push_back(process_counts()); }
+    void check(const std::string& what, size_t settle, const std::string& figure) const {
+        ASSERT_GT(frames.size(), settle);
+        const ProcessCounts& base = frames[settle - 1];
+        double peak = base.rss_kib;
+        for (size_t k = settle; k < frames.size(); ++k) {
+            const ProcessCounts& f = frames[k];
+            peak = std::max(peak, f.rss_kib);
+            EXPECT_LE(f.threads, base.threads) << what << ", frame " << k + 1;
+            EXPECT_LE(f.files, base.files) << what << ", frame " << k + 1;
+            EXPECT_LE(f.mappings, base.mappings) << what << ", frame " << k + 1;
+        }
+        EXPECT_LE(peak, 1.01 * base.rss_kib) << what << ": resident memory grew";
+        std::printf("%s: resident MiB", what.c_str());
+        for (size_t k : {size_t(0), settle - 1, frames.size() / 4, frames.size() / 2,
+                         3 * frames.size() / 4, frames.size() - 1})
+            std::printf(" %zu:%.1f", (k + 1) * frames_per_sample, frames[k].rss_kib / 1024.0);
+        std::printf("; growth after frame %zu: %.2f %%; threads %ld, files %ld, mappings %ld\n",
+                    settle * frames_per_sample, 100.0 * (peak / base.rss_kib - 1.0),
+                    frames.back().threads, frames.back().files, frames.back().mappings);
+        record_figure(figure + ".rss_growth_percent", 100.0 * (peak / base.rss_kib - 1.0));
+    }
+};
+
 inline HeightMap make_map(int w, int h, const std::function<float(int, int)>& f) {
     HeightMap m;
     m.width = w;

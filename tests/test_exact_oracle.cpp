@@ -1,25 +1,6 @@
-// The exact kernel (float) against the independent double-precision host oracle.
-//
-// Tolerance, per ray, from float rounding: the kernel finds the hit as the first root of the gap
-// q(t) = z(t) - s (H(p(t)) - r) (ray height minus relief height) on one bilinear patch. Its
-// inputs carry rounding: the cell position c - t d (cells, magnitude P = W (|u| + |t V.x|) +
-// H (|v| + |t V.y|)), the corner heights combined into h (an error of at most P in cells times
-// the patch's height change per cell, <= 1, plus a few roundings of H <= 1) and the ray height
-// t V.z. About ten roundings lie between the inputs and q; we allow K = 16 units of float
-// rounding (eps = 2^-24) on each term:
-//     dq = K eps (|t| V.z + s (1 + P)).
-// A root moves by dq / |q'(t)| where q' = dq/dt is the gap's rate along the ray at the hit (from
-// the oracle, double precision; the smaller one-sided rate at a cell edge). A ray that meets the
-// relief tangentially (q' -> 0) has the quadratic's bound 2 sqrt(dq / |q''|) instead, with
-// |q''| <= 2 s |e3| W H |V.x V.y| <= 4 s W H |V.x V.y| (e3 the patch's twist, |e3| <= 2).
-// So: |t - t_oracle| <= dt, and the uv' error in texels is at most (dt |V.xy| + K eps P / W) W.
-// This tolerance grows with the map's size (P) and at grazing views (|q'| ~ V.z), as the
-// rounding does; a fixed number of texels cannot be right for both 64^2 and 256^2 maps.
-// A ray that grazes the relief (the gap dips to within dq of zero and rises again) has two
-// answers to the inputs' precision: the graze or the next hit. The root bound cannot cover that
-// jump, so a kernel's hit is also right when it is the other answer: between the two hits the
-// ray never goes more than dq below the relief, and at the kernel's hit the gap is within dq.
-#include "support.hpp"
+// The exact kernel (float) against the independent double-precision host oracle, held to the
+// per-ray bound of oracle_bound.hpp.
+#include "oracle_bound.hpp"
 
 namespace omtest {
 namespace {
@@ -28,72 +9,6 @@ struct Case {
     const char* name;
     HeightMap map;
 };
-
-struct RayTolerance {
-    double dt;      // in t (uv units along the ray)
-    double texels;  // uv' distance, texels of the map
-    double dq;      // in the gap q (uv units of height)
-};
-
-// The ray's height above the relief at t (q in the header), in double.
-double ray_gap(const HeightMap& map, const PreparedRay& pr, const PassSettings& s, double t) {
-    return -t * pr.V[2] -
-           s.scale * (bilinear_height(map, pr.u - t * pr.V[0], pr.v - t * pr.V[1], s.address) -
-                      s.reference_plane);
-}
-
-constexpr double kEps = 0x1.0p-24, kRoundings = 16.0;  // eps and K in the header
-
-// The magnitude P of the ray's cell position at t (cells; the header's P).
-double cell_magnitude(const HeightMap& map, const PreparedRay& pr, double t) {
-    return map.width * (std::fabs(pr.u) + std::fabs(t * pr.V[0])) +
-           map.height * (std::fabs(pr.v) + std::fabs(t * pr.V[1]));
-}
-
-// The gap's rounding dq at t (the header's dq).
-double gap_rounding(const HeightMap& map, const PreparedRay& pr, const PassSettings& s, double t) {
-    return kRoundings * kEps *
-           (std::fabs(t) * pr.V[2] + s.scale * (1.0 + cell_magnitude(map, pr, t)));
-}
-
-RayTolerance ray_tolerance(const HeightMap& map, const PreparedRay& pr, const PassSettings& s,
-                           double t) {
-    const double eps = kEps, K = kRoundings;
-    const double* V = pr.V;
-    const double P = cell_magnitude(map, pr, t);
-    const double dq = gap_rounding(map, pr, s, t);
-    auto gap = [&](double x) { return ray_gap(map, pr, s, x); };
-    const double h = 1e-7 * s.scale / V[2];
-    const double rate =
-        std::min(std::fabs(gap(t + h) - gap(t)), std::fabs(gap(t) - gap(t - h))) / h;
-    const double curvature = 4.0 * s.scale * map.width * map.height * std::fabs(V[0] * V[1]);
-    double dt = rate > 0.0 ? dq / rate : INFINITY;
-    if (curvature > 0.0) dt = std::min(dt, 2.0 * std::sqrt(dq / curvature));
-    const double vxy = std::hypot(V[0], V[1]);
-    return {dt,
-            (dt * vxy + K * eps * P / std::max(map.width, map.height)) *
-                std::max(map.width, map.height),
-            dq};
-}
-
-// Whether the kernel's hit (uv', t) is the other answer of a graze (see the header): its uv' on
-// the ray at t, the gap there within dq, and never below -dq between it and the oracle's hit
-// (sampled every 1/16 cell the ray crosses).
-bool other_answer_of_a_graze(const HeightMap& map, const PreparedRay& pr, const PassSettings& s,
-                             double t_oracle, double t, double u, double v) {
-    const RayTolerance tol = ray_tolerance(map, pr, s, t);
-    const double on_ray =
-        std::hypot((u - (pr.u - t * pr.V[0])) * map.width, (v - (pr.v - t * pr.V[1])) * map.height);
-    if (on_ray > tol.texels || std::fabs(ray_gap(map, pr, s, t)) > tol.dq) return false;
-    const double a = std::min(t, t_oracle), b = std::max(t, t_oracle);
-    const double cells = (b - a) * std::hypot(pr.V[0] * map.width, pr.V[1] * map.height);
-    const int n = 16 * static_cast<int>(std::ceil(cells)) + 1;
-    for (int i = 0; i <= n; ++i) {
-        const double x = a + (b - a) * i / n;
-        if (ray_gap(map, pr, s, x) < -gap_rounding(map, pr, s, x)) return false;
-    }
-    return true;
-}
 
 struct OracleStats {
     double worst = 0.0;        // texels

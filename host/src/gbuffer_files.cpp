@@ -95,8 +95,8 @@ struct GBufferFile {
     std::string file;  // "G-buffer 'path'"
     std::map<std::string, int> index;
 
-    explicit GBufferFile(const std::string& p)
-        : path(p), in(open_image(p, "G-buffer")), file(describe_file("G-buffer", p)) {
+    GBufferFile(const std::string& p, size_t max_bytes)
+        : path(p), in(open_image(p, "G-buffer", max_bytes)), file(describe_file("G-buffer", p)) {
         const OIIO::ImageSpec& spec = in->spec();
         for (int c = 0; c < spec.nchannels; ++c) index[spec.channelnames[c]] = c;
     }
@@ -223,13 +223,13 @@ EngineScene read_engine_form(GBufferFile& g, size_t max_bytes) {
 }  // namespace
 
 EngineScene load_engine_gbuffer(const std::string& path, size_t max_bytes) {
-    GBufferFile g(path);
+    GBufferFile g(path, max_bytes);
     return read_engine_form(g, max_bytes);
 }
 
 GBuffer load_gbuffer(const std::string& path, size_t max_bytes, std::shared_ptr<Runtime> runtime) {
     const std::string what = "G-buffer";
-    GBufferFile g(path);
+    GBufferFile g(path, max_bytes);
     if (g.engine_form()) {
         GBuffer gb =
             reconstruct(runtime ? runtime : Runtime::create(), read_engine_form(g, max_bytes));

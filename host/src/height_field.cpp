@@ -22,8 +22,7 @@ std::vector<cl::Event> build_mips(Runtime& rt, DeviceHeightField& f, std::vector
         set_args(k, f.heights, offset, w, h, child, cw, ch);
         // Each level reads the one before it: chained by events (the queue may be out of order).
         cl::Event done;
-        rt.queue().enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(cw, ch), cl::NullRange,
-                                        &after, &done);
+        enqueue_grid(rt.queue(), k, cl::NDRange(cw, ch), &after, &done);
         after = {done};
         offset = child;
         w = cw;
@@ -41,8 +40,7 @@ std::vector<cl::Event> pack_unorm16(Runtime& rt, DeviceHeightField& f,
     cl::Kernel round = rt.kernel(program, "om_round_heights");
     set_args(round, f.heights, words);
     cl::Event rounded;
-    rt.queue().enqueueNDRangeKernel(round, cl::NullRange, cl::NDRange(words), cl::NullRange, &after,
-                                    &rounded);
+    enqueue_grid(rt.queue(), round, cl::NDRange(words), &after, &rounded);
     cl::Kernel pack = rt.kernel(program, "om_pack_heights");
     std::vector<cl::Event> done;
     int w = f.width, h = f.height, offset = 0;
@@ -50,8 +48,7 @@ std::vector<cl::Event> pack_unorm16(Runtime& rt, DeviceHeightField& f,
         set_args(pack, f.heights, words, offset, w, h);
         std::vector<cl::Event> wait = {rounded};
         cl::Event packed;
-        rt.queue().enqueueNDRangeKernel(pack, cl::NullRange, cl::NDRange(w, h), cl::NullRange,
-                                        &wait, &packed);
+        enqueue_grid(rt.queue(), pack, cl::NDRange(w, h), &wait, &packed);
         done.push_back(packed);
         offset += w * h;
         w = std::max(1, w / 2);
@@ -157,8 +154,7 @@ void finish_field(Runtime& rt, DeviceHeightField& f, const PassSettings& setting
             rt.kernel(rt.program(sampling_program_files("prep/normals.cl")), "om_normals");
         set_args(k, offset_params(settings, f.width, f.height), f.heights, f.normals);
         cl::Event normals;
-        rt.queue().enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(f.width, f.height),
-                                        cl::NullRange, &heights_done, &normals);
+        enqueue_grid(rt.queue(), k, cl::NDRange(f.width, f.height), &heights_done, &normals);
         done.push_back(normals);
     }
     rt.queue().enqueueMarkerWithWaitList(&done, &f.ready);
@@ -190,8 +186,7 @@ cl::Event import_level0(Runtime& rt, DeviceHeightField& f, const Input& texels, 
     set_args_from(k, 1, static_cast<cl_int>(texels.storage), f.width, f.height,
                   static_cast<cl_int>(depth_map), f.heights, count);
     cl::Event filled;
-    rt.queue().enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(f.width, f.height), cl::NullRange,
-                                    &after, &filled);
+    enqueue_grid(rt.queue(), k, cl::NDRange(f.width, f.height), &after, &filled);
     return filled;
 }
 

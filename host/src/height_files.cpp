@@ -19,7 +19,7 @@ void check_texels(const OIIO::ImageSpec& spec, const std::string& path, const st
 
 HeightMap load_height_map(const std::string& path, const HeightLoadOptions& options) {
     const std::string what = "height map";
-    auto in = open_image(path, what);
+    auto in = open_image(path, what, options.max_bytes);
     const OIIO::ImageSpec& spec = in->spec();
     check_texels(spec, path, what);
     if (options.channel < 0 || options.channel >= spec.nchannels)
@@ -49,7 +49,7 @@ HeightMap load_height_map(const std::string& path, const HeightLoadOptions& opti
 
 Image4 load_image4(const std::string& path, size_t max_bytes) {
     const std::string what = "image";
-    auto in = open_image(path, what);
+    auto in = open_image(path, what, max_bytes);
     const OIIO::ImageSpec& spec = in->spec();
     check_texels(spec, path, what);
     check_decode_size(spec, path, what, spec.nchannels * sizeof(float) + sizeof(cl_float4),

@@ -3,15 +3,28 @@
 #include <fcntl.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
 #include <mutex>
 #include <new>
 #include <sstream>
 
+#include "exr_header.hpp"
 #include "offsetmap/error.hpp"
 #include "offsetmap/image_io.hpp"
 
+// GCC says __SANITIZE_ADDRESS__; clang answers __has_feature.
 #if defined(__SANITIZE_ADDRESS__)
+#define OM_ASAN 1
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer)
+#define OM_ASAN 1
+#endif
+#endif
+#if defined(OM_ASAN)
 #include <sanitizer/lsan_interface.h>
 #endif
 
@@ -23,7 +36,7 @@ bool g_quiet_decoders = false;
 // OpenImageIO 2.4's PNG reader leaks the error string it builds when libpng longjmps out of its
 // read callback on a damaged file (31 bytes a file). In the sanitizer build, leak checking skips
 // what OpenImageIO allocates inside these calls, and only that; a leak of ours still shows.
-#if defined(__SANITIZE_ADDRESS__)
+#if defined(OM_ASAN)
 using ThirdPartyAllocations = __lsan::ScopedDisabler;
 #else
 struct ThirdPartyAllocations {};
@@ -69,6 +82,31 @@ std::string mib(double bytes) {
 
 void quiet_decoders(bool quiet) { g_quiet_decoders = quiet; }
 
+std::string image_format(const std::string& path) {
+    unsigned char m[12] = {};
+    {
+        std::ifstream in(path, std::ios::binary);
+        in.read(reinterpret_cast<char*>(m), sizeof m);
+    }
+    auto is = [&](const char* magic, size_t at = 0) {
+        return std::memcmp(m + at, magic, std::strlen(magic)) == 0;
+    };
+    if (is("\x89PNG")) return "png";
+    if (is("\x76\x2f\x31\x01")) return "openexr";
+    if (is("II*") || (is("MM") && m[2] == 0 && m[3] == 42)) return "tiff";
+    if (is("\xff\xd8\xff")) return "jpeg";
+    if (m[0] == 'P' && ((m[1] >= '1' && m[1] <= '6') || m[1] == 'F' || m[1] == 'f')) return "pnm";
+    if (is("#?")) return "hdr";
+    if (is("BM")) return "bmp";
+    // Not GIF, WebP, DDS or PSD: their readers size a canvas from the header when the file is
+    // opened (OpenImageIO's GIF reader throws past max_size()), before any limit can be checked.
+    // No magic (Targa, for one): the reader its extension names, if any.
+    std::string ext = std::filesystem::path(path).extension().string();
+    if (ext.size() > 1) ext = ext.substr(1);
+    std::transform(ext.begin(), ext.end(), ext.begin(), ::tolower);
+    return ext == "tga" || ext == "tpic" ? "targa" : "";
+}
+
 std::string describe_file(const std::string& what, const std::string& path) {
     return what + " '" + path + "'";
 }
@@ -85,18 +123,32 @@ std::string one_line(const std::string& text) {
     return out;
 }
 
-std::unique_ptr<OIIO::ImageInput> open_image(const std::string& path, const std::string& what) {
+std::unique_ptr<OIIO::ImageInput> open_image(const std::string& path, const std::string& what,
+                                             size_t max_bytes) {
     OIIO::ImageSpec config;
     // The stored values: OpenImageIO would otherwise multiply colour (and a grey height) by alpha.
     config.attribute("oiio:UnassociatedAlpha", 1);
+    check_exr_header(path, what, max_bytes);
+    // One reader, named by the file's first bytes (else its extension): OpenImageIO's open tries
+    // every reader it has when the first fails, and some (WebP's) allocate what a damaged header
+    // declares before any check of ours can run.
+    const std::string format = image_format(path);
     std::unique_ptr<OIIO::ImageInput> in;
-    {
+    bool opened = false;
+    try {
         QuietStderr quiet;
         [[maybe_unused]] ThirdPartyAllocations exempt;
-        in = OIIO::ImageInput::open(path, &config);
+        if (!format.empty()) in = OIIO::ImageInput::create(format, false, &config);
+        if (in) {
+            OIIO::ImageSpec spec;
+            opened = in->open(path, spec, config);
+        }
+    } catch (const std::exception& e) {  // a decoder's std::length_error or std::bad_alloc
+        throw Error("cannot read " + describe_file(what, path) + ": " + e.what());
     }
-    if (!in) {
-        std::string why = one_line(OIIO::geterror());
+    if (!in || !opened) {
+        std::string why = one_line(in ? in->geterror() : std::string());
+        if (why.empty()) why = one_line(OIIO::geterror());
         throw Error("cannot read " + describe_file(what, path) + ": " +
                     (why.empty() ? std::string("unknown image format") : why));
     }
@@ -111,7 +163,11 @@ std::unique_ptr<OIIO::ImageInput> open_image(const std::string& path, const std:
 void check_decode_size(const OIIO::ImageSpec& spec, const std::string& path,
                        const std::string& what, size_t kept_bytes_per_pixel, size_t max_bytes) {
     const double pixels = static_cast<double>(spec.width) * spec.height;
-    const double stored = static_cast<double>(spec.image_bytes(true));
+    // OpenImageIO reads scanline images in chunks of 256 rows, allocated whole even past the
+    // image's last row.
+    const double stored = std::max(
+        static_cast<double>(spec.image_bytes(true)),
+        spec.tile_width > 0 ? 0.0 : 256.0 * static_cast<double>(spec.scanline_bytes(true)));
     const double bytes = stored + pixels * static_cast<double>(kept_bytes_per_pixel);
     if (bytes > static_cast<double>(max_bytes))
         throw Error(describe_file(what, path) + " is " + std::to_string(spec.width) + "x" +
@@ -127,10 +183,12 @@ std::vector<float> read_float_pixels(OIIO::ImageInput& in, const std::string& pa
     auto data = allocate<float>(static_cast<size_t>(spec.width) * spec.height * (chend - chbegin),
                                 "the pixels of " + describe_file(what, path));
     bool ok;
-    {
+    try {
         QuietStderr quiet;
         [[maybe_unused]] ThirdPartyAllocations exempt;
         ok = in.read_image(0, 0, chbegin, chend, OIIO::TypeDesc::FLOAT, data.data());
+    } catch (const std::exception& e) {
+        throw Error("cannot decode " + describe_file(what, path) + ": " + e.what());
     }
     // libjpeg fills a truncated file's missing rows with grey and reports success; OpenImageIO
     // records its "premature end" message as an error all the same.

@@ -13,9 +13,15 @@ namespace offsetmap {
 // "what 'path'", the way every message names a file.
 std::string describe_file(const std::string& what, const std::string& path);
 
-// Opens the file for reading; throws Error naming it when it is missing, unreadable, not an image
-// or empty.
-std::unique_ptr<OIIO::ImageInput> open_image(const std::string& path, const std::string& what);
+// Opens the file for reading with the one reader its first bytes (else its extension) name,
+// after check_exr_header; throws Error naming it when it is missing, unreadable, not an image,
+// empty, or (OpenEXR) damaged or declaring more than `max_bytes` to decode.
+std::unique_ptr<OIIO::ImageInput> open_image(const std::string& path, const std::string& what,
+                                             size_t max_bytes);
+
+// OpenImageIO's name of the reader for the file: from its magic bytes (png, openexr, tiff, jpeg,
+// pnm, hdr, bmp), else targa for a .tga name, else "" (a format the readers do not take).
+std::string image_format(const std::string& path);
 
 // Throws Error naming the file when decoding it would take more than `max_bytes`: the decoder's
 // copy of every stored channel at its stored size, plus `kept_bytes_per_pixel` for what the reader

@@ -19,6 +19,38 @@ inline cl::NDRange padded(size_t n) {
     return cl::NDRange((n + kLocalSize - 1) / kLocalSize * kLocalSize);
 }
 
+// The same for the grids the precomputes and the footprint pass launch over (a map's texels, a
+// pyramid level, a distance volume): a fixed work-group, 64 in 1D, 8 x 8 (x 1) in 2D and 3D,
+// with the grid padded to it; the kernels return outside their grid. Left to the driver
+// (a null local size), PoCL picks one from each grid's factors and compiles the kernel anew for
+// every map size it meets, keeping each build loaded.
+inline constexpr size_t kGridTile = 8;
+
+inline size_t round_up(size_t n, size_t m) { return (n + m - 1) / m * m; }
+
+inline cl::NDRange grid_local(size_t dims) {
+    return dims == 1   ? cl::NDRange(kLocalSize)
+           : dims == 2 ? cl::NDRange(kGridTile, kGridTile)
+                       : cl::NDRange(kGridTile, kGridTile, 1);
+}
+
+inline cl::NDRange grid_global(const cl::NDRange& grid) {
+    switch (grid.dimensions()) {
+        case 1:
+            return padded(grid[0]);
+        case 2:
+            return cl::NDRange(round_up(grid[0], kGridTile), round_up(grid[1], kGridTile));
+        default:
+            return cl::NDRange(round_up(grid[0], kGridTile), round_up(grid[1], kGridTile), grid[2]);
+    }
+}
+
+inline void enqueue_grid(const cl::CommandQueue& queue, cl::Kernel& kernel, const cl::NDRange& grid,
+                         const std::vector<cl::Event>* wait, cl::Event* done) {
+    queue.enqueueNDRangeKernel(kernel, cl::NullRange, grid_global(grid),
+                               grid_local(grid.dimensions()), wait, done);
+}
+
 // A kernel's arguments, in order.
 template <typename... Args>
 void set_args_from(cl::Kernel& k, cl_uint first, const Args&... args) {

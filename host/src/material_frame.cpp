@@ -186,6 +186,10 @@ MaterialFrame::MaterialFrame(std::shared_ptr<Runtime> runtime, std::vector<Frame
                             "the material table's ids");
         method_of_slot_ = table(method_of_slot.data(), method_of_slot.size() * sizeof(cl_int),
                                 "the material table's methods");
+        // Submitted now: every frame waits on these copies, maybe from another queue, and OpenCL
+        // lets a queue hold back what was never flushed (rusticl does, and a frame on a second
+        // queue then waited for ever).
+        queue.flush();
     } catch (const cl::Error& e) {
         throw Error("cannot gather the material table on the device: " +
                     describe_cl_error(e.err()));

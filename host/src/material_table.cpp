@@ -166,7 +166,7 @@ std::vector<MaterialSpec> read_material_table(const std::string& path,
     json j;
     try {
         j = json::parse(in);
-    } catch (const json::parse_error& e) {
+    } catch (const json::exception& e) {  // syntax, and numbers past double's range
         throw Error(path + ": not valid JSON (" + e.what() + ")");
     }
     if (!j.is_array() || j.empty())

@@ -74,6 +74,9 @@ void OffsetPass::build_precomputed(const DeviceHeightField& f, const PassSetting
         PrecomputeSpec::Built built = spec->build(*runtime_, f, settings, params_);
         aux_ = built.data;
         aux_events_ = built.events;
+        // Submitted now: the caller's queue may be another, which would wait on them for ever
+        // where the runtime's queue holds back unflushed work.
+        runtime_->queue().flush();
     } catch (const cl::Error& e) {
         throw Error("cannot build the precomputed data of '" + method_->name + "' (" +
                     std::to_string(precomputed_.bytes) + " bytes): " + describe_cl_error(e.err()));
@@ -116,8 +119,7 @@ cl::Buffer OffsetPass::footprint(const DeviceGBuffer& g, const DeviceHeightField
     cl::Kernel& k = footprint_kernel_;
     set_args(k, g.uv, g.width, g.height, static_cast<float>(f.width), static_cast<float>(f.height),
              footprint_);
-    queue.enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(g.width, g.height), cl::NullRange,
-                               &wait, &done);
+    enqueue_grid(queue, k, cl::NDRange(g.width, g.height), &wait, &done);
     return footprint_;
 }
 

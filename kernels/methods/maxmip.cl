@@ -129,6 +129,8 @@ OM_INLINE OmF om_trace(const OmRay* r, const OmField* f, const OmOffsetParams* P
                     (i < px_lo || i >= px_hi || j < py_lo || j >= py_hi);
         k = OM_SEL(k, k + 1, climb);
     }
-    *flags |= OM_SEL((OmI)0, (OmI)OM_FLAG_CAPPED, capped);
+    // Lanes still live: the loop was ended from outside (llvmpipe stops a kernel's loops after
+    // 65535 iterations in all), so their walks are as unfinished as capped ones.
+    *flags |= OM_SEL((OmI)0, (OmI)OM_FLAG_CAPPED, capped | live);
     return hit_t;
 }

@@ -151,7 +151,8 @@ OM_INLINE OmF om_trace(const OmRay* r, const OmField* f, const OmOffsetParams* P
     OmSphereMarch s;
     om_sphere_begin(r, f, P, active, &s);
     while (OM_ANY(!s.done)) om_sphere_step(r, f, P, &s, fetches OM_IMG_ARG);
-    *flags |= s.flags;
+    // Not done: the loop was ended from outside (llvmpipe's limit on a kernel's loop iterations).
+    *flags |= s.flags | OM_SEL((OmI)0, (OmI)OM_FLAG_CAPPED, !s.done);
     return OM_SEL(s.t, s.hit_t, s.hit);
 }
 
@@ -166,8 +167,8 @@ OM_INLINE void om_trace_pair(const OmRay* ra, const OmField* fa, OmI active_a, c
     om_sphere_begin(rb, fb, P, active_b, &b);
     OM_PAIR_LOOP(INT_MAX, OM_ANY(!a.done), om_sphere_step(ra, fa, P, &a, fetches_a OM_IMG_ARG),
                  OM_ANY(!b.done), om_sphere_step(rb, fb, P, &b, fetches_b OM_IMG_ARG));
-    *flags_a |= a.flags;
-    *flags_b |= b.flags;
+    *flags_a |= a.flags | OM_SEL((OmI)0, (OmI)OM_FLAG_CAPPED, !a.done);
+    *flags_b |= b.flags | OM_SEL((OmI)0, (OmI)OM_FLAG_CAPPED, !b.done);
     *ta = OM_SEL(a.t, a.hit_t, a.hit);
     *tb = OM_SEL(b.t, b.hit_t, b.hit);
 }

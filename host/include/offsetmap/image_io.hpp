@@ -24,7 +24,8 @@ struct HeightLoadOptions {
     size_t max_bytes = kDefaultReadLimitBytes;
 };
 
-// Loads any image OpenImageIO reads (8/16-bit PNG, JPEG, TIFF, float EXR...) as stored: alpha is
+// Loads a PNG (8/16-bit), OpenEXR, TIFF, JPEG, PNM/PFM, Radiance HDR, BMP or Targa image (the
+// format named by the file's first bytes, else a .tga name) through OpenImageIO as stored: alpha is
 // never multiplied in (a grey+alpha PNG gives its grey values). Integer formats map to [0,1];
 // float values outside [0,1] are clamped (counted in `clamped`). Throws Error naming the file for
 // a missing, unreadable, truncated, empty or too large image, a missing channel, or non-finite

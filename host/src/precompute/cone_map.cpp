@@ -31,8 +31,7 @@ PrecomputeSpec::Built build(Runtime& rt, const DeviceHeightField& f, const PassS
     set_args(kb, p, f.heights, bw, bh, blocks);
     cl::Event e1;
     std::vector<cl::Event> after_field = field_ready(f);
-    rt.queue().enqueueNDRangeKernel(kb, cl::NullRange, cl::NDRange(bw, bh), cl::NullRange,
-                                    &after_field, &e1);
+    enqueue_grid(rt.queue(), kb, cl::NDRange(bw, bh), &after_field, &e1);
     // The one host round trip of a build: the global maximum bounds every cone's search.
     std::vector<float> block_max(static_cast<size_t>(bw) * bh);
     std::vector<cl::Event> after_blocks = {e1};

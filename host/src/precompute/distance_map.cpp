@@ -35,8 +35,7 @@ PrecomputeSpec::Built build(Runtime& rt, const DeviceHeightField& f, const PassS
     set_args(kd, p, colmax, res, layers, out.data);
     cl::Event e1;
     std::vector<cl::Event> after_field = field_ready(f);
-    rt.queue().enqueueNDRangeKernel(kc, cl::NullRange, cl::NDRange(res, res), cl::NullRange,
-                                    &after_field, &e1);
+    enqueue_grid(rt.queue(), kc, cl::NDRange(res, res), &after_field, &e1);
     out.events = enqueue_with_progress(
         rt, kd, cl::NDRange(res, res, layers),
         "sphere: distance map " + std::to_string(res) + "^2 x " + std::to_string(layers), {e1});

@@ -42,8 +42,7 @@ PrecomputeSpec::Built build(Runtime& rt, const DeviceHeightField& f, const PassS
     std::vector<cl::Event>& events = out.events;
     events.resize(1);
     std::vector<cl::Event> after_field = field_ready(f);
-    rt.queue().enqueueNDRangeKernel(first, cl::NullRange, cl::NDRange(wp >> 1, hp >> 1),
-                                    cl::NullRange, &after_field, &events[0]);
+    enqueue_grid(rt.queue(), first, cl::NDRange(wp >> 1, hp >> 1), &after_field, &events[0]);
     cl::Kernel next = rt.kernel(program, "om_maxmip_next");
     int offset = 0;
     for (int k = 2; k <= top; ++k) {
@@ -52,8 +51,7 @@ PrecomputeSpec::Built build(Runtime& rt, const DeviceHeightField& f, const PassS
         // Each level reads the one before: wait for it (the queue may be out of order).
         std::vector<cl::Event> after = {events.back()};
         events.emplace_back();
-        rt.queue().enqueueNDRangeKernel(next, cl::NullRange, cl::NDRange(cw, ch), cl::NullRange,
-                                        &after, &events.back());
+        enqueue_grid(rt.queue(), next, cl::NDRange(cw, ch), &after, &events.back());
         offset += pw * ph;
     }
     return out;

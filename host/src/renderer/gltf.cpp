@@ -255,13 +255,18 @@ class Loader {
                 glm::dvec3 wn =
                     normal_matrix * glm::dvec3(nrm[3 * i], nrm[3 * i + 1], nrm[3 * i + 2]);
                 const double len = glm::length(wn);
-                if (!(len > 1e-12) || !std::isfinite(wp.x + wp.y + wp.z))
-                    fail(what + " has a zero or non-finite normal or position at vertex " +
-                         std::to_string(i));
                 wn /= len;
                 v.position = {float(wp.x), float(wp.y), float(wp.z)};
                 v.normal = {float(wn.x), float(wn.y), float(wn.z)};
                 v.uv = {uv[2 * i], uv[2 * i + 1]};
+                // In float, as the renderer keeps them: a world position past float's range is
+                // as unusable as a NaN.
+                if (!(len > 1e-12) ||
+                    !std::isfinite(v.position[0] + v.position[1] + v.position[2]))
+                    fail(what + " has a zero or non-finite normal or position at vertex " +
+                         std::to_string(i));
+                if (!std::isfinite(v.uv[0] + v.uv[1]))
+                    fail(what + " has a non-finite uv at vertex " + std::to_string(i));
                 m.vertices.push_back(v);
                 extend(wp);
             }

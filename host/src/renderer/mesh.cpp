@@ -69,8 +69,10 @@ void derive_tangents(Mesh& mesh) {
         Vertex& v = mesh.vertices[k];
         const glm::dvec3 nn = glm::normalize(glm::dvec3(g(v.normal)));
         glm::dvec3 t = su[k] - nn * glm::dot(nn, su[k]);
-        if (glm::length(t) < 1e-12 * (1.0 + glm::length(su[k]))) {
-            // No usable dP/du: any unit vector orthogonal to N.
+        const double lt = glm::length(t);
+        if (!std::isfinite(lt) || lt < 1e-12 * (1.0 + glm::length(su[k]))) {
+            // No usable dP/du (or one past double's range, from extreme uv or positions): any
+            // unit vector orthogonal to N.
             const glm::dvec3 other =
                 std::abs(nn.x) < 0.9 ? glm::dvec3(1, 0, 0) : glm::dvec3(0, 1, 0);
             t = other - nn * glm::dot(nn, other);
@@ -79,7 +81,8 @@ void derive_tangents(Mesh& mesh) {
         const double w = glm::dot(glm::cross(nn, t), sv[k]) < 0.0 ? -1.0 : 1.0;
         v.normal = a(glm::vec3(nn));
         v.tangent = {float(t.x), float(t.y), float(t.z), float(w)};
-        v.uv_density = uv[k] > 0.0 ? float(std::sqrt(world[k] / uv[k])) : 1.0f;
+        const float density = uv[k] > 0.0 ? float(std::sqrt(world[k] / uv[k])) : 1.0f;
+        v.uv_density = std::isfinite(density) && density > 0.0f ? density : 1.0f;
     }
 }
 
