@@ -48,5 +48,18 @@ TEST(FuzzCorpus, DamagedOpenExrHeadersStopBeforeOpenExrReadsThem) {
     EXPECT_GE(files, 6u);
 }
 
+// A TIFF declaring more rows per strip than it holds: OpenImageIO's conversion buffer is a
+// multiple of them, so the reader refuses it before decoding (found by the fuzzer: 2.4 GB for a
+// 3 x 3 image).
+TEST(FuzzCorpus, TiffRowsPerStripPastTheReadLimitAreRefused) {
+    const std::string path =
+        std::string(OFFSETMAP_SOURCE_DIR) +
+        "/tests/fuzz/corpus/height_map/found-tiff-rows-per-strip-past-read-limit.tif";
+    HeightLoadOptions options;
+    options.max_bytes = omfuzz::kReadLimitBytes;
+    const std::string why = error_of([&] { load_height_map(path, options); });
+    EXPECT_NE(why.find("rows per strip"), std::string::npos) << why;
+}
+
 }  // namespace
 }  // namespace omtest

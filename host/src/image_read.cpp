@@ -4,6 +4,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
@@ -169,6 +170,23 @@ void check_decode_size(const OIIO::ImageSpec& spec, const std::string& path,
         static_cast<double>(spec.image_bytes(true)),
         spec.tile_width > 0 ? 0.0 : 256.0 * static_cast<double>(spec.scanline_bytes(true)));
     const double bytes = stored + pixels * static_cast<double>(kept_bytes_per_pixel);
+    // OpenImageIO converts a scanline file through a buffer of about 64 MiB of rows, whatever the
+    // image's size, rounded up to a multiple of the rows per strip a TIFF declares: a damaged one
+    // declares hundreds of millions (found by the fuzzer). Its own 64 MiB are not counted against
+    // the limit; what the declared strips add is.
+    if (spec.tile_width <= 0) {
+        const int rows_per_strip = spec.get_int_attribute("tiff:RowsPerStrip", 64);
+        if (rows_per_strip <= 0)
+            throw Error("cannot read " + describe_file(what, path) + ": it declares " +
+                        std::to_string(rows_per_strip) + " rows per strip");
+        const double line = static_cast<double>(spec.scanline_bytes(true));
+        const double rows = std::max(std::max(1.0, std::floor(67108864.0 / line)), 256.0);
+        const double chunk = std::ceil(rows / rows_per_strip) * rows_per_strip * line;
+        if (chunk > 67108864.0 + static_cast<double>(max_bytes))
+            throw Error(describe_file(what, path) + " declares " + std::to_string(rows_per_strip) +
+                        " rows per strip: decoding it needs " + mib(chunk) +
+                        ", above the limit of " + mib(67108864.0 + static_cast<double>(max_bytes)));
+    }
     if (bytes > static_cast<double>(max_bytes))
         throw Error(describe_file(what, path) + " is " + std::to_string(spec.width) + "x" +
                     std::to_string(spec.height) + " with " + std::to_string(spec.nchannels) +

@@ -7,6 +7,8 @@
 # (the readers' limit in the harnesses is 64 MiB). The input that caused it is
 # OUT/<target>/crash-* (or leak-, timeout-, oom-): fix the reader, then add the input to the
 # corpus as found-<what> so that the suite replays it (FuzzCorpus.*).
+# OFFSETMAP_FUZZ_SEED fixes libFuzzer's seed (default: a random one): CI's run is then a prefix of
+# the same-seeded longer run here.
 set -euo pipefail
 cd "$(dirname "$0")/../.."
 seconds=${1:-60}
@@ -23,12 +25,14 @@ one() {
     OCL_ICD_VENDORS=/etc/OpenCL/vendors/pocl.icd \
     ASAN_OPTIONS=detect_leaks=1:intercept_tls_get_addr=0:detect_stack_use_after_return=0 \
     UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
-        "$bin/fuzz_$t" -max_total_time="$seconds" -timeout=60 -malloc_limit_mb=256 \
+    LSAN_OPTIONS=suppressions=tests/sanitize/lsan.supp:print_suppressions=0 \
+        "$bin/fuzz_$t" -seed="${OFFSETMAP_FUZZ_SEED:-0}" -max_total_time="$seconds" -timeout=60 -malloc_limit_mb=256 \
         -rss_limit_mb=4096 -print_final_stats=1 -artifact_prefix="$out/$t/" \
         "$out/$t/corpus" "tests/fuzz/corpus/$t" >"$out/$t.log" 2>&1
     echo $? >"$out/$t.rc"
 }
 export -f one
+export OFFSETMAP_FUZZ_SEED
 printf '%s\n' "${targets[@]}" | xargs -P "$(nproc)" -I{} bash -c "one {} $seconds $out $bin"
 status=0
 printf '%-16s %12s %10s %8s  %s\n' target executions exec/s corpus result
