@@ -24,6 +24,7 @@
 #include <nlohmann/json.hpp>
 #include <thread>
 
+#include "bench_frame.hpp"
 #include "bench_glsl_peer.hpp"
 #include "bench_materials.hpp"
 #include "bench_util.hpp"
@@ -478,7 +479,8 @@ void draw_charts(const std::string& json_path, const std::string& out_dir) {
 int main(int argc, char** argv) {
     CLI::App app{
         "offsetmap_bench: throughput of every offset method against the device's roofline"};
-    bool quick = false, smoke = false, materials_only = false, peer_only = false;
+    bool quick = false, smoke = false, materials_only = false, peer_only = false,
+         frame_only = false;
     std::string out_dir = "out/bench", device;
     double target_ms = 300;
     app.add_flag("--quick", quick, "720p only, smaller maps and grids (about a minute)");
@@ -500,6 +502,9 @@ int main(int argc, char** argv) {
                  "only the material frame (tiles, one dispatch per method) at the main resolution");
     app.add_flag("--glsl-peer", peer_only,
                  "only the kernels against the GLSL fragment-shader peer at the main resolution");
+    app.add_flag("--frame", frame_only,
+                 "only the rendered room's deferred frame at the main resolution: each pass "
+                 "against the offset pass, every shadow mode, in turns");
     std::vector<std::string> ab;
     app.add_option("--ab", ab,
                    "A/B of two kernel folders (copies of kernels/): the methods (or --methods) "
@@ -509,8 +514,9 @@ int main(int argc, char** argv) {
     app.add_option("--ab-scene", ab_scene,
                    "--ab's G-buffer: the camera plane, random rays (no order between "
                    "neighbouring pixels), or the camera plane as a material frame of four maps "
-                   "(1024^2, 256^2, 512^2, 128^2), each method for all four")
-        ->check(CLI::IsMember({"camera", "random", "materials"}))
+                   "(1024^2, 256^2, 512^2, 128^2), each method for all four; or the rendered "
+                   "room's deferred frame (its shade and offset kernels, every shadow mode)")
+        ->check(CLI::IsMember({"camera", "random", "materials", "frame"}))
         ->capture_default_str();
     CLI11_PARSE(app, argc, argv);
     try {
@@ -557,6 +563,20 @@ int main(int argc, char** argv) {
                                                    : std::vector<int>{256, 1024, 4096};
         PassSettings s;
         s.scale = 0.05f;
+        const std::string data_dir = std::string(OFFSETMAP_SCRIPT_DIR) + "/../data";
+        const int frame_rounds = smoke ? 1 : std::clamp(static_cast<int>(target_ms / 30), 5, 21);
+        if (!ab.empty() && ab_scene == "frame") {
+            b.out["ab"] = bench_frame(b.rt, main_res, data_dir, frame_rounds, {ab[0], ab[1]});
+            std::ofstream(out_dir + "/bench-ab.json") << b.out.dump(2) << "\n";
+            std::printf("\nwrote %s/bench-ab.json\n", out_dir.c_str());
+            return 0;
+        }
+        if (frame_only) {
+            b.out["frame"] = bench_frame(b.rt, main_res, data_dir, frame_rounds);
+            std::ofstream(out_dir + "/bench-frame.json") << b.out.dump(2) << "\n";
+            std::printf("\nwrote %s/bench-frame.json\n", out_dir.c_str());
+            return 0;
+        }
         if (!ab.empty()) {
             const int rounds = smoke ? 1 : std::clamp(static_cast<int>(target_ms / 20), 5, 40);
             GBuffer gb = ab_scene == "random"

@@ -155,5 +155,75 @@ TEST(Lanes, RowsReadAsPairsGiveTheSameFrameOnMapsOfAnySize) {
                               name + (s == &wrap ? " wrap" : " clamp"));
 }
 
+// The shade pass in blocks of lanes (kernels/shade.cl) against one pixel a work-item, every shadow
+// mode, with and without an albedo image, under both address modes and offset limiting. The
+// arithmetic per pixel is the same; what may differ is a transcendental function's vector and
+// scalar forms in the math library, each within OpenCL's bound of the true value. The specular
+// term 2^y, y = shininess log2(n.h) <= 0: exp2 within 3 ulp (results up to 1, ulp 2^-23 taken),
+// and log2's 3 ulp (relative) with the product's half ulp move y by 3.5 2^-23 |y|, the result by
+// ln 2 times that times 2^y, where 2^y |y| <= 1 / (e ln 2): at most 4.3 2^-23 a form, weighted by
+// specular. The soft shadow's visibility: atan 5 ulp and atan2 6 ulp of angles below pi / 2 (ulp
+// 2^-23), divided by the light's size and weighted by diffuse times an albedo of at most 1. Two
+// forms differ by at most twice each bound. Everything else (the hard shadow's slope test, the
+// march's samples) is exact arithmetic and so the same bits; blocks cut by the image's edges and
+// rejected pixels included.
+TEST(Lanes, ShadeInBlocksGivesOnePixelAWorkItemsImage) {
+    HeightMap map = noisy_map(48, 31);
+    const GBuffer gb = mixed_scene(37, 7);
+    Image4 albedo{5, 3, {}};
+    for (int k = 0; k < 15; ++k)
+        albedo.texels.push_back({{0.1f + 0.05f * k, 1.0f - 0.06f * k, 0.5f, 1.0f}});
+    PassSettings wrap, clamp;
+    wrap.scale = clamp.scale = 0.1f;
+    clamp.address = AddressMode::Clamp;
+    clamp.grazing = GrazingPolicy::Limit;
+    auto shade_with = [&](int lanes, const PassSettings& s, const ShadeSettings& ss, bool image) {
+        auto rt = runtime_with_lanes(lanes);
+        DeviceHeightField f = upload(*rt, map, s);
+        DeviceGBuffer g = upload(*rt, gb);
+        const OffsetResult r = run_with_lanes(1, "pom", map, gb, s);
+        ShadePass pass(rt);
+        DeviceImage a;
+        if (image) a = upload(*rt, albedo);
+        return run_shade(*rt, pass, r, g, f, image ? &a : nullptr, s, ss);
+    };
+    for (ShadowMode mode : {ShadowMode::None, ShadowMode::Hard, ShadowMode::Soft})
+        for (const PassSettings* s : {&wrap, &clamp})
+            for (bool image : {false, true}) {
+                ShadeSettings ss;
+                ss.shadow = mode;
+                ss.light[0] = 0.8f, ss.light[1] = -0.3f, ss.light[2] = 0.45f;  // long shadows
+                const double bound =
+                    ss.specular * 2 * 4.3 * 0x1.0p-23 +
+                    (mode == ShadowMode::Soft
+                         ? ss.diffuse * 2 * (5 + 6) * 0x1.0p-23 / (ss.light_size_deg * M_PI / 180)
+                         : 0.0);
+                const auto ref = shade_with(1, *s, ss, image);
+                if (mode != ShadowMode::None) {  // the march shades something: shadows are cast
+                    ShadeSettings lit = ss;
+                    lit.shadow = ShadowMode::None;
+                    const auto unshadowed = shade_with(1, *s, lit, image);
+                    size_t darker = 0;
+                    for (size_t k = 0; k < gb.pixels(); ++k)
+                        darker += ref[k].s[0] < unshadowed[k].s[0] - 0.01f;
+                    EXPECT_GT(darker, gb.pixels() / 20) << static_cast<int>(mode);
+                }
+                for (int lanes : {8, 16}) {
+                    const auto c = shade_with(lanes, *s, ss, image);
+                    double worst = 0;
+                    for (size_t k = 0; k < gb.pixels(); ++k)
+                        for (int ch = 0; ch < 4; ++ch)
+                            worst = std::max(worst,
+                                             std::fabs(double(c[k].s[ch]) - double(ref[k].s[ch])));
+                    EXPECT_LE(worst, bound)
+                        << "shadows " << static_cast<int>(mode) << (s == &wrap ? " wrap" : " clamp")
+                        << (image ? " albedo" : " checker") << " lanes " << lanes;
+                    std::printf("shade lanes %d, shadows %d%s%s: worst %.3g (bound %.3g)\n", lanes,
+                                static_cast<int>(mode), s == &wrap ? " wrap" : " clamp",
+                                image ? " albedo" : "", worst, bound);
+                }
+            }
+}
+
 }  // namespace
 }  // namespace omtest

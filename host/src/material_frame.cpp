@@ -195,7 +195,8 @@ MaterialFrame::MaterialFrame(std::shared_ptr<Runtime> runtime, std::vector<Frame
                     describe_cl_error(e.err()));
     }
     classify_ = rt.kernel(rt.program({"frame/classify.cl"}), "om_classify");
-    shade_ = rt.kernel(rt.program(sampling_program_files("shade.cl")), "om_shade_materials");
+    shade_lanes_ = rt.lanes();
+    shade_ = shade_kernel(rt, "om_shade_materials");
     // Compile the usual variant now, so a method's build errors surface here.
     for (Method& m : methods_) tile_kernel(m, true, true, true);
 }
@@ -353,7 +354,12 @@ cl::Event MaterialFrame::shade(const cl::Buffer& uv, const cl::Buffer& flags,
     // The frame's parameters (id 0: flat, the checker, no shadows), then each slot's.
     PassSettings flat;
     OmShadeParams frame = shade_params(flat, s, 1, 1, nullptr);
-    frame.pixel_count = static_cast<om_int>(n);
+    frame.gb_width = g.width;
+    frame.gb_height = g.height;
+    if (rt.lanes() != shade_lanes_) {
+        shade_lanes_ = rt.lanes();
+        shade_ = shade_kernel(rt, "om_shade_materials");
+    }
     frame.has_light = g.light() ? 1 : 0;
     frame.shadow_mode = OM_SHADOW_NONE;
     std::vector<cl::Event> deps = wait;
@@ -382,8 +388,9 @@ cl::Event MaterialFrame::shade(const cl::Buffer& uv, const cl::Buffer& flags,
         set_optional(shade_, 11, albedo_);
         shade_.setArg(12, out_rgba);
         cl::Event event;
-        queue.enqueueNDRangeKernel(shade_, cl::NullRange, padded(n), cl::NDRange(kLocalSize), &deps,
-                                   &event);
+        queue.enqueueNDRangeKernel(shade_, cl::NullRange,
+                                   shade_grid(shade_lanes_, g.width, g.height),
+                                   cl::NDRange(kLocalSize), &deps, &event);
         return event;
     } catch (const cl::Error& e) {
         throw Error("cannot shade the material frame: " + describe_cl_error(e.err()));

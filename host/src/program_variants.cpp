@@ -84,7 +84,10 @@ std::vector<ProgramVariant> program_variants() {
     for (const std::string& file : prep)
         out.push_back({file.substr(0, file.rfind('.')), sampling_program_files(file), ""});
     out.push_back({"frame/classify", {"frame/classify.cl"}, ""});
-    out.push_back({"shade", sampling_program_files("shade.cl"), ""});
+    out.push_back({"frame/depth_offset", {"frame/depth_offset.cl"}, ""});
+    for (int lanes : {1, 8, 16})
+        out.push_back({"shade/lanes" + std::to_string(lanes), shade_program_files(),
+                       lanes_define(lanes)});
     for (int lanes : {1, 8, 16})
         out.push_back({"bench/roofline/lanes" + std::to_string(lanes),
                        sampling_program_files("bench/roofline.cl"), lanes_define(lanes)});

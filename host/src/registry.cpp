@@ -284,11 +284,16 @@ std::vector<std::string> sampling_program_files(const std::string& file) {
     return {"common/lanes.h", "common/sampling.cl", file};
 }
 
+std::vector<std::string> shade_program_files() {
+    return {"common/lanes.h", "common/sampling.cl", "common/blocks.cl", "shade.cl"};
+}
+
 int lane_groups(const MethodInfo& m, int lanes) { return lanes > 1 && m.lane_pairs ? 2 : 1; }
 
 std::vector<std::string> offset_program_files(const MethodInfo& m) {
     return {"common/lanes.h",  "common/sampling.cl",       "common/ray.cl",
-            "common/patch.cl", "methods/" + m.kernel_file, "offset.cl"};
+            "common/patch.cl", "methods/" + m.kernel_file, "common/blocks.cl",
+            "offset.cl"};
 }
 
 std::string lanes_define(int lanes) {

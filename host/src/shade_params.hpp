@@ -5,7 +5,7 @@
 
 namespace offsetmap {
 
-// Everything but pixel_count and has_light (the G-buffer's), over a map_w x map_h relief; throws
+// Everything but the G-buffer's size and has_light, over a map_w x map_h relief; throws
 // Error for shadow steps or a light size out of range.
 OmShadeParams shade_params(const PassSettings& settings, const ShadeSettings& shade, int map_w,
                            int map_h, const DeviceImage* albedo);
@@ -13,5 +13,10 @@ OmShadeParams shade_params(const PassSettings& settings, const ShadeSettings& sh
 // The checks of a shade pass's uv input, optional flags and colour output for n pixels.
 void check_shade_buffers(const cl::Context& context, const cl::Buffer& uv, const cl::Buffer& flags,
                          const cl::Buffer& out_rgba, size_t n);
+
+// The shade program's kernel `name` (kernels/shade.cl) at the runtime's lanes, and the grid of
+// its blocks over a width x height G-buffer.
+cl::Kernel shade_kernel(Runtime& runtime, const std::string& name);
+cl::NDRange shade_grid(int lanes, int width, int height);
 
 }  // namespace offsetmap

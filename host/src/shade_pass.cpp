@@ -34,6 +34,8 @@ OmShadeParams shade_params(const PassSettings& settings, const ShadeSettings& s,
     p.ambient = s.ambient;
     p.diffuse = s.diffuse;
     p.specular = s.specular;
+    if (!(s.shininess >= 0.0f && s.shininess <= 1.0e4f))
+        throw Error("shininess must be in [0, 10000], got " + std::to_string(s.shininess));
     p.shininess = s.shininess;
     if (s.shadow_steps < 1 || s.shadow_steps > 256)
         throw Error("shadow steps must be in [1, 256], got " + std::to_string(s.shadow_steps));
@@ -63,8 +65,17 @@ void check_shade_buffers(const cl::Context& context, const cl::Buffer& uv, const
                  {"the shade pass's colour output", "float4", sizeof(cl_float4), n, true});
 }
 
+cl::Kernel shade_kernel(Runtime& rt, const std::string& name) {
+    return rt.kernel(rt.program(shade_program_files(), lanes_define(rt.lanes())), name);
+}
+
+cl::NDRange shade_grid(int lanes, int width, int height) {
+    return padded(static_cast<size_t>(om_image_blocks(width, height, lanes)));
+}
+
 ShadePass::ShadePass(std::shared_ptr<Runtime> runtime) : runtime_(std::move(runtime)) {
-    kernel_ = runtime_->kernel(runtime_->program(sampling_program_files("shade.cl")), "om_shade");
+    lanes_ = runtime_->lanes();
+    kernel_ = shade_kernel(*runtime_, "om_shade");
 }
 
 cl::Event ShadePass::enqueue(const cl::Buffer& uv, const cl::Buffer& flags, const DeviceGBuffer& g,
@@ -86,8 +97,13 @@ cl::Event ShadePass::enqueue(const cl::Buffer& uv, const cl::Buffer& flags, cons
                      {"the albedo image's texels", "float4", sizeof(cl_float4),
                       static_cast<size_t>(albedo->width) * albedo->height});
     }
+    if (runtime_->lanes() != lanes_) {
+        lanes_ = runtime_->lanes();
+        kernel_ = shade_kernel(*runtime_, "om_shade");
+    }
     OmShadeParams p = shade_params(settings, s, f.width, f.height, albedo);
-    p.pixel_count = static_cast<int>(g.pixels());
+    p.gb_width = g.width;
+    p.gb_height = g.height;
     p.has_light = g.light() ? 1 : 0;
     kernel_.setArg(0, p);
     kernel_.setArg(1, uv);
@@ -102,8 +118,8 @@ cl::Event ShadePass::enqueue(const cl::Buffer& uv, const cl::Buffer& flags, cons
     try {
         std::vector<cl::Event> deps = wait;  // and the field's upload
         if (f.ready()) deps.push_back(f.ready);
-        q.enqueueNDRangeKernel(kernel_, cl::NullRange, padded(g.pixels()), cl::NDRange(kLocalSize),
-                               &deps, &event);
+        q.enqueueNDRangeKernel(kernel_, cl::NullRange, shade_grid(lanes_, g.width, g.height),
+                               cl::NDRange(kLocalSize), &deps, &event);
     } catch (const cl::Error& e) {
         throw Error(std::string("cannot run the shading pass: ") + describe_cl_error(e.err()));
     }

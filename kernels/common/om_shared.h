@@ -179,6 +179,16 @@ typedef struct {
     om_float light_vec[3];  // world direction toward the light (unit), or its position
 } OmReconstructParams;
 
+// The rendered frame's pixel depth offset (kernels/frame/depth_offset.cl), in GL's conventions;
+// a work-item takes OM_DEPTH_RUN pixels of a row.
+#define OM_DEPTH_RUN 16
+typedef struct {
+    om_int width, height;
+    om_float view_proj[16];      // world -> clip, column-major: row r, column c at [4 c + r]
+    om_float inv_view_proj[16];  // NDC -> world, the same layout
+    om_float eye[3];             // world position of the eye
+} OmDepthOffsetParams;
+
 // A unorm16 height's value, as OpenImageIO converts 16-bit files (a product, not c / 65535: the
 // two differ in the last bit for 512 of the 65536 values), so a 16-bit map rounds to itself.
 #define OM_UNORM16_STEP (1.0f / 65535.0f)
@@ -187,7 +197,7 @@ typedef struct {
 #define OM_MAX_MIP_LEVELS 16
 
 typedef struct {
-    om_int pixel_count;
+    om_int gb_width, gb_height;  // the G-buffer's pixels, shaded in blocks (om_image_blocks)
     om_int hf_width;
     om_int hf_height;
     om_int address_mode;
@@ -242,7 +252,7 @@ typedef struct {
     om_int heights_offset;  // its pyramid's first float in the frame's heights buffer
     om_int aux_offset;      // its precomputed data's first float in its method's aux buffer
     om_int method;          // its method's dispatch
-    OmShadeParams shade;    // its shading (pixel_count unused)
+    OmShadeParams shade;    // its shading (the G-buffer's size unused)
     om_int normals_offset;  // its normals' first float4 in the frame's normals buffer
     om_int albedo_offset;   // its albedo's first float4 in the frame's albedo buffer
 } OmMaterialSlot;

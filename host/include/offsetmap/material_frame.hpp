@@ -104,6 +104,7 @@ class MaterialFrame {
     int id_limit_ = 1;
     std::vector<cl::Event> setup_;  // the gathering copies and precomputed builds
     cl::Kernel classify_, shade_;
+    int shade_lanes_ = 1;  // shade_'s lanes, the runtime's when it was built
     // Per frame size: the classification's counts, lists and their bases.
     size_t tiles_ = 0;
     cl::Buffer counts_, entries_, list_base_;

@@ -95,9 +95,10 @@ void parse_assignment(const std::string& item, std::map<std::string, std::string
 
 // Kernel programs, as lists of files under kernels/ (one definition each, for the passes, the
 // bench and the C++ peer): a program that reads heights, the sampling layer then `file` (a prep
-// kernel, the shade pass, the roofline); and a method's offset program (sampling, ray, patch
-// solve, the method, the entry).
+// kernel, the roofline); the shade pass (sampling, image blocks, shading); and a method's offset
+// program (sampling, ray, patch solve, the method, image blocks, the entry).
 std::vector<std::string> sampling_program_files(const std::string& file);
+std::vector<std::string> shade_program_files();
 std::vector<std::string> offset_program_files(const MethodInfo& method);
 
 // Groups of lanes a work-item of `method` walks on a device with `lanes` lanes: 2 for a lane-pair

@@ -46,6 +46,7 @@ class ShadePass {
 
   private:
     std::shared_ptr<Runtime> runtime_;
+    int lanes_ = 1;  // the kernel's, from the runtime when it was built
     cl::Kernel kernel_;
 };
 

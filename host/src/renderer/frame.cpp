@@ -8,6 +8,7 @@
 #include "offsetmap/error.hpp"
 #include "offsetmap/material_eval.hpp"
 #include "offsetmap/renderer/context.hpp"
+#include "offsetmap/renderer/depth_offset.hpp"
 #include "offsetmap/settings.hpp"
 #include "raster.hpp"
 
@@ -78,11 +79,16 @@ struct FrameRenderer::Impl {
     std::unique_ptr<MaterialFrame> frame;
     std::unique_ptr<ReconstructPass> reconstruct;
     ShadeSettings shading;
-    // Device buffers: the engine G-buffer's planes, the explicit G-buffer, the outputs.
-    cl::Buffer depth, normal, tangent, uv, ids;
+    // Device buffers: the engine G-buffer's planes with the uv density, the explicit G-buffer, the
+    // outputs. The ones GL writes or reads are in host memory the host maps
+    // (CL_MEM_ALLOC_HOST_PTR): GL reads its planes into them, and takes the colour and depth from
+    // them, one copy each way.
+    cl::Buffer depth, normal, tangent, uv, ids, density;
     DeviceGBuffer dg;
     OffsetTargets targets;
-    cl::Buffer rgba;
+    cl::Buffer rgba, depth_after;
+    std::unique_ptr<DepthOffsetPass> depth_offset;
+    OmDepthOffsetParams depth_params{};
 };
 
 FrameRenderer::FrameRenderer(std::shared_ptr<Runtime> runtime, const Scene& scene,
@@ -110,18 +116,24 @@ FrameRenderer::FrameRenderer(std::shared_ptr<Runtime> runtime, const Scene& scen
     auto buffer = [&](size_t bytes, cl_mem_flags flags) {
         return cl::Buffer(rt.context(), flags, bytes);
     };
-    m.depth = buffer(n * sizeof(float), CL_MEM_READ_ONLY);
-    m.normal = buffer(4 * n * sizeof(float), CL_MEM_READ_ONLY);
-    m.tangent = buffer(4 * n * sizeof(float), CL_MEM_READ_ONLY);
-    m.uv = buffer(2 * n * sizeof(float), CL_MEM_READ_ONLY);
-    m.ids = buffer(n * sizeof(float), CL_MEM_READ_ONLY);
+    const cl_mem_flags in = CL_MEM_READ_ONLY | CL_MEM_ALLOC_HOST_PTR;
+    m.depth = buffer(n * sizeof(float), in);
+    m.normal = buffer(4 * n * sizeof(float), in);
+    m.tangent = buffer(4 * n * sizeof(float), in);
+    m.uv = buffer(2 * n * sizeof(float), in);
+    m.ids = buffer(n * sizeof(float), in);
+    m.density = buffer(n * sizeof(float), in);
     m.dg = allocate_gbuffer(rt, width, height, scene.light.kind != LightKind::None, false);
     m.dg.material = m.ids;
     m.targets.uv = buffer(n * sizeof(cl_float2), CL_MEM_READ_WRITE);
     m.targets.depth = buffer(n * sizeof(float), CL_MEM_READ_WRITE);
     m.targets.fetches = buffer(n * sizeof(cl_uint), CL_MEM_READ_WRITE);
     m.targets.flags = buffer(n * sizeof(cl_uint), CL_MEM_READ_WRITE);
-    m.rgba = buffer(n * sizeof(cl_float4), CL_MEM_WRITE_ONLY);
+    m.rgba = buffer(n * sizeof(cl_float4), CL_MEM_WRITE_ONLY | CL_MEM_ALLOC_HOST_PTR);
+    m.depth_after = buffer(n * sizeof(float), CL_MEM_WRITE_ONLY | CL_MEM_ALLOC_HOST_PTR);
+    m.depth_offset = std::make_unique<DepthOffsetPass>(rt);
+    m.depth_params = depth_offset_params(m.view.view_projection, m.view.inverse_view_projection,
+                                         m.view.eye, width, height);
     m.frame = std::make_unique<MaterialFrame>(runtime, upload_materials(rt, table, methods));
     m.reconstruct = std::make_unique<ReconstructPass>(runtime);
     interop_ = "host copies (the OpenCL platform offers no cl_khr_gl_sharing)";
@@ -130,6 +142,21 @@ FrameRenderer::FrameRenderer(std::shared_ptr<Runtime> runtime, const Scene& scen
 }
 
 FrameRenderer::~FrameRenderer() = default;
+
+std::pair<double, double> FrameRenderer::rerun_kernels(int repeats) {
+    Impl& m = *impl_;
+    std::vector<double> shade, offset;
+    for (int k = 0; k < repeats && m.rt->profiling(); ++k) {
+        const cl::Event s = m.frame->shade(m.targets.uv, m.targets.flags, m.dg, m.shading, m.rgba);
+        s.wait();
+        shade.push_back(event_ms(s));
+        m.frame->enqueue(m.dg, m.targets).wait();
+        offset.push_back(m.frame->kernel_ms());
+    }
+    return {median(shade), median(offset)};
+}
+
+void FrameRenderer::set_shading(const ShadeSettings& shading) { impl_->shading = shading; }
 
 std::string FrameRenderer::gl_renderer() const { return impl_->gl->renderer(); }
 
@@ -166,7 +193,7 @@ FrameRun FrameRenderer::render(FrameMode mode, bool prepass, int repeats) {
     std::vector<cl_float2> forward_uv;
     std::vector<std::uint32_t> forward_fetches;
     std::vector<PassTimes> times;
-    std::vector<double> kernel;
+    std::vector<double> kernel, shade_kernel;
     for (int rep = 0; rep <= std::max(1, repeats); ++rep) {
         PassTimes t;
         const auto start = Clock::now();
@@ -175,17 +202,31 @@ FrameRun FrameRenderer::render(FrameMode mode, bool prepass, int repeats) {
         t.gbuffer = ms_since(t0);
 
         t0 = Clock::now();
-        planes = m.raster->read(forward);
-        for (size_t k = 0; k < n; ++k) ids[k] = planes.material[2 * k];
-        q.enqueueWriteBuffer(m.depth, CL_FALSE, 0, n * sizeof(float), planes.depth.data());
-        q.enqueueWriteBuffer(m.normal, CL_FALSE, 0, 4 * n * sizeof(float), planes.normal.data());
-        q.enqueueWriteBuffer(m.tangent, CL_FALSE, 0, 4 * n * sizeof(float), planes.tangent.data());
-        q.enqueueWriteBuffer(m.uv, CL_FALSE, 0, 2 * n * sizeof(float), planes.uv.data());
-        q.enqueueWriteBuffer(m.ids, CL_FALSE, 0, n * sizeof(float), ids.data());
+        {
+            // The planes straight into the mapped buffers: GL's read is the one copy.
+            auto map = [&](const cl::Buffer& b, size_t floats) {
+                return static_cast<float*>(q.enqueueMapBuffer(
+                    b, CL_TRUE, CL_MAP_WRITE_INVALIDATE_REGION, 0, floats * sizeof(float)));
+            };
+            PlanePointers p;
+            p.depth = map(m.depth, n);
+            p.normal = map(m.normal, 4 * n);
+            p.tangent = map(m.tangent, 4 * n);
+            p.uv = map(m.uv, 2 * n);
+            p.material = map(m.ids, n);
+            p.density = map(m.density, n);
+            m.raster->read_into(p);
+            q.enqueueUnmapMemObject(m.depth, p.depth);
+            q.enqueueUnmapMemObject(m.normal, p.normal);
+            q.enqueueUnmapMemObject(m.tangent, p.tangent);
+            q.enqueueUnmapMemObject(m.uv, p.uv);
+            q.enqueueUnmapMemObject(m.ids, p.material);
+            q.enqueueUnmapMemObject(m.density, p.density);
+        }
         if (forward) {
             forward_uv.resize(n);
             forward_fetches.resize(n);
-            const std::vector<float>& off = planes.offset;
+            const std::vector<float> off = m.raster->read_offset();
             for (size_t k = 0; k < n; ++k) {
                 forward_uv[k] = {{off[4 * k], off[4 * k + 1]}};
                 t_gl[k] = off[4 * k + 2];
@@ -193,6 +234,7 @@ FrameRun FrameRenderer::render(FrameMode mode, bool prepass, int repeats) {
             }
             q.enqueueWriteBuffer(m.targets.uv, CL_FALSE, 0, n * sizeof(cl_float2),
                                  forward_uv.data());
+            q.enqueueWriteBuffer(m.targets.depth, CL_FALSE, 0, n * sizeof(float), t_gl.data());
         }
         q.finish();
         t.to_device = ms_since(t0);
@@ -220,28 +262,44 @@ FrameRun FrameRenderer::render(FrameMode mode, bool prepass, int repeats) {
         }
 
         t0 = Clock::now();
-        m.frame->shade(m.targets.uv, forward ? cl::Buffer() : m.targets.flags, m.dg, m.shading,
-                       m.rgba);
+        const cl::Event shaded = m.frame->shade(
+            m.targets.uv, forward ? cl::Buffer() : m.targets.flags, m.dg, m.shading, m.rgba);
         q.finish();
         t.shade = ms_since(t0);
+        if (rt.profiling()) shade_kernel.push_back(event_ms(shaded));
 
-        // What GL needs back: the colour and, for the depth offset, t.
+        // The pixel depth offset, from the depth, t and the uv density already on the device.
         t0 = Clock::now();
-        run.color.resize(n);
-        q.enqueueReadBuffer(m.rgba, CL_FALSE, 0, n * sizeof(cl_float4), run.color.data());
-        if (!forward)
-            q.enqueueReadBuffer(m.targets.depth, CL_FALSE, 0, n * sizeof(float), t_gl.data());
+        m.depth_offset->enqueue(q, m.depth_params, m.depth, m.targets.depth, m.density,
+                                m.depth_after);
         q.finish();
-        t.to_gl = ms_since(t0);
-
-        t0 = Clock::now();
-        m.raster->write_depth_offset(m.view, t_gl);
         t.depth_offset = ms_since(t0);
+
+        // What GL takes back: the colour and the depth, from the mapped buffers.
+        t0 = Clock::now();
+        {
+            const auto* color = static_cast<const float*>(
+                q.enqueueMapBuffer(m.rgba, CL_TRUE, CL_MAP_READ, 0, n * sizeof(cl_float4)));
+            const auto* after = static_cast<const float*>(
+                q.enqueueMapBuffer(m.depth_after, CL_TRUE, CL_MAP_READ, 0, n * sizeof(float)));
+            m.raster->write_results(color, after);
+            q.enqueueUnmapMemObject(m.rgba, const_cast<float*>(color));
+            q.enqueueUnmapMemObject(m.depth_after, const_cast<float*>(after));
+            q.finish();
+        }
+        t.to_gl = ms_since(t0);
         t.total = ms_since(start);
         if (rep > 0) times.push_back(t);  // the first frame warms up
     }
 
-    // The last frame's outputs, rows top first.
+    // The last frame's outputs, rows top first: read again outside the timed frames, after the
+    // same draw with the uv derivatives kept (the G-buffer file's).
+    m.raster->draw(m.view, forward ? &m.forward : nullptr, prepass, true);
+    planes = m.raster->read(false);
+    for (size_t k = 0; k < n; ++k) ids[k] = planes.material[2 * k];
+    run.color.resize(n);
+    q.enqueueReadBuffer(m.rgba, CL_TRUE, 0, n * sizeof(cl_float4), run.color.data());
+    if (!forward) q.enqueueReadBuffer(m.targets.depth, CL_TRUE, 0, n * sizeof(float), t_gl.data());
     OffsetResult& out = run.offset;
     out.width = w;
     out.height = h;
@@ -294,6 +352,11 @@ FrameRun FrameRenderer::render(FrameMode mode, bool prepass, int repeats) {
           &PassTimes::shade, &PassTimes::to_gl, &PassTimes::depth_offset, &PassTimes::total})
         run.ms.*f = med(f);
     run.offset_kernel_ms = median(kernel);
+    // Depth, normal, tangent, uv, material id and uv density (forward: and the offset plane); the
+    // colour and the depth after the offset.
+    run.to_device_bytes = n * sizeof(float) * (1 + 4 + 4 + 2 + 1 + 1 + (forward ? 4 : 0));
+    run.to_gl_bytes = n * sizeof(float) * (4 + 1);
+    run.shade_kernel_ms = median(shade_kernel);
     if (!forward) run.offset.kernel_ms = kernel;
 
     // The explicit G-buffer, as the passes saw it (rows top first).

@@ -114,12 +114,17 @@ GLint uniform(const Program& p, const char* name) { return glGetUniformLocation(
 std::vector<float> read_pixels(GLuint framebuffer, GLenum attachment, GLenum format, int components,
                                int width, int height) {
     std::vector<float> out(static_cast<size_t>(width) * height * components);
+    read_pixels_into(framebuffer, attachment, format, width, height, out.data());
+    return out;
+}
+
+void read_pixels_into(GLuint framebuffer, GLenum attachment, GLenum format, int width, int height,
+                      float* out) {
     glBindFramebuffer(GL_READ_FRAMEBUFFER, framebuffer);
     if (format != GL_DEPTH_COMPONENT) glReadBuffer(attachment);
     glPixelStorei(GL_PACK_ALIGNMENT, 4);
-    glReadPixels(0, 0, width, height, format, GL_FLOAT, out.data());
+    glReadPixels(0, 0, width, height, format, GL_FLOAT, out);
     check_gl("reading back the G-buffer");
-    return out;
 }
 
 }  // namespace offsetmap::renderer

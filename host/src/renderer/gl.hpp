@@ -57,5 +57,9 @@ GLint uniform(const Program& p, const char* name);
 // stores them). For the depth attachment pass GL_DEPTH_COMPONENT.
 std::vector<float> read_pixels(GLuint framebuffer, GLenum attachment, GLenum format, int components,
                                int width, int height);
+// The same into `out` (width x height x the format's components floats): the caller's memory,
+// such as a mapped OpenCL buffer, so the pixels are copied once.
+void read_pixels_into(GLuint framebuffer, GLenum attachment, GLenum format, int width, int height,
+                      float* out);
 
 }  // namespace offsetmap::renderer

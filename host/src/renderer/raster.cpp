@@ -123,7 +123,6 @@ Raster::Raster(const Scene& scene, int width, int height) : width_(width), heigh
     forward_count_ = make_program("gbuffer_vert.glsl", "gbuffer_frag.glsl",
                                   "#define OM_FORWARD 1\n#define OM_COUNT 1\n");
     depth_only_ = make_program("gbuffer_vert.glsl", "depth_only_frag.glsl");
-    depth_offset_ = make_program("fullscreen_vert.glsl", "depth_offset_frag.glsl");
 
     depth_ = make_texture(GL_DEPTH_COMPONENT32F, width, height);
     normal_ = make_texture(GL_RGBA32F, width, height);
@@ -132,7 +131,7 @@ Raster::Raster(const Scene& scene, int width, int height) : width_(width), heigh
     derivatives_ = make_texture(GL_RGBA32F, width, height);
     material_ = make_texture(GL_RG32F, width, height);
     offset_ = make_texture(GL_RGBA32F, width, height);
-    t_ = make_texture(GL_R32F, width, height);
+    color_ = make_texture(GL_RGBA32F, width, height);
     depth_after_ = make_texture(GL_DEPTH_COMPONENT32F, width, height);
     GLuint f[2];
     glCreateFramebuffers(2, f);
@@ -150,9 +149,6 @@ Raster::Raster(const Scene& scene, int width, int height) : width_(width), heigh
         if (glCheckNamedFramebufferStatus(fb, GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
             throw Error("OpenGL: the G-buffer's render targets are not complete at " +
                         std::to_string(width) + "x" + std::to_string(height));
-    GLuint vao = 0;
-    glCreateVertexArrays(1, &vao);
-    empty_vao_ = VertexArray(vao);
     GLuint counter = 0;
     glCreateBuffers(1, &counter);
     counter_ = BufferObject(counter);
@@ -161,8 +157,18 @@ Raster::Raster(const Scene& scene, int width, int height) : width_(width), heigh
     check_gl("setting up the G-buffer pass");
 }
 
-void Raster::draw(const View& view, const std::vector<ForwardMaterial>* forward, bool prepass) {
+void Raster::draw(const View& view, const std::vector<ForwardMaterial>* forward, bool prepass,
+                  bool derivatives) {
+    // The targets this draw keeps: the uv derivatives only when asked (the file keeps them, the
+    // passes do not read them), the offset plane only forward. A target set to GL_NONE is neither
+    // cleared nor written: a fifth less to fill than all six.
+    GLenum targets[6];
+    std::copy(std::begin(kTargets), std::end(kTargets), targets);
+    if (!derivatives) targets[3] = GL_NONE;
+    if (!forward) targets[5] = GL_NONE;
+    glNamedFramebufferDrawBuffers(fbo_.get(), 6, targets);
     draw_with(view, forward, prepass, forward ? forward_ : deferred_);
+    glNamedFramebufferDrawBuffers(fbo_.get(), 6, kTargets);
 }
 
 std::int64_t Raster::count_fragments(const View& view, const std::vector<ForwardMaterial>* forward,
@@ -241,36 +247,31 @@ RasterPlanes Raster::read(bool forward) const {
     return p;
 }
 
+std::vector<float> Raster::read_offset() const {
+    return read_pixels(fbo_.get(), GL_COLOR_ATTACHMENT5, GL_RGBA, 4, width_, height_);
+}
+
+void Raster::read_into(const PlanePointers& p) const {
+    const GLuint f = fbo_.get();
+    read_pixels_into(f, GL_NONE, GL_DEPTH_COMPONENT, width_, height_, p.depth);
+    read_pixels_into(f, GL_COLOR_ATTACHMENT0, GL_RGBA, width_, height_, p.normal);
+    read_pixels_into(f, GL_COLOR_ATTACHMENT1, GL_RGBA, width_, height_, p.tangent);
+    read_pixels_into(f, GL_COLOR_ATTACHMENT2, GL_RG, width_, height_, p.uv);
+    read_pixels_into(f, GL_COLOR_ATTACHMENT4, GL_RED, width_, height_, p.material);
+    read_pixels_into(f, GL_COLOR_ATTACHMENT4, GL_GREEN, width_, height_, p.density);
+}
+
 std::vector<float> Raster::read_uv_derivatives() const {
     return read_pixels(fbo_.get(), GL_COLOR_ATTACHMENT3, GL_RGBA, 4, width_, height_);
 }
 
-void Raster::write_depth_offset(const View& view, const std::vector<float>& t) {
-    glTextureSubImage2D(t_.get(), 0, 0, 0, width_, height_, GL_RED, GL_FLOAT, t.data());
-    glBindFramebuffer(GL_DRAW_FRAMEBUFFER, depth_fbo_.get());
-    glViewport(0, 0, width_, height_);
-    glDisable(GL_CULL_FACE);
-    glEnable(GL_DEPTH_TEST);
-    glDepthFunc(GL_ALWAYS);
-    glDepthMask(GL_TRUE);
-    const Program& p = depth_offset_;
-    glUseProgram(p.get());
-    glBindTextureUnit(0, depth_.get());
-    glBindTextureUnit(1, t_.get());
-    glBindTextureUnit(2, material_.get());
-    glUniform1i(uniform(p, "u_depth"), 0);
-    glUniform1i(uniform(p, "u_t"), 1);
-    glUniform1i(uniform(p, "u_material"), 2);
-    glUniformMatrix4fv(uniform(p, "u_inverse_view_projection"), 1, GL_FALSE,
-                       view.inverse_view_projection.data());
-    glUniformMatrix4fv(uniform(p, "u_view_projection"), 1, GL_FALSE, view.view_projection.data());
-    glUniform3f(uniform(p, "u_eye"), view.eye[0], view.eye[1], view.eye[2]);
-    glUniform2f(uniform(p, "u_size"), float(width_), float(height_));
-    glBindVertexArray(empty_vao_.get());
-    glDrawArrays(GL_TRIANGLES, 0, 3);
-    glDepthFunc(GL_LESS);
+void Raster::write_results(const float* color, const float* depth_after) {
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
+    glTextureSubImage2D(color_.get(), 0, 0, 0, width_, height_, GL_RGBA, GL_FLOAT, color);
+    glTextureSubImage2D(depth_after_.get(), 0, 0, 0, width_, height_, GL_DEPTH_COMPONENT, GL_FLOAT,
+                        depth_after);
     glFinish();
-    check_gl("the depth offset pass");
+    check_gl("writing the frame's colour and depth to GL");
 }
 
 std::vector<float> Raster::depth_after() const {

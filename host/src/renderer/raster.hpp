@@ -1,6 +1,7 @@
 // The GL side of a frame: the scene's meshes on the GPU (or llvmpipe), the G-buffer pass into
 // float render targets (deferred, or forward with each material's method in the fragment shader),
-// an optional depth pre-pass, fragment-shader invocation counts, and the depth offset pass.
+// an optional depth pre-pass, fragment-shader invocation counts, and the frame's results written
+// back (colour, and the depth after the pixel depth offset).
 #pragma once
 #include <array>
 #include <cstdint>
@@ -45,6 +46,17 @@ struct RasterPlanes {
     std::vector<float> offset;    // forward: 4 (uv', t, fetches); empty otherwise
 };
 
+// Where read_into puts each plane (GL's rows, bottom first): depth 1, normal 4, tangent 4, uv 2,
+// material id 1 and uv density 1 floats a pixel.
+struct PlanePointers {
+    float* depth = nullptr;
+    float* normal = nullptr;
+    float* tangent = nullptr;
+    float* uv = nullptr;
+    float* material = nullptr;
+    float* density = nullptr;
+};
+
 struct View {
     std::array<float, 16> view_projection{};          // column-major
     std::array<float, 16> inverse_view_projection{};  // column-major
@@ -59,7 +71,9 @@ class Raster {
     // Draws the G-buffer (forward: with `materials` traced per fragment; a material missing from
     // the list is drawn without relief). With `prepass`, depth first and then the G-buffer at
     // GL_EQUAL. Blocks until GL is done.
-    void draw(const View& view, const std::vector<ForwardMaterial>* forward, bool prepass);
+    // The uv derivatives' target is filled only with `derivatives` (read_uv_derivatives).
+    void draw(const View& view, const std::vector<ForwardMaterial>* forward, bool prepass,
+              bool derivatives = false);
     // The same draw with the fragments that pass the depth test counted (an atomic counter in a
     // variant of the shader, so the timed draws carry no counter): the fragments the G-buffer
     // shader, and forward the method, runs on.
@@ -67,12 +81,18 @@ class Raster {
                                  bool prepass);
     // The last draw's planes the passes read (forward's offset plane only after a forward draw).
     RasterPlanes read(bool forward) const;
-    // The last draw's uv derivatives, 4 per pixel: du/dx, dv/dx, du/dy, dv/dy (rows bottom first);
+    // The forward draw's offset plane: 4 per pixel (uv', t, fetches).
+    std::vector<float> read_offset() const;
+    // The same planes straight into the caller's memory (mapped OpenCL buffers: one copy), the
+    // material target's id and uv density as a plane each.
+    void read_into(const PlanePointers& planes) const;
+    // The uv derivatives of the last draw with `derivatives`, 4 per pixel: du/dx, dv/dx, du/dy, dv/dy (rows bottom first);
     // the G-buffer file keeps them, the passes do not read them.
     std::vector<float> read_uv_derivatives() const;
-    // Writes the pixel depth offset of `t` (rows bottom first) into the second depth target and
-    // blocks until done; depth_after() reads it.
-    void write_depth_offset(const View& view, const std::vector<float>& t);
+    // The frame's results into GL (rows bottom first): the colour (4 floats a pixel) into the
+    // colour texture, the depth after the pixel depth offset into the second depth target, which
+    // depth_after() reads. Blocks until GL has them.
+    void write_results(const float* color, const float* depth_after);
     std::vector<float> depth_after() const;
 
   private:
@@ -86,10 +106,9 @@ class Raster {
     std::vector<DrawMesh> meshes_;
     void draw_with(const View& view, const std::vector<ForwardMaterial>* forward, bool prepass,
                    const Program& program);
-    Program deferred_, forward_, deferred_count_, forward_count_, depth_only_, depth_offset_;
-    Texture depth_, normal_, tangent_, uv_, derivatives_, material_, offset_, t_, depth_after_;
+    Program deferred_, forward_, deferred_count_, forward_count_, depth_only_;
+    Texture depth_, normal_, tangent_, uv_, derivatives_, material_, offset_, color_, depth_after_;
     Framebuffer fbo_, depth_fbo_;
-    VertexArray empty_vao_;
     BufferObject counter_;
 };
 

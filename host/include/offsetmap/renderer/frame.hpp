@@ -22,12 +22,12 @@ enum class FrameMode { Deferred, Forward };
 // timed frames. GL -> CL and CL -> GL go through the host (see FrameRenderer::interop).
 struct PassTimes {
     double gbuffer = 0;       // the G-buffer pass (forward: with the methods traced in it)
-    double to_device = 0;     // G-buffer planes read back from GL and written to the CL device
+    double to_device = 0;     // G-buffer planes read by GL into mapped CL buffers (one copy)
     double reconstruct = 0;   // tangent-space V and L
     double offset = 0;        // the material frame (classification, count read-back, dispatches)
     double shade = 0;         // per-material shading
-    double to_gl = 0;         // uv', t and colour read back; t written to a GL texture
-    double depth_offset = 0;  // the depth offset pass
+    double depth_offset = 0;  // the pixel depth offset (a CL kernel)
+    double to_gl = 0;         // colour and depth written to GL from mapped CL buffers
     double total = 0;         // the whole frame, end to end
 };
 
@@ -36,6 +36,9 @@ struct FrameRun {
     bool prepass = false;
     PassTimes ms;
     double offset_kernel_ms = 0;  // deferred: the material frame's kernel time (profiling)
+    double shade_kernel_ms = 0;   // the shade kernel's time (profiling; 0 where not timed)
+    size_t to_device_bytes = 0;   // what a frame moves from GL to CL, and back to GL
+    size_t to_gl_bytes = 0;
     // Fragments the G-buffer pass's shader ran on (depth-tested first; forward: each one traced)
     std::int64_t shaded_fragments = 0;
     OffsetResult offset;             // uv', depth t, fetches, flags (forward: flags EMPTY or 0)
@@ -58,6 +61,11 @@ class FrameRenderer {
     // the colour and the offset pass's t back to GL. Forward needs every material's method to have
     // a GLSL version (forward_unsupported).
     FrameRun render(FrameMode mode, bool prepass, int repeats);
+    // After a deferred render: its shade and offset kernels run again `repeats` times on the same
+    // buffers, their median kernel times (ms; 0 where events carry no times): a kernel's A/B.
+    std::pair<double, double> rerun_kernels(int repeats);
+    // The shading of the frames rendered after this call.
+    void set_shading(const ShadeSettings& shading);
 
     // After a render: the G-buffer as the engine wrote it (depth GL, rows top first, with ids and
     // uv derivatives), its reconstruction, and the depth before the offset.

@@ -1,0 +1,181 @@
+#include "bench_frame.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <cstring>
+
+#ifdef OFFSETMAP_HAVE_RENDERER
+#include "offsetmap/renderer/frame.hpp"
+#include "offsetmap/renderer/scene.hpp"
+#endif
+
+namespace offsetmap::bench {
+
+#ifndef OFFSETMAP_HAVE_RENDERER
+
+nlohmann::json bench_frame(std::shared_ptr<Runtime>, const Resolution&, const std::string&, int,
+                           const std::vector<std::string>&) {
+    std::printf("\nframe: skipped (built without the renderer: EGL, OpenGL or TinyGLTF)\n");
+    return {{"skipped", "built without the renderer (EGL, OpenGL or TinyGLTF missing)"}};
+}
+
+#else
+
+namespace {
+
+using namespace offsetmap::renderer;
+
+double median_of(std::vector<double> v) {
+    if (v.empty()) return 0.0;
+    std::sort(v.begin(), v.end());
+    const size_t n = v.size();
+    return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+// A host memcpy of `bytes`, in ms: the copies' yardstick, timed beside them.
+double memcpy_ms(std::vector<char>& from, std::vector<char>& to, size_t bytes) {
+    if (from.size() < bytes) from.assign(bytes, 1), to.assign(bytes, 0);
+    const auto t0 = std::chrono::steady_clock::now();
+    std::memcpy(to.data(), from.data(), bytes);
+    return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+}
+
+const char* const kPasses[] = {"gbuffer",       "to_device", "reconstruct",  "offset",
+                               "offset_kernel", "shade",     "shade_kernel", "to_gl",
+                               "depth_offset",  "total",     "shade_rerun",  "offset_rerun"};
+
+std::vector<double> pass_values(const FrameRun& r) {
+    return {r.ms.gbuffer,       r.ms.to_device, r.ms.reconstruct,  r.ms.offset,
+            r.offset_kernel_ms, r.ms.shade,     r.shade_kernel_ms, r.ms.to_gl,
+            r.ms.depth_offset,  r.ms.total};
+}
+
+}  // namespace
+
+nlohmann::json bench_frame(std::shared_ptr<Runtime> rt, const Resolution& res,
+                           const std::string& data_dir, int rounds,
+                           const std::vector<std::string>& kernel_dirs) {
+    const Scene scene = builtin_room(data_dir);
+    const std::vector<LoadedMaterial> table =
+        load_materials(read_material_table(data_dir + "/room.json"));
+    std::vector<MethodParams> methods;
+    for (const LoadedMaterial& m : table)
+        methods.push_back(resolve_params(find_method(m.spec.method), m.spec.params));
+    // One renderer per kernel folder, each built after its folder is set.
+    std::vector<std::string> dirs =
+        kernel_dirs.empty() ? std::vector<std::string>{""} : kernel_dirs;
+    std::vector<std::unique_ptr<FrameRenderer> > renderers;
+    for (const std::string& dir : dirs) {
+        rt->set_kernel_dir(dir);
+        renderers.push_back(std::make_unique<FrameRenderer>(rt, scene, table, methods, res.w, res.h,
+                                                            ShadeSettings{}));
+    }
+    rt->set_kernel_dir("");
+    const std::pair<const char*, ShadowMode> modes[] = {
+        {"none", ShadowMode::None}, {"hard", ShadowMode::Hard}, {"soft", ShadowMode::Soft}};
+    // samples[renderer][mode][pass]: one value per round.
+    std::vector<std::vector<std::vector<std::vector<double> > > > samples(
+        dirs.size(), std::vector<std::vector<std::vector<double> > >(
+                         std::size(modes), std::vector<std::vector<double> >(std::size(kPasses))));
+    std::vector<double> copy_in, copy_out;
+    std::vector<char> from, to;
+    size_t in_bytes = 0, out_bytes = 0;
+    for (int round = 0; round < rounds; ++round)
+        for (size_t mi = 0; mi < std::size(modes); ++mi)
+            for (size_t d = 0; d < dirs.size(); ++d) {
+                ShadeSettings shading;
+                shading.shadow = modes[mi].second;
+                renderers[d]->set_shading(shading);
+                const FrameRun r = renderers[d]->render(FrameMode::Deferred, false, 1);
+                std::vector<double> v = pass_values(r);
+                // The kernels alone, again on this frame's buffers (a kernel A/B's finer clock).
+                const auto [shade_rerun, offset_rerun] = renderers[d]->rerun_kernels(3);
+                v.push_back(shade_rerun);
+                v.push_back(offset_rerun);
+                for (size_t p = 0; p < v.size(); ++p) samples[d][mi][p].push_back(v[p]);
+                in_bytes = r.to_device_bytes;
+                out_bytes = r.to_gl_bytes;
+                copy_in.push_back(memcpy_ms(from, to, in_bytes));
+                copy_out.push_back(memcpy_ms(from, to, out_bytes));
+            }
+    const double memcpy_in = median_of(copy_in), memcpy_out = median_of(copy_out);
+    nlohmann::json out;
+    out["resolution"] = {res.w, res.h};
+    out["rounds"] = rounds;
+    out["gl_renderer"] = renderers.front()->gl_renderer();
+    out["interop"] = renderers.front()->interop();
+    out["to_device_bytes"] = in_bytes;
+    out["to_gl_bytes"] = out_bytes;
+    out["memcpy_to_device_ms"] = memcpy_in;
+    out["memcpy_to_gl_ms"] = memcpy_out;
+    std::printf(
+        "\nthe deferred room at %s (%dx%d; GL: %s; %s), medians of %d frames a mode taken in "
+        "turns, ms\n  %-6s %-5s %8s %8s %8s %8s %8s %8s %8s %8s %8s %8s | shade/off  to-CL/cpy "
+        "to-GL/cpy recon/off depth/off total/off\n",
+        res.name, res.w, res.h, out["gl_renderer"].get<std::string>().c_str(),
+        out["interop"].get<std::string>().c_str(), rounds, "kernel", "mode", "G-buffer", "to CL",
+        "reconstr", "offset", "off kern", "shade", "sh kern", "to GL", "depth", "total");
+    nlohmann::json rows = nlohmann::json::array();
+    for (size_t d = 0; d < dirs.size(); ++d)
+        for (size_t mi = 0; mi < std::size(modes); ++mi) {
+            nlohmann::json row;
+            row["kernels"] = dirs[d].empty() ? "built-in" : dirs[d];
+            row["shadows"] = modes[mi].first;
+            std::vector<double> med;
+            for (size_t p = 0; p < std::size(kPasses); ++p) {
+                med.push_back(median_of(samples[d][mi][p]));
+                row[std::string(kPasses[p]) + "_ms"] = med.back();
+            }
+            // Kernel against kernel where events time them, else the passes' wall clocks.
+            const bool timed = med[4] > 0.0 && med[6] > 0.0;
+            const double offset = timed ? med[4] : med[3], shade = timed ? med[6] : med[5];
+            row["ratios"] = {{"shade_over_offset", shade / offset},
+                             {"to_device_over_memcpy", med[1] / memcpy_in},
+                             {"to_gl_over_memcpy", med[7] / memcpy_out},
+                             {"reconstruct_over_offset", med[2] / med[3]},
+                             {"depth_offset_over_offset", med[8] / med[3]},
+                             {"total_over_offset", med[9] / med[3]}};
+            row["ratios_by"] = timed ? "kernel events" : "host clock";
+            std::printf(
+                "  %-6s %-5s %8.2f %8.2f %8.2f %8.2f %8.2f %8.2f %8.2f %8.2f %8.2f %8.2f | %9.2f "
+                "%9.2f %9.2f %9.2f %9.2f %9.2f\n",
+                dirs.size() > 1 ? (d == 0 ? "A" : "B") : "-", modes[mi].first, med[0], med[1],
+                med[2], med[3], med[4], med[5], med[6], med[7], med[8], med[9],
+                row["ratios"]["shade_over_offset"].get<double>(),
+                row["ratios"]["to_device_over_memcpy"].get<double>(),
+                row["ratios"]["to_gl_over_memcpy"].get<double>(),
+                row["ratios"]["reconstruct_over_offset"].get<double>(),
+                row["ratios"]["depth_offset_over_offset"].get<double>(),
+                row["ratios"]["total_over_offset"].get<double>());
+            rows.push_back(row);
+        }
+    std::printf("  host memcpy of the same bytes: to CL %.2f ms (%zu B), to GL %.2f ms (%zu B)\n",
+                memcpy_in, in_bytes, memcpy_out, out_bytes);
+    if (dirs.size() == 2)
+        for (size_t mi = 0; mi < std::size(modes); ++mi) {
+            // The median of each round's ratio: both frames of a round met the same machine.
+            auto ratio = [&](size_t p) {
+                std::vector<double> q;
+                for (int r = 0; r < rounds; ++r)
+                    if (samples[0][mi][p][r] > 0.0)
+                        q.push_back(samples[1][mi][p][r] / samples[0][mi][p][r]);
+                return median_of(q);
+            };
+            std::printf(
+                "  B/A %-5s: shade kernel %.3f (again alone %.3f), offset kernel %.3f (alone "
+                "%.3f), total %.3f\n",
+                modes[mi].first, ratio(6), ratio(10), ratio(4), ratio(11), ratio(9));
+            rows[std::size(modes) + mi]["b_over_a"] = {{"shade_kernel", ratio(6)},
+                                                       {"shade_rerun", ratio(10)},
+                                                       {"offset_kernel", ratio(4)},
+                                                       {"offset_rerun", ratio(11)},
+                                                       {"total", ratio(9)}};
+        }
+    out["rows"] = rows;
+    return out;
+}
+
+#endif
+
+}  // namespace offsetmap::bench

@@ -1,0 +1,22 @@
+// The rendered frame's part of the bench: each pass of the deferred room against the offset pass.
+#pragma once
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "bench_util.hpp"
+
+namespace offsetmap::bench {
+
+// The built-in room (data_dir's maps and table) at `res`, every shadow mode, `rounds` frames
+// each, taken in turns (mode after mode, round after round) so a noisy machine moves them
+// together; per pass the median, and the ratios the frame's targets are stated in: each pass
+// against the offset pass of the same frames, the copies against a host memcpy of the same bytes
+// timed beside them. With two kernel folders (`kernel_dirs`), the same for each, in turns: an
+// A/B of a kernel change on the whole frame.
+nlohmann::json bench_frame(std::shared_ptr<Runtime> runtime, const Resolution& res,
+                           const std::string& data_dir, int rounds,
+                           const std::vector<std::string>& kernel_dirs = {});
+
+}  // namespace offsetmap::bench
