@@ -63,6 +63,16 @@ for part in "${parts[@]}"; do
         # kernels against the GLSL peer
         $OM frame --forward --repeats 5 -o "$tmp/frame1080"
         cp "$tmp/frame1080/frame.json" "$DATA/frame-1080p.json"
+        # The same under PoCL's AVX2 target, and each pass against the offset pass on both
+        # (offsetmap_bench --frame: every shadow mode, in turns).
+        POCL_KERNELLIB_NAME=avx2 POCL_LLVM_CPU_NAME=znver3 \
+            $OM frame --repeats 5 -o "$tmp/frame1080-avx2"
+        cp "$tmp/frame1080-avx2/frame.json" "$DATA/frame-1080p-avx2.json"
+        ./build/release/offsetmap_bench --frame --target-ms 450 --out "$tmp/bench-frame"
+        cp "$tmp/bench-frame/bench-frame.json" "$DATA/bench-frame.json"
+        POCL_KERNELLIB_NAME=avx2 POCL_LLVM_CPU_NAME=znver3 \
+            ./build/release/offsetmap_bench --frame --target-ms 450 --out "$tmp/bench-frame-avx2"
+        cp "$tmp/bench-frame-avx2/bench-frame.json" "$DATA/bench-frame-avx2.json"
         $OM frame --forward --shadows soft --width 640 --height 360 -o "$tmp/frame"
         cp "$tmp/frame/frame-sheet.png" "$IMG/frame-sheet.png"
         # The box in bricks (its faces are one uv square each, as the mask needs), close up.
