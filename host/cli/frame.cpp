@@ -206,7 +206,7 @@ int run_frame(const FrameCommand& cmd) {
                 scene.name.c_str(), w, h, table.size(), renderer.gl_renderer().c_str(),
                 rt->device_name().c_str(), renderer.interop().c_str());
     std::printf("%-22s %9s %9s %9s %9s %9s %9s %9s %9s %10s\n", "mode", "G-buffer", "to CL",
-                "reconstr", "offset", "shade", "to GL", "depth off", "total", "frag/px");
+                "reconstr", "offset", "shade", "depth off", "to GL", "total", "frag/px");
     nlohmann::json modes = nlohmann::json::array();
     std::vector<std::vector<float> > errors;
     for (const FrameRun& r : runs) {
@@ -216,7 +216,7 @@ int run_frame(const FrameCommand& cmd) {
         const double overdraw = covered ? double(r.shaded_fragments) / double(covered) : 0.0;
         std::printf("%-22s %9.2f %9.2f %9.2f %9.2f %9.2f %9.2f %9.2f %9.2f %10.2f\n", name.c_str(),
                     r.ms.gbuffer, r.ms.to_device, r.ms.reconstruct, r.ms.offset, r.ms.shade,
-                    r.ms.to_gl, r.ms.depth_offset, r.ms.total, overdraw);
+                    r.ms.depth_offset, r.ms.to_gl, r.ms.total, overdraw);
         std::vector<float> err;
         const std::vector<MaterialError> stats = material_errors(gb, r.offset, exact, table, &err);
         errors.push_back(err);
