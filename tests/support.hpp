@@ -144,9 +144,13 @@ struct Soak {
             peak = std::max(peak, f.rss_kib);
             EXPECT_LE(f.threads, base.threads) << what << ", frame " << k + 1;
             EXPECT_LE(f.files, base.files) << what << ", frame " << k + 1;
-            if (!kUnderAsan) EXPECT_LE(f.mappings, base.mappings) << what << ", frame " << k + 1;
+            if (!kUnderAsan) {
+                EXPECT_LE(f.mappings, base.mappings) << what << ", frame " << k + 1;
+            }
         }
-        if (!kUnderAsan) EXPECT_LE(peak, 1.01 * base.rss_kib) << what << ": resident memory grew";
+        if (!kUnderAsan) {
+            EXPECT_LE(peak, 1.01 * base.rss_kib) << what << ": resident memory grew";
+        }
         std::printf("%s: resident MiB", what.c_str());
         for (size_t k : {size_t(0), settle - 1, frames.size() / 4, frames.size() / 2,
                          3 * frames.size() / 4, frames.size() - 1})
