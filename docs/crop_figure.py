@@ -3,7 +3,7 @@
 
     /usr/bin/python3 docs/crop_figure.py OUT.png X0 Y0 X1 Y1 SCALE IMAGE CAPTION [IMAGE CAPTION ...]
 
-Used by docs/regenerate.sh for the README's close-ups. Needs Debian's python3-pil.
+Used by docs/regenerate.sh for the pages' close-ups. Needs Debian's python3-pil.
 """
 import sys
 

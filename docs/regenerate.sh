@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
-# Regenerates every measurement the README cites: data files into docs/data/, charts into
-# docs/img/ (about 20 minutes on 2 cores; run it on a quiet machine, timings are in the data).
-# Then `/usr/bin/python3 tests/readme_figures.py --write` rewrites the README's marked figures
+# Regenerates every measurement the pages (README.md, docs/*.md) cite: data files into docs/data/,
+# charts into docs/img/ (about 20 minutes on 2 cores; run it on a quiet machine, timings are in the
+# data). Then `/usr/bin/python3 tests/readme_figures.py --write` rewrites the pages' marked figures
 # and generated tables from these files, and `./run test` checks that they agree.
 #   docs/regenerate.sh [demo|sweep|failure|temporal|bench|materials|frame ...]  (default: all)
 set -euo pipefail

@@ -1,9 +1,9 @@
 #!/usr/bin/env python3
-"""The README's numbers against the files that measured them, so no figure goes stale silently.
+"""The pages' numbers against the files that measured them, so no figure goes stale silently.
 
-    readme_figures.py [--figures DIR] [--write] [--readme README.md]
+    readme_figures.py [--figures DIR] [--write] [PAGE...]
 
-Two kinds of places in README.md:
+PAGE: README.md and every docs/*.md by default. Two kinds of places in a page:
   - a number followed by a marker <!--f:SOURCE SELECTOR[ *K][ bound]--> (invisible when
     rendered): the number must be the source's value (times K) written to the precision shown,
     or, with `bound`, at least that value (for figures set by float rounding, which differ
@@ -244,23 +244,25 @@ def percent(share):
     return "0 %" if share == 0 else f"{100 * share:.1f} %"
 
 
-def main():
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--figures", help="the test suite's figures folder (build/<preset>/figures)")
-    ap.add_argument("--write", action="store_true", help="rewrite the README from the data")
-    ap.add_argument("--readme", default=os.path.join(ROOT, "README.md"))
-    args = ap.parse_args()
-    src = Sources(args.figures)
-    with open(args.readme) as f:
+def pages():
+    """README.md and every page under docs/: the figure check covers them all."""
+    docs = os.path.join(ROOT, "docs")
+    return [os.path.join(ROOT, "README.md")] + sorted(
+        os.path.join(docs, f) for f in os.listdir(docs) if f.endswith(".md"))
+
+
+def check_page(path, src, write, problems):
+    """Checks (or, with write, rewrites) one page; returns its marked figures and tables."""
+    name = os.path.relpath(path, ROOT)
+    with open(path) as f:
         text = f.read()
-    problems = []
 
     out, pos, checked = [], 0, 0
     for m in MARK.finditer(text):
         source, selector, scale, bound = m.group(1), m.group(2), m.group(3), m.group(4)
         before = text[pos:m.start()]
         num = NUMBER.search(before)
-        where = f"README line {text.count(chr(10), 0, m.start()) + 1}"
+        where = f"{name} line {text.count(chr(10), 0, m.start()) + 1}"
         if not num:
             problems.append(f"{where}: no number before the marker {m.group(0)}")
             out.append(before + m.group(0))
@@ -284,11 +286,11 @@ def main():
             ok = shown.replace(",", "") == written.replace(",", "")
             if not ok and source == "test":
                 ok = abs(float(written.replace(",", "")) - value) <= 1.0001 * last_digit(written)
-        if not ok and not args.write:
+        if not ok and not write:
             problems.append(f"{where}: written {written}, {source} {selector} gives {shown} ({value:.6g})"
                             + (" (the written number is a bound)" if bound else ""))
         checked += 1
-        rewrite = args.write and not (bound and ok)
+        rewrite = write and not (bound and ok)
         new_before = before[:num.start(1)] + (shown if rewrite else written) + before[num.end(1):]
         out.append(new_before + m.group(0))
         pos = m.end()
@@ -296,24 +298,39 @@ def main():
     text2 = "".join(out)
 
     def replace_table(m):
-        name, body = m.group(1), m.group(2)
-        if name not in TABLES:
-            problems.append(f"unknown generated table '{name}'")
+        table, body = m.group(1), m.group(2)
+        if table not in TABLES:
+            problems.append(f"{name}: unknown generated table '{table}'")
             return m.group(0)
         try:
-            want = TABLES[name](src)
+            want = TABLES[table](src)
         except (KeyError, ValueError) as e:
-            problems.append(f"table {name}: {e}")
+            problems.append(f"{name}: table {table}: {e}")
             return m.group(0)
-        if want != body and not args.write:
-            problems.append(f"table {name} differs from its data:\n{want}")
-        return f"<!--table:{name}-->\n{want if args.write else body}<!--/table-->"
+        if want != body and not write:
+            problems.append(f"{name}: table {table} differs from its data:\n{want}")
+        return f"<!--table:{table}-->\n{want if write else body}<!--/table-->"
 
     text2 = TABLE.sub(replace_table, text2)
     tables = len(TABLE.findall(text))
-    if args.write and text2 != text:
-        with open(args.readme, "w") as f:
+    if write and text2 != text:
+        with open(path, "w") as f:
             f.write(text2)
+    return checked, tables
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--figures", help="the test suite's figures folder (build/<preset>/figures)")
+    ap.add_argument("--write", action="store_true", help="rewrite the pages from the data")
+    ap.add_argument("pages", nargs="*", help="the pages (default: README.md and docs/*.md)")
+    args = ap.parse_args()
+    src = Sources(args.figures)
+    problems, checked, tables = [], 0, 0
+    for path in args.pages or pages():
+        c, t = check_page(path, src, args.write, problems)
+        checked += c
+        tables += t
     for p in problems:
         print("readme_figures:", p)
     print(f"readme_figures: {checked} marked figures and {tables} generated tables"

@@ -1,5 +1,5 @@
 // Pixel depth offset: the depth output is the distance along the view ray from the polygon point
-// to the hit, in uv units, so an engine can write the displaced depth (README, "Depth output").
+// to the hit, in uv units, so an engine can write the displaced depth (docs/conventions.md, "Depth output").
 #include <glm/glm.hpp>
 #include <glm/gtc/matrix_transform.hpp>
 
@@ -11,7 +11,7 @@ namespace {
 // A camera built independently of make_scene (glm's lookAt and perspective, each pixel's ray
 // unprojected through the inverse view-projection) looks at the tiled plane z = 0, one uv unit =
 // `tile` world units, tangent frame = world frame. For every traced pixel the pass's depth t must
-// place the hit at X = P - t tile V_world (README, "Depth output") so that
+// place the hit at X = P - t tile V_world (docs/conventions.md, "Depth output") so that
 //   - X lies on this camera's ray through the pixel (the G-buffer's P and V are the camera's),
 //   - X lies on the relief in world units, z = tile s (H(X.xy / tile) - r), and no point of the
 //     ray before it is below the relief (the first hit),
@@ -85,7 +85,7 @@ TEST(DepthOffset, ViewSpaceDepthFormulaHoldsUnderARealCamera) {
                         L * s.scale * (bilinear_height(map, Y.x / L, Y.y / L, s.address) - ref);
                     ASSERT_GT(Y.z, h - tol_z) << "pixel " << k << " sample " << i;
                 }
-                // The README's view-space depth.
+                // The view-space depth of docs/conventions.md.
                 const double dist = glm::length(P - eye);
                 EXPECT_NEAR(view_depth(X), view_depth(P) * (1.0 + t * L / dist),
                             view_depth(P) * tol_x / dist + 1e-9)

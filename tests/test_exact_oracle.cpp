@@ -116,7 +116,7 @@ TEST(ExactOracle, AgreesOnRandomRaysDownTo5Degrees) {
 }
 
 TEST(ExactOracle, AgreesAtGrazingViewsDownToHalfADegree) {
-    // The README's grazing tables use exact as the truth down to 1 degree: rays from 0.5 to 5
+    // The grazing tables (docs/conventions.md) use exact as the truth down to 1 degree: rays from 0.5 to 5
     // degrees (the grazing rule set to 0.5 degrees, so none is raised), long walks of up to
     // s / sin(0.5 deg) = 5.7 uv (370 cells of a 64^2 map at s = 0.05).
     std::vector<Case> cases = {

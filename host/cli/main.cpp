@@ -344,7 +344,7 @@ int main(int argc, char** argv) {
                          "folder of the default maps (default: the data/ found beside the "
                          "program)");
 
-    // Usage errors exit 2 with one line; the library's own errors exit 1 (README, "Exit codes").
+    // Usage errors exit 2 with one line; the library's own errors exit 1 (docs/conventions.md, "Exit codes").
     auto fail = [](int code, const std::string& message) {
         std::cerr << "offsetmap: error: " << message << "\n";
         return code;

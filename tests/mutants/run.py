@@ -51,7 +51,7 @@ def mutate(text, m):
 
 
 def run_tests(build, m, kernel_dir=None):
-    # Figures a mutated build measures must not reach the README check's folder.
+    # Figures a mutated build measures must not reach the figure check's folder.
     env = dict(os.environ, OFFSETMAP_TEST_DATA=os.path.join(ROOT, "data"),
                OFFSETMAP_FIGURES=os.path.join(tempfile.gettempdir(), "om_mutant_figures"))
     env.pop("OFFSETMAP_KERNEL_DIR", None)

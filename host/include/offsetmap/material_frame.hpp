@@ -28,7 +28,7 @@ struct FrameMaterial {
 };
 
 inline constexpr int kMaxMaterialId = 65535;
-// Tile rows (tiles are OM_TILE_W = 16 pixels wide): the README's tile measurement chose it.
+// Tile rows (tiles are OM_TILE_W = 16 pixels wide): the tile measurement in docs/materials.md chose it.
 inline constexpr int kDefaultTileRows = 8;
 
 // The message for a G-buffer id without a table entry: the first such pixel (index in a row-major
