@@ -13,8 +13,14 @@ install(TARGETS ${OFFSETMAP_INSTALL_TARGETS} EXPORT offsetmapTargets
     LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR}
     RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR}
     INCLUDES DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
-install(DIRECTORY "${PROJECT_SOURCE_DIR}/host/include/offsetmap"
+# Each installed library's own headers, and no others: the core's always, the lab's with the lab.
+# The renderer is not installed, so neither are its headers.
+install(DIRECTORY "${PROJECT_SOURCE_DIR}/core/include/offsetmap"
     DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
+if(OFFSETMAP_BUILD_EVALUATION)
+    install(DIRECTORY "${PROJECT_SOURCE_DIR}/evaluation/include/offsetmap"
+        DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
+endif()
 # The structs host and kernels share (public API, included as "om_shared.h").
 install(FILES "${PROJECT_SOURCE_DIR}/kernels/common/om_shared.h"
     DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
@@ -32,8 +38,9 @@ install(FILES "${PROJECT_BINARY_DIR}/offsetmapConfig.cmake"
 if(OFFSETMAP_BUILD_CLI)
     install(TARGETS offsetmap_cli RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
     install(DIRECTORY "${PROJECT_SOURCE_DIR}/data" DESTINATION ${CMAKE_INSTALL_DATADIR}/offsetmap)
-    install(FILES "${PROJECT_SOURCE_DIR}/bench/plot_sweep.py"
-        "${PROJECT_SOURCE_DIR}/bench/plot_failure.py" "${PROJECT_SOURCE_DIR}/bench/plot_temporal.py"
-        "${PROJECT_SOURCE_DIR}/bench/plot_bench.py"
-        DESTINATION ${CMAKE_INSTALL_DATADIR}/offsetmap/bench)
+    install(FILES "${PROJECT_SOURCE_DIR}/tools/bench/plot_sweep.py"
+        "${PROJECT_SOURCE_DIR}/tools/bench/plot_failure.py"
+        "${PROJECT_SOURCE_DIR}/tools/bench/plot_temporal.py"
+        "${PROJECT_SOURCE_DIR}/tools/bench/plot_bench.py"
+        DESTINATION ${CMAKE_INSTALL_DATADIR}/offsetmap/tools/bench)
 endif()

@@ -13,7 +13,7 @@
 typedef float om_float;
 typedef int om_int;
 typedef uint om_uint;
-// Vector literals, spelled so the kernel sources also compile as C++ (bench/cpu_peer).
+// Vector literals, spelled so the kernel sources also compile as C++ (tools/peer).
 #define OM_F2(a, b) ((float2)((a), (b)))
 #define OM_F3(a, b, c) ((float3)((a), (b), (c)))
 #define OM_F4(a, b, c, d) ((float4)((a), (b), (c), (d)))
@@ -42,7 +42,7 @@ typedef std::uint32_t om_uint;
 // Enums, one definition each for host and device: the kernels and the shared structs use the OM_*
 // constants (as om_int), the host's enum classes take their values from them.
 enum { OM_ADDRESS_WRAP = 0, OM_ADDRESS_CLAMP = 1 };  // height addressing: tiling, or edge texels
-// The grazing rule (host/src/grazing.cpp): views below min_vz raised to it (clamp); Welsh's offset
+// The grazing rule (core/src/grazing.cpp): views below min_vz raised to it (clamp); Welsh's offset
 // limiting, rays along normalize(V.xy, 1) (limit); min_vz raised so that no footprint passes
 // max_offset_texels (cap).
 enum { OM_GRAZING_CLAMP = 0, OM_GRAZING_LIMIT = 1, OM_GRAZING_CAP = 2 };

@@ -14,10 +14,13 @@ quiet() { "$@" >"$tmp/log" 2>&1 || { cat "$tmp/log"; exit 1; }; }
 case $mode in
 install)
     quiet cmake --install "$3" --prefix "$tmp/prefix"
-    for f in include/offsetmap/offsetmap.hpp include/om_shared.h \
+    for f in include/offsetmap/offsetmap.hpp include/offsetmap/evaluation.hpp include/om_shared.h \
              lib/cmake/offsetmap/offsetmapConfig.cmake; do
         [ -f "$tmp/prefix/$f" ] || { echo "not installed: $f"; exit 1; }
     done
+    # Only what it installs: the renderer library is not, so neither are its headers.
+    [ ! -e "$tmp/prefix/include/offsetmap/renderer" ] ||
+        { echo "the renderer's headers were installed without the renderer"; exit 1; }
     quiet cmake -S "$src/tests/package" -B "$tmp/consumer" -DCMAKE_BUILD_TYPE=Release \
         -DCMAKE_PREFIX_PATH="$tmp/prefix"
     quiet cmake --build "$tmp/consumer" -j "$jobs"

@@ -1,7 +1,7 @@
 #!/usr/bin/python3
 """Temporal stability from `offsetmap temporal` (temporal.csv).
 
-    /usr/bin/python3 bench/plot_temporal.py temporal.csv OUT.png
+    /usr/bin/python3 tools/bench/plot_temporal.py temporal.csv OUT.png
 
 Left: per method, the mean frame-to-frame uv' change minus exact's change (texels) along the
 camera path; right: its mean over the path and the share of pixels that pop (off by > 1 texel).

@@ -1,7 +1,7 @@
 #!/usr/bin/python3
 """Accuracy against cost charts from `offsetmap sweep` (sweep.json).
 
-    /usr/bin/python3 bench/plot_sweep.py sweep.json OUT_DIR
+    /usr/bin/python3 tools/bench/plot_sweep.py sweep.json OUT_DIR
 
 Writes OUT_DIR/pareto-ns.png (mean uv error against kernel ns/pixel) and OUT_DIR/pareto-fetches.png
 (against height fetches/pixel): log axes, one colour per method, each method's settings joined in

@@ -2,7 +2,7 @@
 
 #include <algorithm>
 
-#include "../launch.hpp"
+#include "launch.hpp"
 #include "offsetmap/error.hpp"
 
 namespace offsetmap::renderer {

@@ -87,7 +87,7 @@ class FrameRenderer {
     std::string interop_;
 };
 
-// Methods the forward shader has (shaders/relief.glsl): none, parallax, pom, steep (lod 0),
+// Methods the forward shader has (renderer/shaders/relief.glsl): none, parallax, pom, steep (lod 0),
 // relief. Empty when supported, else why not.
 std::string forward_method_unsupported(const MethodParams& params);
 // The same for one material of a table: "" or the one-line error naming the material.

@@ -1,7 +1,7 @@
 #!/usr/bin/python3
 """Cost-growth charts from `offsetmap_bench` (bench.json).
 
-    /usr/bin/python3 bench/plot_bench.py bench.json OUT_DIR
+    /usr/bin/python3 tools/bench/plot_bench.py bench.json OUT_DIR
 
 Writes OUT_DIR/bench-growth.png: kernel ns/pixel against resolution (should be flat), against
 height-map size (cache effects) and against step count (should be linear), plus the methods at

@@ -54,7 +54,7 @@ struct PassSettings {
 // Throws Error naming the setting that is out of range.
 void validate(const PassSettings& settings);
 
-// The grazing rule and the march cap, derived once (host/src/grazing.cpp) for the offset pass, the
+// The grazing rule and the march cap, derived once (core/src/grazing.cpp) for the offset pass, the
 // shade pass (the light obeys the view's rule), the oracle and the tests.
 struct GrazingRule {
     // Views with a lower V.z are flagged GRAZING and, but under Limit, raised to it (same

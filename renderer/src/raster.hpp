@@ -19,7 +19,7 @@ namespace offsetmap::renderer {
 struct ForwardMaterial {
     int id = 0;
     Texture heights;  // R32F, level 0, linear filtering, repeat or clamp-to-edge
-    int method = 0;   // OM_GLSL_* (shaders/relief.glsl)
+    int method = 0;   // OM_GLSL_* (renderer/shaders/relief.glsl)
     std::array<float, 4> params{};
     float scale = 0.0f, ref = 1.0f, min_vz = 0.0f;
     bool limit = false;

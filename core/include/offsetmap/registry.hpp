@@ -33,7 +33,7 @@ struct MethodParams {
 };
 
 // A method's precomputed data: built on the device from the height field before its first pass,
-// by a builder that lives beside its prep kernel (host/src/precompute/, kernels/prep/).
+// by a builder that lives beside its prep kernel (core/src/precompute/, kernels/prep/).
 struct PrecomputeSpec {
     const char* doc;        // what it holds and its memory, for `offsetmap methods`
     const char* prep_file;  // its kernels, under kernels/ (after the sampling layer)
@@ -50,7 +50,7 @@ struct PrecomputeSpec {
 };
 
 // A method's whole contract: everything the host, the tools and the tests know of it. Adding a
-// method is one kernel file (kernels/methods/), one row here (host/src/registry.cpp) and one test
+// method is one kernel file (kernels/methods/), one row here (core/src/registry.cpp) and one test
 // row (tests/support.hpp); with precomputed data, also its prep kernel and builder.
 struct MethodInfo {
     std::string name;         // CLI and API name, e.g. "parallax-limited"

@@ -199,7 +199,7 @@ struct TemporalCommand : AnalysisOptions {
 };
 int run_temporal_command(const TemporalCommand& cmd, const ReliefOptions& relief);
 
-// Runs bench/<script> with Debian's Python (matplotlib); false (with a warning) when it cannot.
+// Runs tools/bench/<script> with Debian's Python (matplotlib); false (with a warning) when it cannot.
 bool run_chart_script(const std::string& script, const std::vector<std::string>& args);
 
 }  // namespace offsetmap::cli

@@ -6,7 +6,7 @@
 //
 // Kernel times come from OpenCL profiling events: one warm-up launch, then as many launches as
 // fit in the target time (3 to 30), median and minimum reported. Output: a table on stdout,
-// DIR/bench.json, and charts by bench/plot_bench.py.
+// DIR/bench.json, and charts by tools/bench/plot_bench.py.
 #include <CL/cl_half.h>
 
 #include <CLI/CLI.hpp>
@@ -467,7 +467,7 @@ void print_header(const char* title) {
 
 }  // namespace
 
-// bench/plot_bench.py on a bench JSON: the growth chart and, when it holds them, the GLSL peer's.
+// tools/bench/plot_bench.py on a bench JSON: the growth chart and, when it holds them, the GLSL peer's.
 void draw_charts(const std::string& json_path, const std::string& out_dir) {
     const std::string cmd = "/usr/bin/python3 '" + std::string(OFFSETMAP_SCRIPT_DIR) +
                             "/plot_bench.py' '" + json_path + "' '" + out_dir + "'";
@@ -490,7 +490,7 @@ int main(int argc, char** argv) {
     app.add_option("--device", device, "OpenCL platform/device substring ($OFFSETMAP_DEVICE)");
     app.add_option("--target-ms", target_ms, "time spent per measurement")->capture_default_str();
     bool charts = true, wall_clock = false;
-    app.add_flag("!--no-charts", charts, "skip bench/plot_bench.py");
+    app.add_flag("!--no-charts", charts, "skip tools/bench/plot_bench.py");
     app.add_flag("--host-clock", wall_clock,
                  "time launches by the host's clock (enqueue to completion) even where events "
                  "carry times: to compare with a device whose events do not");

@@ -1,7 +1,7 @@
 // Just enough of OpenCL C for the offset kernels' sources to compile as C++ (g++ or clang):
 // vector types with the swizzles the kernels use, the builtins they call, and address-space
 // qualifiers as nothing. The methods then run as plain C++ loops: the same algorithm, line for
-// line, as the threaded CPU peer of bench/ and as a cross-check in the tests.
+// line, as the threaded CPU peer of the bench and as a cross-check in the tests.
 #pragma once
 #include <algorithm>
 #include <cfloat>

@@ -1,5 +1,5 @@
 // The offset kernels run as plain threaded C++ loops over pixels (the kernel sources compiled as
-// C++ with -O3 -march=native): the peer the OpenCL kernels are compared against in bench/, and an
+// C++ with -O3 -march=native): the peer the OpenCL kernels are compared against in the bench, and an
 // independent compilation of the same code for the tests.
 #pragma once
 #include <cstdint>

@@ -1,7 +1,7 @@
 #!/usr/bin/python3
 """Failure maps from `offsetmap failure-map` (failure.csv).
 
-    /usr/bin/python3 bench/plot_failure.py failure.csv OUT.png [title]
+    /usr/bin/python3 tools/bench/plot_failure.py failure.csv OUT.png [title]
 
 One panel per method: mean uv error against exact (texels, log colour scale shared by all panels)
 over view elevation (rows, 90 degrees at the top down to grazing) and depth scale (columns). The

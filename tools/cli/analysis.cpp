@@ -47,7 +47,7 @@ void AnalysisOptions::add_to(CLI::App& app) {
 bool run_chart_script(const std::string& script, const std::vector<std::string>& args) {
     std::string path;
     try {
-        path = find_beside_program("bench", script, "OFFSETMAP_SCRIPT_DIR") + "/" + script;
+        path = find_beside_program("tools/bench", script, "OFFSETMAP_SCRIPT_DIR") + "/" + script;
     } catch (const Error& e) {
         std::cerr << "offsetmap: warning: charts skipped: " << e.what() << "\n";
         return false;

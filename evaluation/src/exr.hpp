@@ -1,4 +1,4 @@
-// The float OpenEXR writer the G-buffer and uv' files share (host/src/image_io.cpp).
+// The float OpenEXR writer the G-buffer and uv' files share (evaluation/src/image_io.cpp).
 #pragma once
 #include <map>
 #include <string>
