@@ -18,6 +18,7 @@ typedef uint om_uint;
 #define OM_F3(a, b, c) ((float3)((a), (b), (c)))
 #define OM_F4(a, b, c, d) ((float4)((a), (b), (c), (d)))
 #else
+#include <cstddef>
 #include <cstdint>
 typedef float om_float;
 typedef std::int32_t om_int;
@@ -265,5 +266,29 @@ static inline int om_slot_of(float m, int id_limit, __global const int* slot_of_
     return id > 0 && (float)id == m ? slot_of_id[id] : -1;
 }
 #endif
+
+// The layout host and device must agree on: the host uploads these structs as raw bytes (kernel
+// arguments, the material frame's slot table). Every member is a 4-byte scalar, so neither side
+// pads; a member that breaks the rule (a vector, a double, a pointer, a bool) or a field added
+// without updating this list fails the host's build (size and the last member's offset) and every
+// kernel program's (size: C99 has no static assertion, and offsetof is not OpenCL C 1.2's), rather
+// than uploading shifted fields. Sizes and offsets in bytes.
+#define OM_LAYOUT_CHECKS(CHECK)                     \
+    CHECK(OmOffsetParams, 108, p, 76)               \
+    CHECK(OmReconstructParams, 116, light_vec, 104) \
+    CHECK(OmDepthOffsetParams, 148, eye, 136)       \
+    CHECK(OmShadeParams, 92, grazing, 88)           \
+    CHECK(OmTileParams, 40, entry_count, 36)        \
+    CHECK(OmMaterialSlot, 224, albedo_offset, 220)
+#ifdef OM_OPENCL_C
+// An array of negative size does not compile.
+#define OM_LAYOUT_CHECK(S, size, last, at) \
+    typedef char om_layout_of_##S[sizeof(S) == (size) ? 1 : -1];
+#else
+#define OM_LAYOUT_CHECK(S, size, last, at)                          \
+    static_assert(sizeof(S) == (size) && offsetof(S, last) == (at), \
+                  #S "'s layout is not the one OM_LAYOUT_CHECKS records");
+#endif
+OM_LAYOUT_CHECKS(OM_LAYOUT_CHECK)
 
 #endif
