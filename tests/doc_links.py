@@ -4,19 +4,15 @@ repository and, with a #fragment into a Markdown page, the page has that heading
 anchors: lower case, punctuation dropped, spaces to hyphens, -1, -2 ... for repeats). Links inside
 code blocks and spans are not links; absolute URLs are not checked (CI has no network).
 Standard library only."""
+import functools
 import os
 import re
 import sys
 
-ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), ".."))
+from readme_figures import ROOT, pages  # the same pages the figure check reads
+
 LINK = re.compile(r"!?\[(?:[^\]\[]|\[[^\]]*\])*\]\(([^)\s]+)(?:\s+\"[^\"]*\")?\)")
 FENCE = re.compile(r"^(```|~~~)")
-
-
-def pages():
-    docs = os.path.join(ROOT, "docs")
-    return [os.path.join(ROOT, "README.md")] + sorted(
-        os.path.join(docs, f) for f in os.listdir(docs) if f.endswith(".md"))
 
 
 def prose(text):
@@ -33,6 +29,7 @@ def prose(text):
     return out
 
 
+@functools.lru_cache(maxsize=None)
 def anchors(path):
     seen, found = {}, set()
     fenced = False

@@ -245,7 +245,7 @@ def percent(share):
 
 
 def pages():
-    """README.md and every page under docs/: the figure check covers them all."""
+    """README.md and every page under docs/: the figure check and doc_links.py read them all."""
     docs = os.path.join(ROOT, "docs")
     return [os.path.join(ROOT, "README.md")] + sorted(
         os.path.join(docs, f) for f in os.listdir(docs) if f.endswith(".md"))
