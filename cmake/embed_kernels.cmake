@@ -1,6 +1,7 @@
 # Writes OUTPUT: a C++ file defining offsetmap::FUNCTION() (default embedded_kernels) with the text
 # of every file under KERNEL_DIR matching PATTERNS (default *.cl;*.h; relative path -> contents),
-# so the programs run from any folder. The renderer embeds its GLSL shaders the same way.
+# so the programs run from any folder; with EXTRA_FILE, that file too, named EXTRA_NAME. The
+# renderer embeds its GLSL shaders the same way.
 if(NOT FUNCTION)
     set(FUNCTION embedded_kernels)
 endif()
@@ -13,9 +14,17 @@ foreach(p IN LISTS PATTERNS)
 endforeach()
 file(GLOB_RECURSE files RELATIVE "${KERNEL_DIR}" ${globs})
 list(SORT files)
-set(body "")
+set(paths "")
 foreach(f IN LISTS files)
-    file(READ "${KERNEL_DIR}/${f}" text)
+    list(APPEND paths "${KERNEL_DIR}/${f}")
+endforeach()
+if(EXTRA_FILE)
+    list(APPEND files "${EXTRA_NAME}")
+    list(APPEND paths "${EXTRA_FILE}")
+endif()
+set(body "")
+foreach(f path IN ZIP_LISTS files paths)
+    file(READ "${path}" text)
     # Raw string literals are limited in length by some compilers; split every 8000 characters.
     string(LENGTH "${text}" n)
     set(pieces "")

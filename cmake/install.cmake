@@ -13,7 +13,8 @@ install(TARGETS ${OFFSETMAP_INSTALL_TARGETS} EXPORT offsetmapTargets
     LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR}
     RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR}
     INCLUDES DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
-# Each installed library's own headers, and no others: the core's always, the lab's with the lab.
+# Each installed library's own headers, and no others: the core's always (offsetmap/shared.h, the
+# structs host and kernels share, among them), the lab's with the lab.
 # The renderer is not installed, so neither are its headers.
 install(DIRECTORY "${PROJECT_SOURCE_DIR}/core/include/offsetmap"
     DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
@@ -21,9 +22,6 @@ if(OFFSETMAP_BUILD_EVALUATION)
     install(DIRECTORY "${PROJECT_SOURCE_DIR}/evaluation/include/offsetmap"
         DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
 endif()
-# The structs host and kernels share (public API, included as "om_shared.h").
-install(FILES "${PROJECT_SOURCE_DIR}/kernels/common/om_shared.h"
-    DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
 install(EXPORT offsetmapTargets NAMESPACE offsetmap:: DESTINATION ${OFFSETMAP_CMAKE_DIR})
 
 set(OFFSETMAP_HAS_EVALUATION ${OFFSETMAP_BUILD_EVALUATION})

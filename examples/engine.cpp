@@ -53,7 +53,7 @@ int main() try {
     ShadePass shade(rt);
     cl::Event views = reconstruct.enqueue(g, tangent_space);
     cl::Event offsets = pom.enqueue(tangent_space, field, settings, out, {views});
-    shade.enqueue(out.uv, {}, tangent_space, field, nullptr, settings, {}, rgba, {offsets}).wait();
+    shade.enqueue(tangent_space, field, shade_inputs(out), settings, {}, {rgba}, {offsets}).wait();
 
     std::vector<cl_float4> color(n);
     queue.enqueueReadBuffer(rgba, CL_TRUE, 0, n * sizeof(cl_float4), color.data());

@@ -1,7 +1,7 @@
 // The one offset kernel entry: G-buffer load, validation, LOD, one method's om_trace, store,
 // for a group of OM_LANES pixels per work-item (lanes.h), or two groups under OM_LANE_PAIRS (a
 // method that also defines om_trace_pair, on lanes). A group is a block of the G-buffer image
-// (OM_BLOCK_W x OM_BLOCK_H, om_shared.h); the host launches ceil(blocks / groups per work-item)
+// (OM_BLOCK_W x OM_BLOCK_H, offsetmap/shared.h); the host launches ceil(blocks / groups per work-item)
 // work-items. Compiled once per method; the method file is pasted in before this file.
 // aux is the method's precomputed data (NULL for most); lod is the per-pixel mip level (NULL unless
 // the LOD system is on). Optional outputs (depth, fetches, flags) may be NULL buffers.

@@ -13,8 +13,9 @@
 #include <memory>
 #include <random>
 
+#include "methods/maxmip_pyramid.h"
 #include "offsetmap/evaluation.hpp"
-#include "om_shared.h"
+#include "offsetmap/shared.h"
 
 namespace omtest {
 using namespace offsetmap;

@@ -51,7 +51,7 @@ TEST(CallerContext, PassRunsOnCallerObjectsAndHonoursWaitList) {
     // And the shading pass on the same caller objects.
     cl::Buffer rgba(context, CL_MEM_WRITE_ONLY, n * sizeof(cl_float4));
     ShadePass shade(rt);
-    shade.enqueue(out.uv, cl::Buffer(), g, field, nullptr, s, ShadeSettings{}, rgba, {done}).wait();
+    shade.enqueue(g, field, {out.uv, {}, nullptr}, s, ShadeSettings{}, {rgba}, {done}).wait();
     std::vector<cl_float4> color(n);
     queue.enqueueReadBuffer(rgba, CL_TRUE, 0, n * sizeof(cl_float4), color.data());
     for (const auto& c : color)
@@ -137,8 +137,7 @@ TEST(CallerContext, BuffersTooSmallOrMisusedAreRefusedBeforeEnqueue) {
     ShadePass shade(rt);
     auto shade_error = [&](const cl::Buffer& rgba, const DeviceImage* albedo) {
         return error_of([&] {
-            shade.enqueue(out.uv, cl::Buffer(), good, field, albedo, s, ShadeSettings{}, rgba)
-                .wait();
+            shade.enqueue(good, field, {out.uv, {}, albedo}, s, ShadeSettings{}, {rgba}).wait();
         });
     };
     EXPECT_EQ(shade_error(buffer(n * sizeof(cl_float4)), nullptr), "");
@@ -304,7 +303,7 @@ TEST(CallerContext, OneRuntimeServesSeveralQueues) {
         t.flags = cl::Buffer(context, CL_MEM_READ_WRITE, n * sizeof(cl_uint));
         cl::Event done = pass.enqueue(g, field, s, t, {}, queues[q]);
         cl::Buffer rgba(context, CL_MEM_READ_WRITE, n * sizeof(cl_float4));
-        shade.enqueue(t.uv, t.flags, g, field, nullptr, s, ShadeSettings{}, rgba, {done}, queues[q])
+        shade.enqueue(g, field, shade_inputs(t), s, ShadeSettings{}, {rgba}, {done}, queues[q])
             .wait();
         expect_same_frame(read_back(*rt, t, n, done), want, "queue " + std::to_string(q));
         if (q == 0) built = rt->programs_built();

@@ -1,5 +1,6 @@
 // The exact kernel (float) against the independent double-precision host oracle, held to the
 // per-ray bound of oracle_bound.hpp.
+#include "methods/cone_map.h"
 #include "oracle_bound.hpp"
 
 namespace omtest {

@@ -12,7 +12,7 @@ TEST(KernelBuild, EveryProgramBuildsWithoutWarnings) {
     auto rt = std::make_shared<Runtime>(shared->context(), shared->device(), shared->queue());
     for (const auto& m : methods()) {
         OffsetPass pass(rt, m.name);  // compiles the method's program
-        if (m.precompute) rt->program(sampling_program_files(m.precompute->prep_file));
+        if (m.precompute) rt->program(prep_program_files(*m.precompute));
     }
     ShadePass shade(rt);
     rt->program({"prep/mips.cl"});
@@ -21,8 +21,7 @@ TEST(KernelBuild, EveryProgramBuildsWithoutWarnings) {
     rt->program(sampling_program_files("prep/normals.cl"));
     // The reconstruct pass's forms (its defines, as ReconstructPass::kernel writes them) and the
     // height import's.
-    const std::vector<std::string> reconstruct = {"common/lanes.h", "common/storage.cl",
-                                                  "gbuffer/reconstruct.cl"};
+    const std::vector<std::string> reconstruct = {"common/storage.cl", "gbuffer/reconstruct.cl"};
     for (const char* lanes : {"", "#define OM_LANES 8\n", "#define OM_LANES 16\n"})
         for (const char* form :
              {"#define OM_STORAGE_DEPTH 0\n#define OM_STORAGE_FRAME 0\n#define OM_STORAGE_TANGENT "
@@ -36,9 +35,8 @@ TEST(KernelBuild, EveryProgramBuildsWithoutWarnings) {
               "#define OM_STORAGE_DEPTH 4\n#define OM_STORAGE_FRAME 1\n#define OM_STORAGE_UV 2\n"
               "#define OM_QUATERNION_FRAME\n"})
             rt->program(reconstruct, std::string(lanes) + form);
-    rt->program({"common/lanes.h", "common/storage.cl", "prep/import.cl"});
-    rt->program({"common/lanes.h", "common/storage.cl", "prep/import.cl"},
-                "#define OM_IMAGE_HEIGHTS\n");
+    rt->program({"common/storage.cl", "prep/import.cl"});
+    rt->program({"common/storage.cl", "prep/import.cl"}, "#define OM_IMAGE_HEIGHTS\n");
     // The material frame's classification, shading and tile entry (its entry is the same for
     // every method: one without and one with precomputed data).
     PassSettings s;

@@ -174,7 +174,7 @@ namespace {
 cl::Event import_level0(Runtime& rt, DeviceHeightField& f, const Input& texels, bool depth_map,
                         std::vector<cl::Event> after, cl::Buffer& count) {
     const bool image = texels.image() != nullptr;
-    cl::Kernel k = rt.kernel(rt.program({"common/lanes.h", "common/storage.cl", "prep/import.cl"},
+    cl::Kernel k = rt.kernel(rt.program({"common/storage.cl", "prep/import.cl"},
                                         image ? "#define OM_IMAGE_HEIGHTS\n" : ""),
                              "om_import_heights");
     count = device_buffer(rt.context(), CL_MEM_READ_WRITE | CL_MEM_COPY_HOST_PTR, sizeof(cl_uint),

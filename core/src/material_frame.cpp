@@ -194,19 +194,17 @@ MaterialFrame::MaterialFrame(std::shared_ptr<Runtime> runtime, std::vector<Frame
         throw Error("cannot gather the material table on the device: " +
                     describe_cl_error(e.err()));
     }
-    classify_ = rt.kernel(rt.program({"frame/classify.cl"}), "om_classify");
+    classify_ = rt.kernel(rt.program(classify_program_files()), "om_classify");
     shade_lanes_ = rt.lanes();
     shade_ = shade_kernel(rt, "om_shade_materials");
     // Compile the usual variant now, so a method's build errors surface here.
-    for (Method& m : methods_) tile_kernel(m, true, true, true);
+    OffsetVariant usual;
+    usual.depth = usual.fetches = usual.flags = true;
+    for (Method& m : methods_) tile_kernel(m, usual);
 }
 
-cl::Kernel& MaterialFrame::tile_kernel(Method& m, bool depth, bool fetches, bool flags) {
-    OffsetVariant v;
+cl::Kernel& MaterialFrame::tile_kernel(Method& m, OffsetVariant v) {
     v.lanes = runtime_->lanes();
-    v.depth = depth;
-    v.fetches = fetches;
-    v.flags = flags;
     const std::string defines = offset_program_defines(*m.params.method, v, true);
     auto it = m.kernels.find(defines);
     if (it == m.kernels.end()) {
@@ -319,8 +317,7 @@ cl::Event MaterialFrame::enqueue(const DeviceGBuffer& g, const OffsetTargets& t,
             d.work_items = d.entries * per_entry;
             T.entry_base = static_cast<om_int>(bases_[k]);
             T.entry_count = static_cast<om_int>(counts[k]);
-            cl::Kernel& kernel = tile_kernel(methods_[k], t.depth() != nullptr,
-                                             t.fetches() != nullptr, t.flags() != nullptr);
+            cl::Kernel& kernel = tile_kernel(methods_[k], variant_writing(t));
             set_args(kernel, T, slot_table_, entries_, g.material, g.uv, g.view, heights_);
             set_optional(kernel, 7, methods_[k].aux);
             kernel.setArg(8, t.uv);

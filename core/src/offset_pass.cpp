@@ -21,6 +21,14 @@ void check_targets(const cl::Context& context, const OffsetTargets& t, size_t n)
                  {"the offset pass's flags output", "uint", sizeof(cl_uint), n, true, true});
 }
 
+OffsetVariant variant_writing(const OffsetTargets& t) {
+    OffsetVariant v;
+    v.depth = t.depth() != nullptr;
+    v.fetches = t.fetches() != nullptr;
+    v.flags = t.flags() != nullptr;
+    return v;
+}
+
 OffsetPass::OffsetPass(std::shared_ptr<Runtime> runtime, const std::string& method,
                        const std::map<std::string, std::string>& params)
     : OffsetPass(std::move(runtime), resolve_params(find_method(method), params)) {}
@@ -32,18 +40,15 @@ OffsetPass::OffsetPass(std::shared_ptr<Runtime> runtime, const MethodParams& par
     lanes_ = runtime_->lanes();
     groups_ = lane_groups(*method_, lanes_);
     // Compile now (the tools' usual outputs), so a method's build errors surface here.
-    kernel(false, true, true, true, runtime_->images());
+    OffsetVariant usual;
+    usual.images = runtime_->images();
+    usual.depth = usual.fetches = usual.flags = true;
+    kernel(usual);
 }
 
-cl::Kernel& OffsetPass::kernel(bool lod, bool depth, bool fetches, bool flags, bool images) {
+cl::Kernel& OffsetPass::kernel(OffsetVariant v) {
     // One program per combination actually used: each drops the branches it does not need.
-    OffsetVariant v;
     v.lanes = lanes_;
-    v.images = images;
-    v.lod = lod;
-    v.depth = depth;
-    v.fetches = fetches;
-    v.flags = flags;
     const std::string defines = offset_program_defines(*method_, v);
     auto it = kernels_.find(defines);
     if (it == kernels_.end())
@@ -155,8 +160,10 @@ cl::Event OffsetPass::launch(const DeviceGBuffer& g, const DeviceHeightField& f,
     std::copy(params_.values.begin(), params_.values.end(), p.p);
     // The image path where the runtime wants it and the pyramid fits an image1d_buffer.
     const bool images = runtime_->images() && heights_image(f)() != nullptr;
-    cl::Kernel& k = kernel(settings.lod.enabled, t.depth() != nullptr, t.fetches() != nullptr,
-                           t.flags() != nullptr, images);
+    OffsetVariant variant = variant_writing(t);
+    variant.images = images;
+    variant.lod = settings.lod.enabled;
+    cl::Kernel& k = kernel(variant);
     k.setArg(0, p);
     k.setArg(1, g.uv);
     k.setArg(2, g.view);

@@ -72,18 +72,18 @@ std::vector<ProgramVariant> program_variants() {
     out.push_back({"prep/unorm16", {"prep/unorm16.cl"}, ""});
     out.push_back({"prep/normals", sampling_program_files("prep/normals.cl"), ""});
     out.push_back({"prep/footprint", {"prep/footprint.cl"}, ""});
-    const std::vector<std::string> import = {"common/lanes.h", "common/storage.cl",
-                                             "prep/import.cl"};
+    const std::vector<std::string> import = {"common/storage.cl", "prep/import.cl"};
     out.push_back({"prep/import", import, ""});
     out.push_back({"prep/import-image", import, "#define OM_IMAGE_HEIGHTS\n"});
-    std::vector<std::string> prep;  // each precompute's kernels, once
+    std::vector<const PrecomputeSpec*> prep;  // each precompute's kernels, once
     for (const MethodInfo& m : methods())
-        if (m.precompute &&
-            std::find(prep.begin(), prep.end(), m.precompute->prep_file) == prep.end())
-            prep.push_back(m.precompute->prep_file);
-    for (const std::string& file : prep)
-        out.push_back({file.substr(0, file.rfind('.')), sampling_program_files(file), ""});
-    out.push_back({"frame/classify", {"frame/classify.cl"}, ""});
+        if (m.precompute && std::find(prep.begin(), prep.end(), m.precompute) == prep.end())
+            prep.push_back(m.precompute);
+    for (const PrecomputeSpec* spec : prep) {
+        const std::string file = spec->prep_file;
+        out.push_back({file.substr(0, file.rfind('.')), prep_program_files(*spec), ""});
+    }
+    out.push_back({"frame/classify", classify_program_files(), ""});
     out.push_back({"frame/depth_offset", {"frame/depth_offset.cl"}, ""});
     for (int lanes : {1, 8, 16})
         out.push_back({"shade/lanes" + std::to_string(lanes), shade_program_files(),

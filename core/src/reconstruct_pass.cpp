@@ -41,7 +41,7 @@ DeviceGBuffer allocate_gbuffer(Runtime& rt, int width, int height, bool light, b
 ReconstructPass::ReconstructPass(std::shared_ptr<Runtime> runtime) : runtime_(std::move(runtime)) {}
 
 std::vector<std::string> reconstruct_program_files() {
-    return {"common/lanes.h", "common/storage.cl", "gbuffer/reconstruct.cl"};
+    return {"common/storage.cl", "gbuffer/reconstruct.cl"};
 }
 
 std::string reconstruct_program_defines(int lanes, const std::array<int, 4>& inputs,

@@ -3,9 +3,11 @@
 #include <algorithm>
 #include <cmath>
 #include <sstream>
+#include <utility>
 
+#include "methods/maxmip_pyramid.h"
 #include "offsetmap/error.hpp"
-#include "om_shared.h"
+#include "offsetmap/shared.h"
 #include "precompute/precompute.hpp"
 
 namespace offsetmap {
@@ -24,170 +26,200 @@ double cap_secant(const MethodParams& p) { return cap_pom(p) + p["refine"]; }
 // With cells, a walk bounded by the cells the ray crosses follows the steps.
 double cap_sphere(const MethodParams& p) { return p["cells"] > 0 ? -1 : p["steps"]; }
 
+ParamSpec integer_param(const char* name, float value, float lo, float hi, const char* doc,
+                        const char* at_most = "") {
+    return {name, value, lo, hi, true, doc, at_most};
+}
+ParamSpec real_param(const char* name, float value, float lo, float hi, const char* doc) {
+    return {name, value, lo, hi, false, doc};
+}
+
+// A registry row, each field named where it is set (the rest keep MethodInfo's defaults).
+class Row {
+  public:
+    Row(const char* name, const char* kernel_file) {
+        m_.name = name;
+        m_.kernel_file = kernel_file;
+    }
+    Row& summary(const char* text) { return set(m_.summary, text); }
+    Row& reference(const char* text) { return set(m_.reference, text); }
+    Row& params(std::vector<ParamSpec> p) { return set(m_.params, std::move(p)); }
+    Row& precompute(const PrecomputeSpec* spec) { return set(m_.precompute, spec); }
+    Row& sweep(std::vector<std::map<std::string, std::string>> s) {
+        return set(m_.sweep, std::move(s));
+    }
+    Row& fetch_cap(double (*cap)(const MethodParams&)) { return set(m_.fetch_cap, cap); }
+    Row& lane_pairs() { return set(m_.lane_pairs, true); }
+    Row& glsl(const char* branch, std::map<std::string, float> only_with = {}) {
+        m_.glsl_only_with = std::move(only_with);
+        return set(m_.glsl, branch);
+    }
+    operator MethodInfo() const { return m_; }
+
+  private:
+    template <typename T, typename V>
+    Row& set(T& field, V&& value) {
+        field = std::forward<V>(value);
+        return *this;
+    }
+    MethodInfo m_;
+};
+
 }  // namespace
 
 const std::vector<MethodInfo>& methods() {
     static const std::vector<MethodInfo> table = {
-        {"none",
-         "none.cl",
-         "normal mapping only: uv' = uv",
-         "Blinn 1978, bump mapping",
-         {},
-         nullptr,
-         {},
-         cap_zero},
-        {"parallax",
-         "parallax.cl",
-         "one height fetch, flat-surface assumption: uv' = uv - (r - H(uv)) s V.xy / V.z",
-         "Kaneko et al. 2001, detailed shape representation with parallax mapping",
-         {},
-         nullptr,
-         {},
-         cap_one},
-        {"parallax-limited",
-         "parallax_limited.cl",
-         "parallax with offset limiting: uv' = uv - (r - H(uv)) s V.xy (no 1/V.z)",
-         "Welsh 2004, parallax mapping with offset limiting",
-         {},
-         nullptr,
-         {},
-         cap_one},
-        {"parallax-slope",
-         "parallax_slope.cl",
-         "one slope step: the ray meets the relief's tangent plane at uv (1 fetch; the bilinear "
-         "patch's own gradient gives the normal)",
-         "Premecz 2006, iterative parallax mapping with slope information, section 3; slope notes",
-         {{"safe", 0, 0, 1, true,
-           "0: t = s(r-H) / (n.V), n = (-s grad H, 1), n.V >= 1e-4, t clamped to the slab; 1: "
-           "Premecz safe form t = s(r-H) N.z"}},
-         nullptr,
-         {{{"safe", "0"}}, {{"safe", "1"}}},
-         cap_one},
-        {"parallax-iterative",
-         "parallax_iterative.cl",
-         "the slope step repeated from the previous estimate (1 fetch per iteration)",
-         "Premecz 2006, section 3",
-         {{"iterations", 4, 1, 64, true, "slope steps k (k = 1 is parallax-slope)"},
-          {"safe", 0, 0, 1, true, "as parallax-slope"}},
-         nullptr,
-         {{{"iterations", "2"}},
-          {{"iterations", "4"}},
-          {{"iterations", "8"}},
-          {{"iterations", "16"}}},
-         cap_iterative},
-        {"steep",
-         "steep.cl",
-         "n equal depth layers, first sample at or below the relief (reads one level of the "
-         "height pyramid)",
-         "McGuire & McGuire 2005, steep parallax mapping",
-         {{"layers", 16, 1, 256, true, "depth layers n (at most n + 1 fetches)"},
-          {"lod", 0, 0, 15, true, "mip level held fixed during the march"}},
-         nullptr,
-         {{{"layers", "4"}},
-          {{"layers", "8"}},
-          {{"layers", "16"}},
-          {{"layers", "32"}},
-          {{"layers", "64"}},
-          {{"layers", "128"}}},
-         cap_steep},
-        {"relief",
-         "relief.cl",
-         "linear search, then binary search",
-         "Policarpo, Oliveira & Comba 2005, relief mapping; Premecz 2006 section 2.3",
-         {{"linear", 16, 1, 256, true, "linear search steps n"},
-          {"binary", 6, 0, 32, true, "binary search steps m"}},
-         nullptr,
-         {{{"linear", "4"}, {"binary", "2"}},
-          {{"linear", "8"}, {"binary", "4"}},
-          {{"linear", "16"}, {"binary", "6"}},
-          {{"linear", "32"}, {"binary", "8"}},
-          {{"linear", "64"}, {"binary", "10"}}},
-         cap_relief},
-        {"pom",
-         "pom.cl",
-         "linear search with lerp(n_max, n_min, V.z) steps, then the ray cut with the segment "
-         "between the last two samples",
-         "Tatarchuk 2006, practical parallax occlusion mapping",
-         {{"min_samples", 8, 1, 256, true, "steps when looking straight down", "max_samples"},
-          {"max_samples", 32, 1, 256, true, "steps at grazing views"}},
-         nullptr,
-         {{{"min_samples", "4"}, {"max_samples", "16"}},
-          {{"min_samples", "8"}, {"max_samples", "32"}},
-          {{"min_samples", "16"}, {"max_samples", "64"}},
-          {{"min_samples", "32"}, {"max_samples", "128"}}},
-         cap_pom},
-        {"sphere",
-         "sphere.cl",
-         "sphere tracing through a conservative 3D distance map from the top plane",
-         "Donnelly 2005, per-pixel displacement mapping with distance functions (GPU Gems 2 "
-         "ch. 8); Premecz 2006 section 2.4",
-         {{"res", 256, 8, 1024, true, "distance map voxels per side of the tile"},
-          {"layers", 32, 2, 128, true, "distance map voxels through the relief slab"},
-          {"steps", 64, 1, 256, true, "sphere-tracing steps (one distance fetch each)"},
-          {"cells", 1, 0, 1, true,
-           "1: near the proxy, and once out of steps, solve the bilinear cells (one fetch each; "
-           "the exact hit); 0: stop at the proxy (Donnelly)"}},
-         &kDistanceMap,
-         {{{"res", "64"}, {"layers", "16"}, {"steps", "16"}, {"cells", "0"}},
-          {{"res", "128"}, {"layers", "16"}, {"steps", "32"}, {"cells", "0"}},
-          {{"res", "256"}, {"layers", "32"}, {"steps", "64"}, {"cells", "0"}},
-          {{"res", "512"}, {"layers", "64"}, {"steps", "128"}, {"cells", "0"}},
-          {{"res", "256"}, {"layers", "32"}, {"steps", "64"}}},
-         cap_sphere,
-         true},
-        {"secant",
-         "secant.cl",
-         "pom's linear search, then secant refinement (regula falsi, Illinois) to a tolerance",
-         "Risser, Shah & Pattanaik 2007, faster relief mapping using the secant method",
-         {{"min_samples", 8, 1, 256, true, "linear steps when looking straight down",
-           "max_samples"},
-          {"max_samples", 32, 1, 256, true, "linear steps at grazing views"},
-          {"refine", 4, 0, 32, true, "secant iterations at most (0: pom)"},
-          {"tol", 1e-4f, 0.0f, 0.1f, false, "stop when the height gap is below this (H units)"}},
-         nullptr,
-         {{{"min_samples", "1"}, {"max_samples", "4"}, {"refine", "1"}},
-          {{"min_samples", "1"}, {"max_samples", "5"}, {"refine", "1"}},
-          {{"min_samples", "2"}, {"max_samples", "4"}, {"refine", "1"}},
-          {{"min_samples", "2"}, {"max_samples", "8"}, {"refine", "2"}},
-          {{"min_samples", "4"}, {"max_samples", "16"}, {"refine", "2"}},
-          {{"min_samples", "8"}, {"max_samples", "32"}, {"refine", "3"}},
-          {{"min_samples", "16"}, {"max_samples", "64"}, {"refine", "4"}},
-          {{"min_samples", "32"}, {"max_samples", "128"}, {"refine", "6"}}},
-         cap_secant},
-        {"maxmip",
-         "maxmip.cl",
-         "exact first hit by a hierarchical walk of a maximum-height pyramid (O(log n) block "
-         "tests)",
-         "Tevs, Ihrke & Seidel 2008, maximum mipmaps for height field rendering",
-         {{"max_level", OM_MAXMIP_MAX_LEVEL, 0, OM_MAXMIP_MAX_LEVEL, true,
-           "highest pyramid level used (0: plain DDA, as exact)"}},
-         &kMaxPyramid,
-         {{{"max_level", "0"}}, {{"max_level", "3"}}, {{"max_level", "15"}}},
-         cap_cells},
-        {"cone",
-         "cone.cl",
-         "exact first hit by cone steps over a cell-conservative cone map, min step one cell, "
-         "exact patch solve where the ray dips below a cell's maximum",
-         "Dummer 2006 and Policarpo & Oliveira 2007 (GPU Gems 3 ch. 18), cone step mapping; "
-         "Bán, Valasek et al. 2024, robust cone step mapping",
-         {{"max_ratio", 64, 1, 1024, true,
-           "widest cone stored, texels per unit height: bounds the build's search radius"}},
-         &kConeMap,
-         {{{"max_ratio", "4"}},
-          {{"max_ratio", "16"}},
-          {{"max_ratio", "64"}},
-          {{"max_ratio", "256"}}},
-         cap_cells,
-         true},
-        {"exact",
-         "exact.cl",
-         "first hit with the bilinear height field: DDA over texel cells, quadratic per patch",
-         "ground truth of this project (ray / bilinear patch)",
-         {},
-         nullptr,
-         {},
-         cap_cells,
-         true},
+        Row("none", "none.cl")
+            .summary("normal mapping only: uv' = uv")
+            .reference("Blinn 1978, bump mapping")
+            .fetch_cap(cap_zero)
+            .glsl("NONE"),
+        Row("parallax", "parallax.cl")
+            .summary(
+                "one height fetch, flat-surface assumption: uv' = uv - (r - H(uv)) s V.xy / V.z")
+            .reference("Kaneko et al. 2001, detailed shape representation with parallax mapping")
+            .fetch_cap(cap_one)
+            .glsl("PARALLAX"),
+        Row("parallax-limited", "parallax_limited.cl")
+            .summary("parallax with offset limiting: uv' = uv - (r - H(uv)) s V.xy (no 1/V.z)")
+            .reference("Welsh 2004, parallax mapping with offset limiting")
+            .fetch_cap(cap_one),
+        Row("parallax-slope", "parallax_slope.cl")
+            .summary("one slope step: the ray meets the relief's tangent plane at uv (1 fetch; the "
+                     "bilinear patch's own gradient gives the normal)")
+            .reference(
+                "Premecz 2006, iterative parallax mapping with slope information, section 3; slope "
+                "notes")
+            .params({integer_param("safe", 0, 0, 1,
+                                   "0: t = s(r-H) / (n.V), n = (-s grad H, 1), n.V >= 1e-4, t "
+                                   "clamped to the slab; 1: Premecz safe form t = s(r-H) N.z")})
+            .sweep({{{"safe", "0"}}, {{"safe", "1"}}})
+            .fetch_cap(cap_one),
+        Row("parallax-iterative", "parallax_iterative.cl")
+            .summary("the slope step repeated from the previous estimate (1 fetch per iteration)")
+            .reference("Premecz 2006, section 3")
+            .params(
+                {integer_param("iterations", 4, 1, 64, "slope steps k (k = 1 is parallax-slope)"),
+                 integer_param("safe", 0, 0, 1, "as parallax-slope")})
+            .sweep({{{"iterations", "2"}},
+                    {{"iterations", "4"}},
+                    {{"iterations", "8"}},
+                    {{"iterations", "16"}}})
+            .fetch_cap(cap_iterative),
+        Row("steep", "steep.cl")
+            .summary(
+                "n equal depth layers, first sample at or below the relief (reads one level of the "
+                "height pyramid)")
+            .reference("McGuire & McGuire 2005, steep parallax mapping")
+            .params({integer_param("layers", 16, 1, 256, "depth layers n (at most n + 1 fetches)"),
+                     integer_param("lod", 0, 0, 15, "mip level held fixed during the march")})
+            .sweep({{{"layers", "4"}},
+                    {{"layers", "8"}},
+                    {{"layers", "16"}},
+                    {{"layers", "32"}},
+                    {{"layers", "64"}},
+                    {{"layers", "128"}}})
+            .fetch_cap(cap_steep)
+            .glsl("STEEP", {{"lod", 0}}),
+        Row("relief", "relief.cl")
+            .summary("linear search, then binary search")
+            .reference("Policarpo, Oliveira & Comba 2005, relief mapping; Premecz 2006 section 2.3")
+            .params({integer_param("linear", 16, 1, 256, "linear search steps n"),
+                     integer_param("binary", 6, 0, 32, "binary search steps m")})
+            .sweep({{{"linear", "4"}, {"binary", "2"}},
+                    {{"linear", "8"}, {"binary", "4"}},
+                    {{"linear", "16"}, {"binary", "6"}},
+                    {{"linear", "32"}, {"binary", "8"}},
+                    {{"linear", "64"}, {"binary", "10"}}})
+            .fetch_cap(cap_relief)
+            .glsl("RELIEF"),
+        Row("pom", "pom.cl")
+            .summary("linear search with lerp(n_max, n_min, V.z) steps, then the ray cut with the "
+                     "segment between the last two samples")
+            .reference("Tatarchuk 2006, practical parallax occlusion mapping")
+            .params({integer_param("min_samples", 8, 1, 256, "steps when looking straight down",
+                                   "max_samples"),
+                     integer_param("max_samples", 32, 1, 256, "steps at grazing views")})
+            .sweep({{{"min_samples", "4"}, {"max_samples", "16"}},
+                    {{"min_samples", "8"}, {"max_samples", "32"}},
+                    {{"min_samples", "16"}, {"max_samples", "64"}},
+                    {{"min_samples", "32"}, {"max_samples", "128"}}})
+            .fetch_cap(cap_pom)
+            .glsl("POM"),
+        Row("sphere", "sphere.cl")
+            .summary("sphere tracing through a conservative 3D distance map from the top plane")
+            .reference(
+                "Donnelly 2005, per-pixel displacement mapping with distance functions (GPU Gems "
+                "2 ch. 8); Premecz 2006 section 2.4")
+            .params(
+                {integer_param("res", 256, 8, 1024, "distance map voxels per side of the tile"),
+                 integer_param("layers", 32, 2, 128, "distance map voxels through the relief slab"),
+                 integer_param("steps", 64, 1, 256,
+                               "sphere-tracing steps (one distance fetch each)"),
+                 integer_param("cells", 1, 0, 1,
+                               "1: near the proxy, and once out of steps, solve the bilinear "
+                               "cells (one fetch each; the exact hit); 0: stop at the proxy "
+                               "(Donnelly)")})
+            .precompute(&kDistanceMap)
+            .sweep({{{"res", "64"}, {"layers", "16"}, {"steps", "16"}, {"cells", "0"}},
+                    {{"res", "128"}, {"layers", "16"}, {"steps", "32"}, {"cells", "0"}},
+                    {{"res", "256"}, {"layers", "32"}, {"steps", "64"}, {"cells", "0"}},
+                    {{"res", "512"}, {"layers", "64"}, {"steps", "128"}, {"cells", "0"}},
+                    {{"res", "256"}, {"layers", "32"}, {"steps", "64"}}})
+            .fetch_cap(cap_sphere)
+            .lane_pairs(),
+        Row("secant", "secant.cl")
+            .summary("pom's linear search, then secant refinement (regula falsi, Illinois) to a "
+                     "tolerance")
+            .reference(
+                "Risser, Shah & Pattanaik 2007, faster relief mapping using the secant method")
+            .params({integer_param("min_samples", 8, 1, 256,
+                                   "linear steps when looking straight down", "max_samples"),
+                     integer_param("max_samples", 32, 1, 256, "linear steps at grazing views"),
+                     integer_param("refine", 4, 0, 32, "secant iterations at most (0: pom)"),
+                     real_param("tol", 1e-4f, 0.0f, 0.1f,
+                                "stop when the height gap is below this (H units)")})
+            .sweep({{{"min_samples", "1"}, {"max_samples", "4"}, {"refine", "1"}},
+                    {{"min_samples", "1"}, {"max_samples", "5"}, {"refine", "1"}},
+                    {{"min_samples", "2"}, {"max_samples", "4"}, {"refine", "1"}},
+                    {{"min_samples", "2"}, {"max_samples", "8"}, {"refine", "2"}},
+                    {{"min_samples", "4"}, {"max_samples", "16"}, {"refine", "2"}},
+                    {{"min_samples", "8"}, {"max_samples", "32"}, {"refine", "3"}},
+                    {{"min_samples", "16"}, {"max_samples", "64"}, {"refine", "4"}},
+                    {{"min_samples", "32"}, {"max_samples", "128"}, {"refine", "6"}}})
+            .fetch_cap(cap_secant),
+        Row("maxmip", "maxmip.cl")
+            .summary("exact first hit by a hierarchical walk of a maximum-height pyramid (O(log n) "
+                     "block tests)")
+            .reference("Tevs, Ihrke & Seidel 2008, maximum mipmaps for height field rendering")
+            .params({integer_param("max_level", OM_MAXMIP_MAX_LEVEL, 0, OM_MAXMIP_MAX_LEVEL,
+                                   "highest pyramid level used (0: plain DDA, as exact)")})
+            .precompute(&kMaxPyramid)
+            .sweep({{{"max_level", "0"}}, {{"max_level", "3"}}, {{"max_level", "15"}}})
+            .fetch_cap(cap_cells),
+        Row("cone", "cone.cl")
+            .summary(
+                "exact first hit by cone steps over a cell-conservative cone map, min step one "
+                "cell, exact patch solve where the ray dips below a cell's maximum")
+            .reference(
+                "Dummer 2006 and Policarpo & Oliveira 2007 (GPU Gems 3 ch. 18), cone step mapping; "
+                "Bán, Valasek et al. 2024, robust cone step mapping")
+            .params({integer_param(
+                "max_ratio", 64, 1, 1024,
+                "widest cone stored, texels per unit height: bounds the build's search radius")})
+            .precompute(&kConeMap)
+            .sweep({{{"max_ratio", "4"}},
+                    {{"max_ratio", "16"}},
+                    {{"max_ratio", "64"}},
+                    {{"max_ratio", "256"}}})
+            .fetch_cap(cap_cells)
+            .lane_pairs(),
+        Row("exact", "exact.cl")
+            .summary("first hit with the bilinear height field: DDA over texel cells, quadratic "
+                     "per patch")
+            .reference("ground truth of this project (ray / bilinear patch)")
+            .fetch_cap(cap_cells)
+            .lane_pairs(),
     };
     return table;
 }
@@ -280,20 +312,32 @@ void parse_assignment(const std::string& item, std::map<std::string, std::string
     out[item.substr(0, eq)] = item.substr(eq + 1);
 }
 
+std::vector<std::string> prelude_files() { return {"common/lanes_pocl.h", "common/lanes.h"}; }
+
 std::vector<std::string> sampling_program_files(const std::string& file) {
-    return {"common/lanes.h", "common/sampling.cl", file};
+    return {"common/sampling.cl", file};
+}
+
+std::vector<std::string> prep_program_files(const PrecomputeSpec& spec) {
+    std::vector<std::string> files = {"common/sampling.cl"};
+    if (spec.layout_file) files.push_back(spec.layout_file);
+    files.push_back(spec.prep_file);
+    return files;
 }
 
 std::vector<std::string> shade_program_files() {
-    return {"common/lanes.h", "common/sampling.cl", "common/blocks.cl", "shade.cl"};
+    return {"common/sampling.cl", "common/blocks.cl", "frame/slots.h", "shade.cl"};
 }
+
+std::vector<std::string> classify_program_files() { return {"frame/slots.h", "frame/classify.cl"}; }
 
 int lane_groups(const MethodInfo& m, int lanes) { return lanes > 1 && m.lane_pairs ? 2 : 1; }
 
 std::vector<std::string> offset_program_files(const MethodInfo& m) {
-    return {"common/lanes.h",  "common/sampling.cl",       "common/ray.cl",
-            "common/patch.cl", "methods/" + m.kernel_file, "common/blocks.cl",
-            "offset.cl"};
+    std::vector<std::string> files = {"common/sampling.cl", "common/ray.cl", "common/patch.cl"};
+    if (m.precompute && m.precompute->layout_file) files.push_back(m.precompute->layout_file);
+    files.insert(files.end(), {"methods/" + m.kernel_file, "common/blocks.cl", "offset.cl"});
+    return files;
 }
 
 std::string lanes_define(int lanes) {

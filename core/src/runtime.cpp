@@ -8,9 +8,18 @@
 
 #include "kernel_sources.hpp"
 #include "offsetmap/error.hpp"
+#include "offsetmap/registry.hpp"
 
 namespace offsetmap {
 namespace {
+
+const char* const kSharedHeader = "offsetmap/shared.h";
+
+std::string embedded_source(const std::string& path) {
+    for (const auto& entry : embedded_kernels())
+        if (path == entry.first) return entry.second;
+    throw Error("no embedded kernel file '" + path + "'");
+}
 
 std::string lower(std::string s) {
     std::transform(s.begin(), s.end(), s.begin(),
@@ -247,8 +256,12 @@ std::string Runtime::program_source(const std::vector<std::string>& files,
     // target, so the ABIs agree and the warning says nothing; every other warning stays on.
     std::string source =
         pocl ? "#define OM_POCL 1\n#pragma clang diagnostic ignored \"-Wpsabi\"\n" : "";
-    source += defines + "\n#line 1 \"common/om_shared.h\"\n" +
-              kernel_source("common/om_shared.h", dir) + "\n";
+    // The shared header is always the library's own copy, never a kernel folder's: the host was
+    // compiled against it, and a layout of its own would shift every uploaded field.
+    source +=
+        defines + "\n#line 1 \"" + kSharedHeader + "\"\n" + embedded_source(kSharedHeader) + "\n";
+    for (const auto& f : prelude_files())
+        source += "#line 1 \"" + f + "\"\n" + kernel_source(f, dir) + "\n";
     for (const auto& f : files) source += "#line 1 \"" + f + "\"\n" + kernel_source(f, dir) + "\n";
     return source;
 }
@@ -307,9 +320,7 @@ std::string kernel_source(const std::string& path, const std::string& dir_arg) {
         text << in.rdbuf();
         return text.str();
     }
-    for (const auto& entry : embedded_kernels())
-        if (path == entry.first) return entry.second;
-    throw Error("no embedded kernel file '" + path + "'");
+    return embedded_source(path);
 }
 
 double event_ms(const cl::Event& event) {

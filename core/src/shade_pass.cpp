@@ -78,11 +78,12 @@ ShadePass::ShadePass(std::shared_ptr<Runtime> runtime) : runtime_(std::move(runt
     kernel_ = shade_kernel(*runtime_, "om_shade");
 }
 
-cl::Event ShadePass::enqueue(const cl::Buffer& uv, const cl::Buffer& flags, const DeviceGBuffer& g,
-                             const DeviceHeightField& f, const DeviceImage* albedo,
-                             const PassSettings& settings, const ShadeSettings& s,
-                             const cl::Buffer& out_rgba, const std::vector<cl::Event>& wait,
-                             const cl::CommandQueue& queue) {
+cl::Event ShadePass::enqueue(const DeviceGBuffer& g, const DeviceHeightField& f,
+                             const ShadeInputs& in, const PassSettings& settings,
+                             const ShadeSettings& s, const ShadeTargets& out,
+                             const std::vector<cl::Event>& wait, const cl::CommandQueue& queue) {
+    const cl::Buffer &uv = in.uv, &flags = in.flags, &out_rgba = out.rgba;
+    const DeviceImage* albedo = in.albedo;
     const cl::Context& context = runtime_->context();
     const cl::CommandQueue& q = pass_queue(*runtime_, queue);
     check_gbuffer(context, g);

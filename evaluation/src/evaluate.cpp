@@ -6,7 +6,7 @@
 #include <limits>
 
 #include "launch.hpp"
-#include "om_shared.h"
+#include "offsetmap/shared.h"
 
 namespace offsetmap {
 
@@ -108,7 +108,7 @@ std::vector<cl_float4> run_shade(Runtime& rt, ShadePass& pass, const OffsetResul
     cl::Buffer flags(rt.context(), CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR,
                      n * sizeof(std::uint32_t), const_cast<std::uint32_t*>(r.flags.data()));
     cl::Buffer out(rt.context(), CL_MEM_WRITE_ONLY, n * sizeof(cl_float4));
-    pass.enqueue(uv, flags, g, f, albedo, settings, shade, out).wait();
+    pass.enqueue(g, f, {uv, flags, albedo}, settings, shade, {out}).wait();
     std::vector<cl_float4> rgba(n);
     rt.queue().enqueueReadBuffer(out, CL_TRUE, 0, n * sizeof(cl_float4), rgba.data());
     return rgba;

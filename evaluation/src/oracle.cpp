@@ -4,7 +4,7 @@
 #include <cmath>
 #include <vector>
 
-#include "om_shared.h"
+#include "offsetmap/shared.h"
 
 namespace offsetmap {
 

@@ -10,7 +10,7 @@ __kernel void om_bench_passthrough(__global const float2* uv, __global const flo
 }
 
 // Each lane's pixel: a work-item takes a block of OM_LANES pixels of the image, as the offset
-// entry's groups are (om_shared.h), lanes past the edge repeating its last column or row; the
+// entry's groups are (offsetmap/shared.h), lanes past the edge repeating its last column or row; the
 // block's own pixels, so a store per lane stays in it. False past the last block.
 OM_INLINE int om_bench_block(const OmOffsetParams* P, OmI* id) {
     const int bw = OM_BLOCK_W(OM_LANES), bh = OM_BLOCK_H(OM_LANES);

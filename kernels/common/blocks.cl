@@ -32,9 +32,8 @@
 
 // Lane groups as blocks of the image rather than runs of a row: the rays of a 4 x 4 block start
 // closer together than those of 16 pixels in a row, so their fetches share more cache lines and
-// their walks end closer together (1080p camera frame, 4 x 4 against 16 x 1, in turns: AVX-512
-// pom 0.91, steep 0.90, exact 0.92, cone 0.95 of the time; AVX2 target pom 0.83, steep 0.87;
-// random rays 0.88-1.05). The offset entry takes OM_BW x OM_BH blocks of the whole image; the
+// their walks end closer together (measured on camera frames under both instruction sets:
+// docs/throughput.md, "Lanes as blocks of the image"). The offset entry takes OM_BW x OM_BH blocks of the whole image; the
 // material frame's tiles take blocks no taller than a tile (om_tile_block_h), so a block's width
 // is 4, 8 or 16 pixels.
 #define OM_BW OM_BLOCK_W(OM_LANES)
@@ -83,8 +82,8 @@ OM_INLINE int om_block_has(OmBlock b, int k) {
 
 // The G-buffer lines of the blocks after this one, asked for before this block's trace: a block
 // reads 4 rows of the image, and with a trace's reads in between the hardware prefetcher no longer
-// follows those rows (random rays, 4 x 4 blocks against runs of 16 pixels: pom 1.09x and steep
-// 1.08x the time without it, 1.00 and 1.02x with it). PoCL's clang; elsewhere nothing.
+// follows those rows, and random rays in blocks ran slower than in runs of a row without it
+// (docs/throughput.md). PoCL's clang; elsewhere nothing.
 #ifdef OM_POCL
 #define OM_PREFETCH(p) __builtin_prefetch(p)
 #else

@@ -7,12 +7,21 @@
 // which work with either. Integer min, max and clamp take OmI arguments only, never a scalar
 // beside a lane vector (write `max(w, (OmI)1)`): Oclgrind 21.10's (gentype, sgentype) forms
 // return garbage past the first element, and its walks then ran differently from run to run.
+// This file is plain OpenCL C 1.2 for any driver; PoCL's instruction-set paths (clang builtins,
+// x86 mask instructions, pair gathers) are lanes_pocl.h's, which comes first in every program.
 #ifndef OM_LANES
 #define OM_LANES 1
 #endif
 
+#ifdef OM_OPENCL_C
+// Vector literals, spelled so the kernel sources also compile as C++ (tools/peer).
+#define OM_F2(a, b) ((float2)((a), (b)))
+#define OM_F3(a, b, c) ((float3)((a), (b), (c)))
+#define OM_F4(a, b, c, d) ((float4)((a), (b), (c), (d)))
+#endif
+
 // Every helper is forced inline: PoCL kept the larger ones (patch corners, ray set-up, linear
-// search) as calls that pass 16-lane vectors through memory, which made `none` 2x slower.
+// search) as calls that pass 16-lane vectors through memory, which made even `none` far slower.
 // Static as well: a plain `inline` function is C99's inline definition, which emits no body, so a
 // compiler that does not inline it (clang with the LLVM passes off, as SPIR-V front ends may run)
 // links against a function that does not exist. OM_PLAIN_CALLS (the Oclgrind check,
@@ -24,54 +33,19 @@
 #define OM_INLINE static inline __attribute__((always_inline))
 #endif
 
-// PoCL's floor() (scalar and vector) and any() are library routines with branches; clang's
-// builtins are one rounding instruction and an OR reduction; results are the same. Only on PoCL,
-// which compiles them for its own CPU target: a driver that goes through SPIR-V (rusticl, and
-// through it most GPU stacks) gets LLVM intrinsics its translator rejects
-// (llvm.vector.reduce.or), so every other device gets plain OpenCL C 1.2.
-#ifdef OM_POCL
-#define om_floor(x) __builtin_floorf(x)
-#define OM_LIKELY(c) __builtin_expect((c), 1)
-#else
+// Plain OpenCL C 1.2 for every helper lanes_pocl.h does not define (every driver but PoCL).
+#ifndef om_floor
 #define om_floor(x) floor(x)
 #define OM_LIKELY(c) (c)
 #endif
-#if defined(OM_POCL) && defined(__has_builtin)
-#if __has_builtin(__builtin_elementwise_floor) && __has_builtin(__builtin_reduce_or)
-#define OM_CLANG_LANE_BUILTINS 1
-#endif
-#endif
-#ifdef OM_CLANG_LANE_BUILTINS
-#define OM_VANY_REDUCE(m) (__builtin_reduce_or(m) < 0)
-#define OM_VFLOOR(x) __builtin_elementwise_floor(x)
-#else
+#ifndef OM_VANY_REDUCE
 #define OM_VANY_REDUCE(m) any(m)
 #define OM_VFLOOR(x) floor(x)
 #endif
-// Any lane's sign bit, for 16 lanes on PoCL's CPU targets: one mask instruction (AVX-512's
-// vpmovd2m, AVX's vmovmskps on each half) where the reduction took an OR and shuffle tree. A/B
-// (1080p): the marching and cell-walk methods 0.94-0.99 of the time on AVX-512, 0.87-0.99 under
-// AVX2 (exact 1.03 there). OM_ANY_RARE keeps the reduction for a branch almost never taken (the
-// patch solve's bisection): with the mask instruction there, PoCL laid `exact` out 8 % slower.
-#if defined(OM_POCL) && defined(OM_CLANG_LANE_BUILTINS) && OM_LANES == 16 && \
-    defined(__AVX512DQ__)
-#define OM_VANY(m) (__builtin_ia32_cvtd2mask512(m) != 0)
-#elif defined(OM_POCL) && defined(OM_CLANG_LANE_BUILTINS) && OM_LANES == 16 && defined(__AVX__)
-#define OM_VANY(m)                                            \
-    ((__builtin_ia32_movmskps256(as_float8((m).lo)) |         \
-      __builtin_ia32_movmskps256(as_float8((m).hi))) != 0)
-#else
+#ifndef OM_VANY
 #define OM_VANY(m) OM_VANY_REDUCE(m)
 #endif
-// Whether any lane has a != b or c != d (ints), for a branch almost never taken. Under AVX2 the
-// lanes' differences ORed and tested at once (vptest): 16 compares' mask was packed to bytes
-// first, about 20 instructions a patch read (A/B: the marching and cell-walk methods 0.95-1.00 of
-// the time). AVX-512 keeps the compares, whose masks are free there (the differences ORed and
-// compared once: 1.01-1.03x the time).
-#if defined(OM_POCL) && defined(OM_CLANG_LANE_BUILTINS) && defined(__AVX__) && \
-    !defined(__AVX512F__)
-#define OM_VANY_NE2(a, b, c, d) (__builtin_reduce_or(((a) ^ (b)) | ((c) ^ (d))) != 0)
-#else
+#ifndef OM_VANY_NE2
 #define OM_VANY_NE2(a, b, c, d) OM_VANY(((a) != (b)) | ((c) != (d)))
 #endif
 
@@ -174,37 +148,11 @@ typedef int16 OmI;
         if (b_) step_b;                                      \
     }
 
-// Pairs of neighbouring floats (p[i], p[i + 1]) per lane in 64-bit gathers: a bilinear patch's
-// row is such a pair, and AVX-512 gathers cost per element, so two gathers of 8 pairs replace two
-// gathers of 16 floats. Clang's gather builtin on PoCL's CPU target (one flat address space), with
-// float buffers only. Every lane's p[i + 1] must lie in the buffer.
-#if defined(OM_POCL) && defined(__AVX512F__) && !defined(OM_IMAGES) && \
-    (OM_LANES == 8 || OM_LANES == 16) && defined(__has_builtin)
-#if __has_builtin(__builtin_ia32_gathersiv8di) && defined(OM_CLANG_LANE_BUILTINS)
-#define OM_PAIR_GATHER 1
-#endif
-#endif
-// Without AVX-512 the compiler builds a gather from one scalar load and one insert per float (it
-// emits no AVX2 gathers, which are slow on many CPUs); a pair is then one 64-bit load: half the
-// loads and inserts, and pom 15 % faster under PoCL's AVX2 target. With AVX-512 such loads are
-// 4-12 % slower than its gathers.
-#if !defined(OM_PAIR_GATHER) && defined(OM_POCL) && !defined(OM_IMAGES) && \
-    (OM_LANES == 8 || OM_LANES == 16)
-#define OM_PAIR_GATHER 1
-#define OM_PAIR_LOADS 1
-#define OM_PAIR(p, k) as_long(vload2(0, (p) + (k)))
-#endif
+// Pairs of neighbouring floats per lane, where lanes_pocl.h has a way to read them at once.
 #ifdef OM_PAIR_GATHER
 // Eight pairs from indices i (floats from p): (first, second) of each pair.
 OM_INLINE float8 om_gather8_pairs(__global const float* p, int8 i, float8* second) {
-#ifdef OM_PAIR_LOADS
-    float16 q = as_float16((long8)(OM_PAIR(p, i.s0), OM_PAIR(p, i.s1), OM_PAIR(p, i.s2),
-                                   OM_PAIR(p, i.s3), OM_PAIR(p, i.s4), OM_PAIR(p, i.s5),
-                                   OM_PAIR(p, i.s6), OM_PAIR(p, i.s7)));
-#else
-    float16 q = as_float16(
-        __builtin_ia32_gathersiv8di((long8)0, (const void*)(size_t)p, i, (unsigned char)0xff, 4));
-#endif
+    float16 q = OM_PAIRS8(p, i);
     *second = q.odd;
     return q.even;
 }

@@ -165,7 +165,7 @@ OM_INLINE void om_corners(const OmField* f, OmI i, OmI j, OmF* k00, OmF* k10, Om
     // (and p[i + 1] could lie past the buffer). A branch, not a lane mask on the gathers: a
     // predicted branch lets the gathers start before the test is done, a mask delays every
     // dependent fetch by its reduction. Without the hint, the code PoCL made for pom's search
-    // was 20 % slower than with the mask; with it every method is as fast or faster (A/B runs).
+    // was slower than with the mask; with it no method is slower (docs/throughput.md).
     if (OM_LIKELY(!OM_ANY_NE(i1, i0 + 1))) {
         om_gather_pairs(f->heights, r0 + i0, k00, k10);
         om_gather_pairs(f->heights, r1 + i0, k01, k11);
@@ -198,7 +198,7 @@ OM_INLINE void om_patch(const OmField* f, OmF u, OmF v, OmF* a, OmF* b, OmF* k00
 }
 
 // The patch's height at (a, b): each lerp one fused multiply-add (PoCL's mix is a subtraction, a
-// product and a sum; pom 0.95 of the time in an A/B).
+// product and a sum).
 OM_INLINE OmF om_bilinear(OmF k00, OmF k10, OmF k01, OmF k11, OmF a, OmF b) {
     OmF top = fma(k10 - k00, a, k00), bottom = fma(k11 - k01, a, k01);
     return fma(bottom - top, b, top);

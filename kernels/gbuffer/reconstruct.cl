@@ -23,7 +23,7 @@
 #define OM_FETCH(name, image, storage, n, v) OM_FETCH_(name, image, storage, n, v)
 #define OM_FETCH_(name, image, storage, n, v) OM_FETCH_##image(name, storage, n, v)
 // A full work-item of float or half values: vector loads and shuffles (as offset.cl loads its
-// G-buffer); 3x faster than a lane-by-lane load on AVX-512 (the bench's reconstruct entry).
+// G-buffer), where a lane-by-lane load cost several times as much (the bench's reconstruct entry).
 #if OM_LANES == 16
 // The i-th 16 values from element b on (vloadn needs only the element's alignment).
 #define OM_VL16_0(q, b, i) vload16(i, (__global const float*)(q) + (b))

@@ -20,7 +20,7 @@
 
 // Each lane's cell maximum and cone ratio (clamp: cells off the map have no cone, their maximum
 // from the patch itself): its word of the packed, tiled cone map, decoded by the same macros as
-// om_cone_hc and om_cone_ratio (om_shared.h); tiles_x is the map's tiles per row.
+// om_cone_hc and om_cone_ratio (methods/cone_map.h); tiles_x is the map's tiles per row.
 OM_INLINE void om_cone_cell(const OmField* f, int tiles_x, OmI i, OmI j, OmF* hc,
                             OmF* c OM_IMG_PARAM) {
     OmI i0, i1, j0, j1;
@@ -115,8 +115,8 @@ OM_INLINE OmF om_trace(const OmRay* r, const OmField* f, const OmOffsetParams* P
 
 // Two groups of lanes walked in one loop (the entry's OM_LANE_PAIRS): a cone jump waits on its
 // cone-map read, and with two independent walks in flight the core works on one group while the
-// other's read is outstanding (A/B on AVX-512: 0.79x the time of one group per work-item; no
-// change under AVX2, whose reads are scalar loads that already overlap). Each group steps exactly
+// other's read is outstanding (a gain with AVX-512's gathers; none under AVX2, whose reads are
+// scalar loads that already overlap: docs/throughput.md). Each group steps exactly
 // as om_trace steps it, so the frame is the same bit for bit.
 OM_INLINE void om_trace_pair(const OmRay* ra, const OmField* fa, OmI active_a, const OmRay* rb,
                              const OmField* fb, OmI active_b, const OmOffsetParams* P, OmF* ta,

@@ -45,8 +45,8 @@ OM_INLINE OmF om_trace(const OmRay* r, const OmField* f, const OmOffsetParams* P
     return s.hit_t;
 }
 
-// Two groups of lanes walked in one loop (the entry's OM_LANE_PAIRS; see cone's om_trace_pair):
-// A/B on AVX-512, 0.71x the time of one group per work-item; under AVX2 1.01.
+// Two groups of lanes walked in one loop (the entry's OM_LANE_PAIRS; see cone's om_trace_pair;
+// its gain per instruction set: docs/throughput.md).
 OM_INLINE void om_trace_pair(const OmRay* ra, const OmField* fa, OmI active_a, const OmRay* rb,
                              const OmField* fb, OmI active_b, const OmOffsetParams* P, OmF* ta,
                              OmI* fetches_a, OmI* flags_a, OmF* tb, OmI* fetches_b,

@@ -156,8 +156,8 @@ OM_INLINE OmF om_trace(const OmRay* r, const OmField* f, const OmOffsetParams* P
     return OM_SEL(s.t, s.hit_t, s.hit);
 }
 
-// Two groups of lanes marched in one loop (the entry's OM_LANE_PAIRS; see cone's om_trace_pair):
-// A/B on AVX-512, 0.88x the time of one group per work-item; under AVX2 1.01.
+// Two groups of lanes marched in one loop (the entry's OM_LANE_PAIRS; see cone's om_trace_pair;
+// its gain per instruction set: docs/throughput.md).
 OM_INLINE void om_trace_pair(const OmRay* ra, const OmField* fa, OmI active_a, const OmRay* rb,
                              const OmField* fb, OmI active_b, const OmOffsetParams* P, OmF* ta,
                              OmI* fetches_a, OmI* flags_a, OmF* tb, OmI* fetches_b,

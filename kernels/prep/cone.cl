@@ -1,5 +1,5 @@
 // Cone map for `cone`: per cell (the bilinear patch between texel centres i..i+1, j..j+1; W x H
-// cells, the last row and column wrap or are the clamped extrusion) one packed word (om_shared.h)
+// cells, the last row and column wrap or are the clamped extrusion) one packed word (methods/cone_map.h)
 // bounding the cell's maximum height Hc (the largest of its four corners bounds the patch) and a
 // cone ratio c, in texels per unit of H, such that the open region
 //     { (p, H) : dist(p, cell) < c (H - Hc) }

@@ -5,19 +5,13 @@
 // z = -s r, the grazing rule of the kernels (V.z raised to u_min_vz, or Welsh's limit). Each method
 // is its kernel's search step for step (kernels/methods), with the same step counts.
 uniform sampler2D u_heights;
-uniform int u_method;  // OM_GLSL_* below
+uniform int u_method;  // OM_GLSL_<row's glsl>: the renderer defines them from the registry
 uniform vec4 u_params;  // the method's parameters in its registry order
 uniform float u_scale;
 uniform float u_ref;
 uniform float u_min_vz;
 uniform int u_limit;  // Welsh's offset limiting for every view
 uniform int u_tile_mask;  // the tile mask: uv' outside [0,1]^2 is not this surface's
-
-#define OM_GLSL_NONE 0
-#define OM_GLSL_PARALLAX 1
-#define OM_GLSL_POM 2
-#define OM_GLSL_STEEP 3
-#define OM_GLSL_RELIEF 4
 
 int om_fetches = 0;
 

@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <sstream>
 
 #include "offsetmap/error.hpp"
 #include "offsetmap/material_eval.hpp"
@@ -57,12 +58,20 @@ std::string forward_unsupported(const MaterialSpec& material, const MethodParams
 }
 
 std::string forward_method_unsupported(const MethodParams& p) {
-    const int m = glsl_method(p.method->name);
-    if (m < 0)
-        return "method '" + p.method->name +
-               "' has no forward (GLSL) version; forward has none, parallax, pom, steep and relief";
-    if (m == 3 && p["lod"] != 0.0f)
-        return "forward steep traces level 0 only (lod=" + std::to_string(int(p["lod"])) + ")";
+    const MethodInfo& method = *p.method;
+    if (method.glsl.empty()) {
+        std::string known;
+        for (const MethodInfo& m : methods())
+            if (!m.glsl.empty()) known += (known.empty() ? "" : ", ") + m.name;
+        return "method '" + method.name + "' has no forward (GLSL) version; forward has " + known;
+    }
+    for (const auto& [name, value] : method.glsl_only_with)
+        if (p[name] != value) {
+            std::ostringstream msg;
+            msg << "forward " << method.name << " takes " << name << "=" << value << " only ("
+                << name << "=" << p[name] << ")";
+            return msg.str();
+        }
     return "";
 }
 

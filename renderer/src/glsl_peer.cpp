@@ -30,7 +30,7 @@ GlslPeer::GlslPeer(const GBuffer& gbuffer, const HeightMap& map, const PassSetti
     m.height = gbuffer.height;
     m.map = map;
     m.settings = settings;
-    m.program = make_program("fullscreen_vert.glsl", "peer_frag.glsl");
+    m.program = make_program("fullscreen_vert.glsl", "peer_frag.glsl", glsl_method_defines());
     m.uv = make_texture(GL_RG32F, m.width, m.height);
     glTextureSubImage2D(m.uv.get(), 0, 0, 0, m.width, m.height, GL_RG, GL_FLOAT, gbuffer.uv.data());
     m.view = make_texture(GL_RGBA32F, m.width, m.height);

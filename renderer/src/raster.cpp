@@ -24,20 +24,23 @@ const GLenum kTargets[] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1, GL_COLOR_
 
 }  // namespace
 
-int glsl_method(const std::string& name) {
-    if (name == "none") return 0;
-    if (name == "parallax") return 1;
-    if (name == "pom") return 2;
-    if (name == "steep") return 3;
-    if (name == "relief") return 4;
-    return -1;
+int glsl_method(const MethodInfo& method) {
+    return method.glsl.empty() ? -1 : static_cast<int>(&method - methods().data());
+}
+
+std::string glsl_method_defines() {
+    std::string out;
+    for (const MethodInfo& m : methods())
+        if (!m.glsl.empty())
+            out += "#define OM_GLSL_" + m.glsl + " " + std::to_string(glsl_method(m)) + "\n";
+    return out;
 }
 
 ForwardMaterial forward_material(int id, const HeightMap& map, const PassSettings& settings,
                                  const MethodParams& method) {
     ForwardMaterial f;
     f.id = id;
-    f.method = glsl_method(method.method->name);
+    f.method = glsl_method(*method.method);
     for (size_t k = 0; k < method.values.size() && k < 4; ++k) f.params[k] = method.values[k];
     f.scale = settings.scale;
     f.ref = settings.reference_plane;
@@ -57,7 +60,7 @@ ForwardMaterial forward_material(int id, const HeightMap& map, const PassSetting
 }
 
 void bind_forward_material(const Program& p, const ForwardMaterial* fm) {
-    glUniform1i(uniform(p, "u_method"), fm ? fm->method : 0);
+    glUniform1i(uniform(p, "u_method"), fm ? fm->method : glsl_method(find_method("none")));
     if (!fm) return;
     glBindTextureUnit(0, fm->heights.get());
     glUniform1i(uniform(p, "u_heights"), 0);
@@ -116,12 +119,14 @@ Raster::Raster(const Scene& scene, int width, int height) : width_(width), heigh
         d.count = static_cast<GLsizei>(m.indices.size());
         meshes_.push_back(std::move(d));
     }
-    deferred_ = make_program("gbuffer_vert.glsl", "gbuffer_frag.glsl");
-    forward_ = make_program("gbuffer_vert.glsl", "gbuffer_frag.glsl", "#define OM_FORWARD 1\n");
+    const std::string methods = glsl_method_defines();  // relief.glsl's, in every G-buffer shader
+    deferred_ = make_program("gbuffer_vert.glsl", "gbuffer_frag.glsl", methods);
+    forward_ =
+        make_program("gbuffer_vert.glsl", "gbuffer_frag.glsl", methods + "#define OM_FORWARD 1\n");
     deferred_count_ =
-        make_program("gbuffer_vert.glsl", "gbuffer_frag.glsl", "#define OM_COUNT 1\n");
+        make_program("gbuffer_vert.glsl", "gbuffer_frag.glsl", methods + "#define OM_COUNT 1\n");
     forward_count_ = make_program("gbuffer_vert.glsl", "gbuffer_frag.glsl",
-                                  "#define OM_FORWARD 1\n#define OM_COUNT 1\n");
+                                  methods + "#define OM_FORWARD 1\n#define OM_COUNT 1\n");
     depth_only_ = make_program("gbuffer_vert.glsl", "depth_only_frag.glsl");
 
     depth_ = make_texture(GL_DEPTH_COMPONENT32F, width, height);

@@ -19,20 +19,22 @@ namespace offsetmap::renderer {
 struct ForwardMaterial {
     int id = 0;
     Texture heights;  // R32F, level 0, linear filtering, repeat or clamp-to-edge
-    int method = 0;   // OM_GLSL_* (renderer/shaders/relief.glsl)
+    int method = 0;   // glsl_method: its OM_GLSL_* (renderer/shaders/relief.glsl)
     std::array<float, 4> params{};
     float scale = 0.0f, ref = 1.0f, min_vz = 0.0f;
     bool limit = false;
     bool tile_mask = false;  // forward discards fragments whose uv' leaves [0,1]^2
 };
 
-// OM_GLSL_* for a method with a GLSL version (none, parallax, pom, steep, relief), else -1.
-int glsl_method(const std::string& name);
+// The value relief.glsl's u_method takes for a method with a GLSL version (its registry row's
+// `glsl`), else -1; and the defines that name those values, OM_GLSL_<glsl> (every shader's).
+int glsl_method(const MethodInfo& method);
+std::string glsl_method_defines();
 // The height texture and uniforms that trace `method` on `map` with `settings`, as the kernels
 // do (the same parameters in registry order, grazing rule and address mode).
 ForwardMaterial forward_material(int id, const HeightMap& map, const PassSettings& settings,
                                  const MethodParams& method);
-// Sets relief.glsl's uniforms on the current program `p` (u_method 0, no relief, for null) and
+// Sets relief.glsl's uniforms on the current program `p` (u_method none's, no relief, for null) and
 // binds the height texture to unit 0.
 void bind_forward_material(const Program& p, const ForwardMaterial* fm);
 

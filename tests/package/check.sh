@@ -14,7 +14,7 @@ quiet() { "$@" >"$tmp/log" 2>&1 || { cat "$tmp/log"; exit 1; }; }
 case $mode in
 install)
     quiet cmake --install "$3" --prefix "$tmp/prefix"
-    for f in include/offsetmap/offsetmap.hpp include/offsetmap/evaluation.hpp include/om_shared.h \
+    for f in include/offsetmap/offsetmap.hpp include/offsetmap/evaluation.hpp include/offsetmap/shared.h \
              lib/cmake/offsetmap/offsetmapConfig.cmake; do
         [ -f "$tmp/prefix/$f" ] || { echo "not installed: $f"; exit 1; }
     done

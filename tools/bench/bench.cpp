@@ -30,7 +30,7 @@
 #include "bench_util.hpp"
 #include "cpu_peer.hpp"
 #include "offsetmap/evaluation.hpp"
-#include "om_shared.h"
+#include "offsetmap/shared.h"
 
 using namespace offsetmap;
 using namespace offsetmap::bench;

@@ -46,10 +46,14 @@ nlohmann::json bench_glsl_peer(std::shared_ptr<Runtime> rt, const Resolution& re
         OffsetTargets t;  // the timed runs' outputs, shared by the methods
         t.uv = cl::Buffer(rt->context(), CL_MEM_WRITE_ONLY, gb.pixels() * sizeof(cl_float2));
         t.depth = cl::Buffer(rt->context(), CL_MEM_WRITE_ONLY, gb.pixels() * sizeof(float));
-        for (const char* method : {"pom", "steep", "relief"}) {
-            OffsetPass pass(rt, method);
+        for (const MethodInfo& info : methods()) {
+            // The marches with a forward version (a single fetch is not worth a row).
+            const MethodParams params = resolve_params(info, {});
+            if (info.glsl.empty() || info.fetch_cap(params) <= 1) continue;
+            const char* method = info.name.c_str();
+            OffsetPass pass(rt, params);
             const OffsetResult kernel = run_offset(*rt, pass, g, f, s, 1);
-            peer.set_method(resolve_params(find_method(method), {}));
+            peer.set_method(params);
             const auto kernel_run = [&] {
                 const auto t0 = std::chrono::steady_clock::now();
                 pass.enqueue(g, f, s, t).wait();

@@ -1,6 +1,7 @@
 // Pieces shared by the CLI's subcommands.
 #pragma once
 #include <CLI/CLI.hpp>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -198,6 +199,17 @@ struct TemporalCommand : AnalysisOptions {
     TemporalCommand() { out_dir = "out/temporal"; }
 };
 int run_temporal_command(const TemporalCommand& cmd, const ReliefOptions& relief);
+
+// One subcommand: its options, added to the subcommand it makes (`app`), and what it does.
+struct Command {
+    virtual ~Command() = default;
+    virtual void add_to(CLI::App& parent) = 0;
+    virtual int run() = 0;  // the exit code
+    CLI::App* app = nullptr;
+};
+// Every subcommand, in the order `offsetmap --help` lists them.
+std::vector<std::unique_ptr<Command>> make_commands();
+std::unique_ptr<Command> demo_command();
 
 // Runs tools/bench/<script> with Debian's Python (matplotlib); false (with a warning) when it cannot.
 bool run_chart_script(const std::string& script, const std::vector<std::string>& args);

@@ -10,7 +10,7 @@
 #include <cstdint>
 #include <cstring>
 
-#include "om_shared.h"
+#include "offsetmap/shared.h"
 
 #define __global
 #define __kernel

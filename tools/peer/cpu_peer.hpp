@@ -9,7 +9,7 @@
 #include "offsetmap/evaluate.hpp"
 #include "offsetmap/heightmap.hpp"
 #include "offsetmap/passes.hpp"
-#include "om_shared.h"
+#include "offsetmap/shared.h"
 
 namespace offsetmap::cpu_peer {
 

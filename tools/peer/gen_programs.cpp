@@ -1,7 +1,7 @@
 // Writes each method's program for the C++ peer, from its registry row: the parameter slot
 // defines and the kernel files in program order, exactly what the runtime assembles for the
-// OpenCL build (param_slot_defines, offset_program_files). A file is rewritten only when its text
-// changes, so the peer recompiles only what a row or a file list changed.
+// OpenCL build (param_slot_defines, prelude_files, offset_program_files). A file is rewritten only
+// when its text changes, so the peer recompiles only what a row or a file list changed.
 //   offsetmap_peer_gen OUT_DIR STAMP
 #include <fstream>
 #include <iostream>
@@ -20,6 +20,7 @@ int main(int argc, char** argv) {
         std::string text = "// Generated from the registry row of '" + m.name +
                            "' by offsetmap_peer_gen. Do not edit.\n" +
                            offsetmap::param_slot_defines(m);
+        for (const auto& f : offsetmap::prelude_files()) text += "#include \"" + f + "\"\n";
         for (const auto& f : offsetmap::offset_program_files(m)) text += "#include \"" + f + "\"\n";
         const std::string path = dir + "/peer_" + stem + "_program.inc";
         std::ifstream old(path);

@@ -12,7 +12,7 @@
 #include "offsetmap/gbuffer.hpp"
 #include "offsetmap/input.hpp"
 #include "offsetmap/runtime.hpp"
-#include "om_shared.h"
+#include "offsetmap/shared.h"
 
 namespace offsetmap {
 

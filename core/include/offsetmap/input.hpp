@@ -4,7 +4,7 @@
 #include <cstddef>
 
 #include "offsetmap/cl.hpp"
-#include "om_shared.h"
+#include "offsetmap/shared.h"
 
 namespace offsetmap {
 

@@ -84,7 +84,8 @@ class MaterialFrame {
         cl::Buffer aux;       // its materials' precomputed data, concatenated (or null)
         std::map<std::string, cl::Kernel> kernels;  // by the outputs bound
     };
-    cl::Kernel& tile_kernel(Method& m, bool depth, bool fetches, bool flags);
+    // Its tile entry as `variant` asks (outputs only: the tile entry takes neither images nor LOD).
+    cl::Kernel& tile_kernel(Method& m, OffsetVariant variant);
     // The queue to enqueue on, after the G-buffer's checks (a material buffer required).
     const cl::CommandQueue& checked_queue(const DeviceGBuffer& g,
                                           const cl::CommandQueue& queue) const;

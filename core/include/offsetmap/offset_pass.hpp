@@ -28,6 +28,9 @@ struct OffsetTargets {
 // a G-buffer of n pixels.
 void check_targets(const cl::Context& context, const OffsetTargets& targets, size_t n);
 
+// The program variant that writes the targets bound (OM_OUT_*), the rest left at their defaults.
+OffsetVariant variant_writing(const OffsetTargets& targets);
+
 // One method's offset pass. Enqueues on `queue` (any queue of the runtime's context; the runtime's
 // own when null) after `wait`, and returns the kernel's event. One runtime serves any number of
 // queues: programs are built once per runtime. A pass object keeps its kernels' arguments, so
@@ -88,8 +91,8 @@ class OffsetPass {
                          const std::vector<cl::Event>& wait, const cl::CommandQueue& queue,
                          cl::Event& done);
 
-    // The entry kernel specialised for LOD on/off and the optional outputs bound.
-    cl::Kernel& kernel(bool lod, bool depth, bool fetches, bool flags, bool images);
+    // The entry kernel built as `variant` asks, at the runtime's lanes.
+    cl::Kernel& kernel(OffsetVariant variant);
     // An image1d_buffer view of the field's height pyramid (the image path), made once per field;
     // a null image when the pyramid is larger than the device's image buffers allow.
     const cl::Image1DBuffer& heights_image(const DeviceHeightField& f);

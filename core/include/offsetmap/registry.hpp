@@ -37,6 +37,9 @@ struct MethodParams {
 struct PrecomputeSpec {
     const char* doc;        // what it holds and its memory, for `offsetmap methods`
     const char* prep_file;  // its kernels, under kernels/ (after the sampling layer)
+    // The data's layout, a header under kernels/ shared by the builder, the prep kernel and the
+    // method (both programs list it before their own file), or nullptr.
+    const char* layout_file;
     // The bytes the pass keeps for these parameters on a map_w x map_h field.
     size_t (*bytes)(const MethodParams& params, const PassSettings& settings, int map_w, int map_h);
     // Enqueued after the field's `ready` event, not waited for: the data is complete when every
@@ -49,9 +52,10 @@ struct PrecomputeSpec {
                    const MethodParams& params);
 };
 
-// A method's whole contract: everything the host, the tools and the tests know of it. Adding a
-// method is one kernel file (kernels/methods/), one row here (core/src/registry.cpp) and one test
-// row (tests/support.hpp); with precomputed data, also its prep kernel and builder.
+// A method's whole contract: everything the host, the tools, the renderer and the tests know of it,
+// its one table. Adding a method is one kernel file (kernels/methods/), one row here
+// (core/src/registry.cpp, built field by field by name) and one test row (tests/support.hpp); with
+// precomputed data, also its prep kernel and builder (docs/design.md, "Adding a method").
 struct MethodInfo {
     std::string name;         // CLI and API name, e.g. "parallax-limited"
     std::string kernel_file;  // under kernels/methods/
@@ -69,6 +73,11 @@ struct MethodInfo {
     // device with lanes a work-item then takes two groups, so that one group's dependent reads
     // overlap the other's work (worth it for walks whose every step waits on its last read).
     bool lane_pairs = false;
+    // Its forward version for a GLSL fragment shader (renderer/shaders/relief.glsl): the branch
+    // the shader selects as OM_GLSL_<glsl>, "" for none; and the parameter values that version
+    // alone follows (name -> value; e.g. level 0 only).
+    std::string glsl = {};
+    std::map<std::string, float> glsl_only_with = {};
 };
 
 // The named methods in registry order (every method when `names` is empty); throws Error for an
@@ -94,11 +103,18 @@ MethodParams resolve_params(const MethodInfo& method,
 void parse_assignment(const std::string& item, std::map<std::string, std::string>& out);
 
 // Kernel programs, as lists of files under kernels/ (one definition each, for the passes, the
-// bench and the C++ peer): a program that reads heights, the sampling layer then `file` (a prep
-// kernel, the roofline); the shade pass (sampling, image blocks, shading); and a method's offset
-// program (sampling, ray, patch solve, the method, image blocks, the entry).
+// bench and the C++ peer). Every program starts with the prelude (Runtime::program_source puts it
+// there, after offsetmap/shared.h): the lane layer, its PoCL paths first. Then a program that
+// reads heights: the sampling layer then `file` (a prep kernel, the roofline); a method's prep
+// program (sampling, its data's layout, its prep kernel); the shade pass (sampling, image blocks,
+// shading, with the material frame's id rule); the material frame's classification; and a method's
+// offset program (sampling, ray, patch solve, its data's layout, the method, image blocks, the
+// entry).
+std::vector<std::string> prelude_files();
 std::vector<std::string> sampling_program_files(const std::string& file);
+std::vector<std::string> prep_program_files(const PrecomputeSpec& spec);
 std::vector<std::string> shade_program_files();
+std::vector<std::string> classify_program_files();
 std::vector<std::string> offset_program_files(const MethodInfo& method);
 
 // Groups of lanes a work-item of `method` walks on a device with `lanes` lanes: 2 for a lane-pair
@@ -121,7 +137,7 @@ std::string offset_program_defines(const MethodInfo& method, const OffsetVariant
                                    bool tiles = false);
 
 // The defines that hand a method's parameters to its kernel by name: OM_SLOT_<name> is the slot of
-// OmOffsetParams::p holding it, which OM_PARAM(P, name) reads (om_shared.h).
+// OmOffsetParams::p holding it, which OM_PARAM(P, name) reads (offsetmap/shared.h).
 std::string param_slot_defines(const MethodInfo& method);
 
 }  // namespace offsetmap

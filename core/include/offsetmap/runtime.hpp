@@ -52,9 +52,10 @@ class Runtime {
     // Kernel `name` of a program built here; on failure an Error naming the kernel, the program's
     // files, the device and the driver's first log line.
     cl::Kernel kernel(const cl::Program& program, const std::string& name) const;
-    // The text program() builds: the shared header, then `files`, after `defines`; with `pocl`,
-    // PoCL's switches first (OM_POCL: its compiler builtins and target intrinsics). Kernel files
-    // from `dir` as kernel_source reads them.
+    // The text program() builds: after `defines`, the library's own offsetmap/shared.h, the
+    // prelude (prelude_files) and `files`; with `pocl`, PoCL's switches first (OM_POCL: its
+    // compiler builtins and target intrinsics). Kernel files from `dir` as kernel_source reads
+    // them; the shared header always from the library.
     static std::string program_source(const std::vector<std::string>& files,
                                       const std::string& defines, bool pocl,
                                       const std::string& dir = "");

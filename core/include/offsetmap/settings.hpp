@@ -1,8 +1,23 @@
 // A pass's settings (the relief's placement, the grazing rule, LOD) and what they give the kernels.
 #pragma once
-#include "om_shared.h"
+#include "offsetmap/shared.h"
 
 namespace offsetmap {
+
+// The host's names for the shared header's OM_* constants (the kernels read the constants).
+enum class AddressMode : om_int { Wrap = OM_ADDRESS_WRAP, Clamp = OM_ADDRESS_CLAMP };
+enum class GrazingPolicy : om_int {
+    Clamp = OM_GRAZING_CLAMP,
+    Limit = OM_GRAZING_LIMIT,
+    Cap = OM_GRAZING_CAP
+};
+// How upload() keeps a field's heights for the passes (PassSettings::heights).
+enum class HeightStorage : om_int { Auto, Float, Unorm16 };
+enum class ShadowMode : om_int {
+    None = OM_SHADOW_NONE,
+    Hard = OM_SHADOW_HARD,
+    Soft = OM_SHADOW_SOFT
+};
 
 // Tatarchuk's level-of-detail system (off by default). The per-pixel mip level m comes from the
 // G-buffer's lod buffer, or from the uv footprint between neighbouring pixels when it has none.
@@ -29,7 +44,7 @@ struct PassSettings {
     float min_elevation_deg = 1.0f;  // grazing rule: views lower than this are raised to it
     AddressMode address = AddressMode::Wrap;
     LodSettings lod;
-    // What happens at grazing views (GrazingPolicy, om_shared.h; bounded loops, finite outputs):
+    // What happens at grazing views (GrazingPolicy, OM_GRAZING_*; bounded loops, finite outputs):
     //  Clamp: views below min_elevation_deg are traced at that elevation (the default).
     //  Limit: Welsh's offset limiting for every method: rays along normalize(V.x, V.y, 1), so an
     //         offset never exceeds the depth it crosses (biased at every view but straight down).

@@ -6,6 +6,7 @@
 #include "offsetmap/cl.hpp"
 #include "offsetmap/gbuffer.hpp"
 #include "offsetmap/height_field.hpp"
+#include "offsetmap/offset_pass.hpp"
 #include "offsetmap/runtime.hpp"
 #include "offsetmap/settings.hpp"
 
@@ -31,17 +32,33 @@ struct DeviceImage {
 
 DeviceImage upload(Runtime& runtime, const Image4& image);
 
-// Blinn-Phong at uv' with the field's normals; writes linear RGBA float4 per pixel (alpha 0 where
-// the pixel is empty). Knows nothing of the method that produced uv'. Enqueues on `queue` (the
-// runtime's when null) after `wait`.
+// What the shade pass reads besides the G-buffer and the field: an offset pass's outputs and the
+// albedo.
+struct ShadeInputs {
+    cl::Buffer uv;                        // float2 per pixel, uv' (OffsetTargets::uv)
+    cl::Buffer flags;                     // uint per pixel (OffsetTargets::flags), or null
+    const DeviceImage* albedo = nullptr;  // null: a neutral procedural checker
+};
+// An offset pass's targets as the shade pass's inputs.
+inline ShadeInputs shade_inputs(const OffsetTargets& offsets, const DeviceImage* albedo = nullptr) {
+    return {offsets.uv, offsets.flags, albedo};
+}
+
+// What it writes.
+struct ShadeTargets {
+    cl::Buffer rgba;  // float4 per pixel, linear RGBA (alpha 0 where the pixel is empty)
+};
+
+// Blinn-Phong at uv' with the field's normals (and the relief's self-shadows). Knows nothing of
+// the method that produced uv'. Enqueues on `queue` (the runtime's when null) after `wait`.
 class ShadePass {
   public:
     explicit ShadePass(std::shared_ptr<Runtime> runtime);
 
-    cl::Event enqueue(const cl::Buffer& uv, const cl::Buffer& flags, const DeviceGBuffer& gbuffer,
-                      const DeviceHeightField& field, const DeviceImage* albedo,
-                      const PassSettings& settings, const ShadeSettings& shade,
-                      const cl::Buffer& out_rgba, const std::vector<cl::Event>& wait = {},
+    cl::Event enqueue(const DeviceGBuffer& gbuffer, const DeviceHeightField& field,
+                      const ShadeInputs& inputs, const PassSettings& settings,
+                      const ShadeSettings& shade, const ShadeTargets& targets,
+                      const std::vector<cl::Event>& wait = {},
                       const cl::CommandQueue& queue = cl::CommandQueue());
 
   private:

@@ -4,6 +4,7 @@
 #include <cstddef>
 
 #include "launch.hpp"
+#include "methods/cone_map.h"
 #include "offsetmap/passes.hpp"
 #include "offsetmap/runtime.hpp"
 #include "precompute/precompute.hpp"
@@ -20,7 +21,7 @@ PrecomputeSpec::Built build(Runtime& rt, const DeviceHeightField& f, const PassS
                             const MethodParams& params) {
     const int B = OM_CONE_BLOCK;
     const int bw = (f.width + B - 1) / B, bh = (f.height + B - 1) / B;
-    cl::Program program = rt.program(sampling_program_files(kConeMap.prep_file));
+    cl::Program program = rt.program(prep_program_files(kConeMap));
     OmOffsetParams p = offset_params(settings, f.width, f.height);
     cl::Buffer blocks(rt.context(), CL_MEM_READ_WRITE,
                       static_cast<size_t>(bw) * bh * sizeof(float));
@@ -57,6 +58,6 @@ const PrecomputeSpec kConeMap = {
     "cone map: a 32-bit word per cell (cell maximum rounded up, cone ratio rounded down; 16 bits "
     "each) in 32 x 32 tiles, about 4 W H bytes, built by a kernel per height map with 8 x 8 block "
     "maxima to prune the search",
-    "prep/cone.cl", bytes, build};
+    "prep/cone.cl", "methods/cone_map.h", bytes, build};
 
 }  // namespace offsetmap

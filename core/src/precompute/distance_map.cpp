@@ -23,7 +23,7 @@ PrecomputeSpec::Built build(Runtime& rt, const DeviceHeightField& f, const PassS
                             const MethodParams& params) {
     const int res = static_cast<int>(params["res"]), layers = static_cast<int>(params["layers"]);
     OmOffsetParams p = offset_params(settings, f.width, f.height);
-    cl::Program program = rt.program(sampling_program_files(kDistanceMap.prep_file));
+    cl::Program program = rt.program(prep_program_files(kDistanceMap));
     // The column maxima are a step of the build, freed with it.
     cl::Buffer colmax(rt.context(), CL_MEM_READ_WRITE,
                       static_cast<size_t>(res) * res * sizeof(float));
@@ -48,6 +48,6 @@ PrecomputeSpec::Built build(Runtime& rt, const DeviceHeightField& f, const PassS
 const PrecomputeSpec kDistanceMap = {
     "distance map: res x res x layers floats (4 res^2 layers bytes), built by a kernel per height "
     "map, scale and address mode",
-    "prep/distance.cl", bytes, build};
+    "prep/distance.cl", nullptr, bytes, build};
 
 }  // namespace offsetmap

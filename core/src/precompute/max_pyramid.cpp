@@ -4,6 +4,7 @@
 #include <cstddef>
 
 #include "launch.hpp"
+#include "methods/maxmip_pyramid.h"
 #include "offsetmap/passes.hpp"
 #include "offsetmap/runtime.hpp"
 #include "precompute/precompute.hpp"
@@ -35,7 +36,7 @@ PrecomputeSpec::Built build(Runtime& rt, const DeviceHeightField& f, const PassS
     out.data = cl::Buffer(rt.context(), CL_MEM_READ_WRITE,
                           std::max<size_t>(floats(settings, f.width, f.height), 1) * sizeof(float));
     if (top == 0) return out;  // no hierarchy: the walk is exact's
-    cl::Program program = rt.program(sampling_program_files(kMaxPyramid.prep_file));
+    cl::Program program = rt.program(prep_program_files(kMaxPyramid));
     OmOffsetParams p = offset_params(settings, f.width, f.height);
     cl::Kernel first = rt.kernel(program, "om_maxmip_first");
     set_args(first, p, f.heights, out.data, wp >> 1, hp >> 1);
@@ -63,6 +64,6 @@ const PrecomputeSpec kMaxPyramid = {
     "max pyramid from level 1: about W H / 3 floats (4 W H / 3 bytes) over the map padded to a "
     "multiple of 2^levels (at most 1/8 more a side), built by a kernel per height map; any size, "
     "either address mode",
-    "prep/maxmip.cl", bytes, build};
+    "prep/maxmip.cl", "methods/maxmip_pyramid.h", bytes, build};
 
 }  // namespace offsetmap

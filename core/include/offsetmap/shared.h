@@ -1,7 +1,11 @@
-// Structs and flags shared by the host (C++17) and the device (OpenCL C 1.2).
+// offsetmap's one header that is both C++17 and OpenCL C 1.2: the structs, flags and enums the host
+// and the kernels share, the launch geometry both compute, and the layout both must agree on. The
+// runtime puts the library's own copy at the top of every kernel program (never a kernel folder's:
+// the host was compiled against this one). Method-internal layouts live beside their methods
+// (kernels/methods/*.h).
 // Every member is a 4-byte scalar so the layout is identical on both sides without packing pragmas.
-#ifndef OM_SHARED_H
-#define OM_SHARED_H
+#ifndef OFFSETMAP_SHARED_H
+#define OFFSETMAP_SHARED_H
 
 // OpenCL C defines __OPENCL_C_VERSION__ (1.2 and later); __OPENCL_VERSION__ is the platform's, which
 // an offline compiler (clang for SPIR-V) leaves undefined.
@@ -13,10 +17,6 @@
 typedef float om_float;
 typedef int om_int;
 typedef uint om_uint;
-// Vector literals, spelled so the kernel sources also compile as C++ (tools/peer).
-#define OM_F2(a, b) ((float2)((a), (b)))
-#define OM_F3(a, b, c) ((float3)((a), (b), (c)))
-#define OM_F4(a, b, c, d) ((float4)((a), (b), (c), (d)))
 #else
 #include <cstddef>
 #include <cstdint>
@@ -48,74 +48,6 @@ enum { OM_ADDRESS_WRAP = 0, OM_ADDRESS_CLAMP = 1 };  // height addressing: tilin
 // max_offset_texels (cap).
 enum { OM_GRAZING_CLAMP = 0, OM_GRAZING_LIMIT = 1, OM_GRAZING_CAP = 2 };
 enum { OM_SHADOW_NONE = 0, OM_SHADOW_HARD = 1, OM_SHADOW_SOFT = 2 };  // the relief's self-shadows
-
-// maxmip's pyramid of maxima (kernels/prep/maxmip.cl, methods/maxmip.cl, its builder): level k
-// holds 2^k x 2^k blocks, up to this level.
-#define OM_MAXMIP_MAX_LEVEL 15
-// maxmip's pyramid is stored over the map padded up to a multiple of 2^levels on each side, so
-// every level is an exact halving of the one below; `levels` is the largest count whose padding
-// adds at most an eighth to either side (none for powers of two: 1024 has 10 levels, 1025 has 7)
-// and whose blocks are no wider than the map. Any size and either address mode.
-static inline int om_maxmip_padded(int size, int levels) {
-    return ((size + (1 << levels) - 1) >> levels) << levels;
-}
-static inline int om_maxmip_levels(int width, int height, int address_mode) {
-    int levels = 0;
-    (void)address_mode;
-    const int longest = width > height ? width : height;
-    while (levels < OM_MAXMIP_MAX_LEVEL && (1 << (levels + 1)) <= longest &&
-           8 * om_maxmip_padded(width, levels + 1) <= 9 * width &&
-           8 * om_maxmip_padded(height, levels + 1) <= 9 * height)
-        ++levels;
-    return levels;
-}
-
-// The cone map's build searches rings of OM_CONE_BLOCK x OM_CONE_BLOCK blocks of cells.
-#define OM_CONE_BLOCK 8
-// The cone map (kernels/prep/cone.cl, methods/cone.cl, its builder) holds one 32-bit word per
-// cell: the low 16 bits q_h give the cell maximum rounded up to q_h / OM_CONE_HC_SCALE (65535
-// decodes above 1, so every height in [0, 1] has a bound), the high 16 bits q_c the cone ratio
-// rounded down to (q_c / OM_CONE_C_SCALE)^2 (up to 1024, the largest max_ratio; the square root
-// keeps narrow cones precise). Both roundings only shorten steps, so the hit is still exact's.
-// Cells lie in 32 x 32 tiles (4 KiB, a page) of 4 x 4 blocks (64 bytes, a cache line), the map
-// padded to whole tiles, so neighbouring cells share lines and pages (row-major rows of a 1024^2
-// map are a page apart). A cone jump waits on its read, which misses the caches more the larger
-// the map: half the bytes and this layout made `cone` 15-25 % faster on 1024^2 and 2048^2 maps.
-#define OM_CONE_HC_SCALE 65534.0f
-#define OM_CONE_C_SCALE 2047.0f
-#define OM_CONE_TILE 32
-static inline int om_cone_tiles(int size) { return (size + OM_CONE_TILE - 1) / OM_CONE_TILE; }
-// The decoding, once for the build's check, the host and the method's lanes: a half-word already
-// converted to float (or to lanes of floats) gives the maximum, or the cone ratio's square root.
-#define OM_CONE_HC_OF(qh) ((qh) * (1.0f / OM_CONE_HC_SCALE))
-#define OM_CONE_ROOT_OF(qc) ((qc) * (1.0f / OM_CONE_C_SCALE))
-static inline float om_cone_hc(om_uint q) { return OM_CONE_HC_OF((float)(q & 0xffffu)); }
-static inline float om_cone_ratio(om_uint q) {
-    const float r = OM_CONE_ROOT_OF((float)(q >> 16));
-    return r * r;
-}
-// Cell (i, j)'s word, for scalars or lane vectors; tiles_x = om_cone_tiles(width).
-#define OM_CONE_INDEX(i, j, tiles_x)                                           \
-    (((((j) >> 5) * (tiles_x) + ((i) >> 5)) << 10) + ((((j) >> 2) & 7) << 7) + \
-     ((((i) >> 2) & 7) << 4) + (((j)&3) << 2) + ((i)&3))
-
-#ifndef OM_OPENCL_C
-namespace offsetmap {
-enum class AddressMode : om_int { Wrap = OM_ADDRESS_WRAP, Clamp = OM_ADDRESS_CLAMP };
-enum class GrazingPolicy : om_int {
-    Clamp = OM_GRAZING_CLAMP,
-    Limit = OM_GRAZING_LIMIT,
-    Cap = OM_GRAZING_CAP
-};
-// How upload() keeps a field's heights for the passes (PassSettings::heights).
-enum class HeightStorage : om_int { Auto, Float, Unorm16 };
-enum class ShadowMode : om_int {
-    None = OM_SHADOW_NONE,
-    Hard = OM_SHADOW_HARD,
-    Soft = OM_SHADOW_SOFT
-};
-}  // namespace offsetmap
-#endif
 
 // The offset entry's lane groups are blocks of the G-buffer image: 4 x 4 pixels for 16 lanes, 4 x 2
 // for 8, one pixel for 1; blocks are numbered row by row, ceil(width / w) to a row.
@@ -257,15 +189,6 @@ typedef struct {
     om_int normals_offset;  // its normals' first float4 in the frame's normals buffer
     om_int albedo_offset;   // its albedo's first float4 in the frame's albedo buffer
 } OmMaterialSlot;
-
-#ifdef OM_OPENCL_C
-// The slot of material value m (id -> slot table of id_limit entries), or -1 when m is not an
-// integer id the table holds.
-static inline int om_slot_of(float m, int id_limit, __global const int* slot_of_id) {
-    const int id = m >= 1.0f && m < (float)id_limit ? (int)m : 0;
-    return id > 0 && (float)id == m ? slot_of_id[id] : -1;
-}
-#endif
 
 // The layout host and device must agree on: the host uploads these structs as raw bytes (kernel
 // arguments, the material frame's slot table). Every member is a 4-byte scalar, so neither side
