@@ -38,8 +38,8 @@ def check_png(path, min_w, min_h):
 
 def check_sweep(d):
     recs = rows(f"{d}/sweep.csv")
-    # parallax, exact (defaults) and pom's four settings of its registry grid, on two view sets.
-    check(len(recs) == 12, f"sweep.csv: {len(recs)} rows, expected 12")
+    # parallax, exact (defaults) and pom's seven settings of its registry grid, on two view sets.
+    check(len(recs) == 18, f"sweep.csv: {len(recs)} rows, expected 18")
     with open(f"{d}/sweep.json") as f:
         js = json.load(f)["records"]
     check(len(js) == len(recs), "sweep.json and sweep.csv hold different records")
@@ -59,8 +59,9 @@ def check_sweep(d):
         check(float(par["fetches_mean"]) == 1.0 and float(par["fetches_max"]) == 1.0,
               f"{views}: parallax must read exactly one height")
         poms = sorted((r for r in sel if r["method"] == "pom"),
-                      key=lambda r: int(params(r["setting"])["max_samples"]))
-        check(len(poms) == 4, f"{views}: {len(poms)} pom settings, expected 4")
+                      key=lambda r: (int(params(r["setting"])["max_samples"]),
+                                     int(params(r["setting"])["min_samples"])))
+        check(len(poms) == 7, f"{views}: {len(poms)} pom settings, expected 7")
         prev = float(par["uv_mean"])
         for r in poms:
             p = params(r["setting"])

@@ -140,7 +140,10 @@ const std::vector<MethodInfo>& methods() {
             .params({integer_param("min_samples", 8, 1, 256, "steps when looking straight down",
                                    "max_samples"),
                      integer_param("max_samples", 32, 1, 256, "steps at grazing views")})
-            .sweep({{{"min_samples", "4"}, {"max_samples", "16"}},
+            .sweep({{{"min_samples", "1"}, {"max_samples", "8"}},
+                    {{"min_samples", "1"}, {"max_samples", "10"}},
+                    {{"min_samples", "2"}, {"max_samples", "10"}},
+                    {{"min_samples", "4"}, {"max_samples", "16"}},
                     {{"min_samples", "8"}, {"max_samples", "32"}},
                     {{"min_samples", "16"}, {"max_samples", "64"}},
                     {{"min_samples", "32"}, {"max_samples", "128"}}})

@@ -84,10 +84,14 @@ def draw_cheap(points, where, path):
                     best = (p, ratio)
         if best:
             p, ratio = best
+            # Beside its own point, ringed, so that no neighbour reads as the one meant.
+            ax.plot([p["fetches"]], [max(p["p95"], ERROR_FLOOR)], "o", markersize=11,
+                    markerfacecolor="none", markeredgecolor="black")
             ax.annotate("%s\n%.2f x %s's p95 at %.2f fetches" % (label(p), ratio, BASELINE,
                                                                    p["fetches"]),
-                        (p["fetches"], p["p95"]), fontsize=8, xytext=(70, -90),
-                        textcoords="offset points", arrowprops={"arrowstyle": "->"})
+                        (p["fetches"], max(p["p95"], ERROR_FLOOR)), fontsize=8, xytext=(10, -4),
+                        textcoords="offset points", va="top",
+                        bbox={"boxstyle": "round", "fc": "white", "ec": "0.6", "alpha": 0.85})
     ax.set_yscale("log")
     ax.set_xlabel("height fetches per pixel")
     ax.set_ylabel("p95 uv error against exact (texels; mean over cases)")
