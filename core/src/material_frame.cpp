@@ -198,9 +198,7 @@ MaterialFrame::MaterialFrame(std::shared_ptr<Runtime> runtime, std::vector<Frame
     shade_lanes_ = rt.lanes();
     shade_ = shade_kernel(rt, "om_shade_materials");
     // Compile the usual variant now, so a method's build errors surface here.
-    OffsetVariant usual;
-    usual.depth = usual.fetches = usual.flags = true;
-    for (Method& m : methods_) tile_kernel(m, usual);
+    for (Method& m : methods_) tile_kernel(m, variant_writing_every_output());
 }
 
 cl::Kernel& MaterialFrame::tile_kernel(Method& m, OffsetVariant v) {

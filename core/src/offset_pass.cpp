@@ -29,6 +29,12 @@ OffsetVariant variant_writing(const OffsetTargets& t) {
     return v;
 }
 
+OffsetVariant variant_writing_every_output() {
+    OffsetVariant v;
+    v.depth = v.fetches = v.flags = true;
+    return v;
+}
+
 OffsetPass::OffsetPass(std::shared_ptr<Runtime> runtime, const std::string& method,
                        const std::map<std::string, std::string>& params)
     : OffsetPass(std::move(runtime), resolve_params(find_method(method), params)) {}
@@ -40,9 +46,8 @@ OffsetPass::OffsetPass(std::shared_ptr<Runtime> runtime, const MethodParams& par
     lanes_ = runtime_->lanes();
     groups_ = lane_groups(*method_, lanes_);
     // Compile now (the tools' usual outputs), so a method's build errors surface here.
-    OffsetVariant usual;
+    OffsetVariant usual = variant_writing_every_output();
     usual.images = runtime_->images();
-    usual.depth = usual.fetches = usual.flags = true;
     kernel(usual);
 }
 

@@ -260,9 +260,9 @@ std::string Runtime::program_source(const std::vector<std::string>& files,
     // compiled against it, and a layout of its own would shift every uploaded field.
     source +=
         defines + "\n#line 1 \"" + kSharedHeader + "\"\n" + embedded_source(kSharedHeader) + "\n";
-    for (const auto& f : prelude_files())
-        source += "#line 1 \"" + f + "\"\n" + kernel_source(f, dir) + "\n";
-    for (const auto& f : files) source += "#line 1 \"" + f + "\"\n" + kernel_source(f, dir) + "\n";
+    std::vector<std::string> all = prelude_files();
+    all.insert(all.end(), files.begin(), files.end());
+    for (const auto& f : all) source += "#line 1 \"" + f + "\"\n" + kernel_source(f, dir) + "\n";
     return source;
 }
 

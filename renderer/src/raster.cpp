@@ -60,7 +60,8 @@ ForwardMaterial forward_material(int id, const HeightMap& map, const PassSetting
 }
 
 void bind_forward_material(const Program& p, const ForwardMaterial* fm) {
-    glUniform1i(uniform(p, "u_method"), fm ? fm->method : glsl_method(find_method("none")));
+    static const int no_relief = glsl_method(find_method("none"));
+    glUniform1i(uniform(p, "u_method"), fm ? fm->method : no_relief);
     if (!fm) return;
     glBindTextureUnit(0, fm->heights.get());
     glUniform1i(uniform(p, "u_heights"), 0);

@@ -6,6 +6,7 @@
 #include <fstream>
 #include <iostream>
 #include <sstream>
+#include <vector>
 
 #include "offsetmap/registry.hpp"
 
@@ -20,8 +21,9 @@ int main(int argc, char** argv) {
         std::string text = "// Generated from the registry row of '" + m.name +
                            "' by offsetmap_peer_gen. Do not edit.\n" +
                            offsetmap::param_slot_defines(m);
-        for (const auto& f : offsetmap::prelude_files()) text += "#include \"" + f + "\"\n";
-        for (const auto& f : offsetmap::offset_program_files(m)) text += "#include \"" + f + "\"\n";
+        std::vector<std::string> files = offsetmap::prelude_files();
+        for (const auto& f : offsetmap::offset_program_files(m)) files.push_back(f);
+        for (const auto& f : files) text += "#include \"" + f + "\"\n";
         const std::string path = dir + "/peer_" + stem + "_program.inc";
         std::ifstream old(path);
         std::ostringstream current;

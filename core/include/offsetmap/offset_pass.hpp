@@ -28,8 +28,10 @@ struct OffsetTargets {
 // a G-buffer of n pixels.
 void check_targets(const cl::Context& context, const OffsetTargets& targets, size_t n);
 
-// The program variant that writes the targets bound (OM_OUT_*), the rest left at their defaults.
+// The program variant that writes the targets bound (OM_OUT_*), the rest left at their defaults;
+// and the one the passes compile up front, writing all three (the tools' usual outputs).
 OffsetVariant variant_writing(const OffsetTargets& targets);
+OffsetVariant variant_writing_every_output();
 
 // One method's offset pass. Enqueues on `queue` (any queue of the runtime's context; the runtime's
 // own when null) after `wait`, and returns the kernel's event. One runtime serves any number of
