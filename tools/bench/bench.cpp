@@ -563,7 +563,7 @@ int main(int argc, char** argv) {
                                                    : std::vector<int>{256, 1024, 4096};
         PassSettings s;
         s.scale = 0.05f;
-        const std::string data_dir = std::string(OFFSETMAP_SCRIPT_DIR) + "/../data";
+        const std::string data_dir = OFFSETMAP_DATA_DIR;
         const int frame_rounds = smoke ? 1 : std::clamp(static_cast<int>(target_ms / 30), 5, 21);
         if (!ab.empty() && ab_scene == "frame") {
             b.out["ab"] = bench_frame(b.rt, main_res, data_dir, frame_rounds, {ab[0], ab[1]});
