@@ -38,8 +38,8 @@ def check_png(path, min_w, min_h):
 
 def check_sweep(d):
     recs = rows(f"{d}/sweep.csv")
-    # parallax, exact (defaults) and pom's seven settings of its registry grid, on two view sets.
-    check(len(recs) == 18, f"sweep.csv: {len(recs)} rows, expected 18")
+    # parallax, exact (defaults) and pom's eight settings of its registry grid, on two view sets.
+    check(len(recs) == 20, f"sweep.csv: {len(recs)} rows, expected 20")
     with open(f"{d}/sweep.json") as f:
         js = json.load(f)["records"]
     check(len(js) == len(recs), "sweep.json and sweep.csv hold different records")
@@ -58,17 +58,23 @@ def check_sweep(d):
         par = by[("parallax", "defaults")]
         check(float(par["fetches_mean"]) == 1.0 and float(par["fetches_max"]) == 1.0,
               f"{views}: parallax must read exactly one height")
-        poms = sorted((r for r in sel if r["method"] == "pom"),
-                      key=lambda r: (int(params(r["setting"])["max_samples"]),
-                                     int(params(r["setting"])["min_samples"])))
-        check(len(poms) == 7, f"{views}: {len(poms)} pom settings, expected 7")
-        prev = float(par["uv_mean"])
+        poms = [r for r in sel if r["method"] == "pom"]
+        check(len(poms) == 8, f"{views}: {len(poms)} pom settings, expected 8")
         for r in poms:
             p = params(r["setting"])
             cap = max(int(p["min_samples"]), int(p["max_samples"])) + 1
             check(float(r["fetches_max"]) <= cap,
                   f"{views}: pom {r['setting']} read {r['fetches_max']} > {cap} heights")
-            # More samples, lower error; every pom setting beats parallax on this noise map.
+            # Every pom setting beats parallax on this noise map.
+            check(float(r["uv_mean"]) < float(par["uv_mean"]),
+                  f"{views}: pom {r['setting']} no better than parallax")
+        # Tatarchuk's rule (no spacing): more samples, lower error.
+        lerps = sorted((r for r in poms if "spacing" not in params(r["setting"])),
+                       key=lambda r: (int(params(r["setting"])["max_samples"]),
+                                      int(params(r["setting"])["min_samples"])))
+        check(len(lerps) == 7, f"{views}: {len(lerps)} pom settings by V.z, expected 7")
+        prev = float(par["uv_mean"])
+        for r in lerps:
             check(float(r["uv_mean"]) < prev, f"{views}: pom {r['setting']} error did not fall")
             prev = float(r["uv_mean"])
         for r in sel:

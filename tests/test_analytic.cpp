@@ -51,6 +51,18 @@ TEST(Analytic, ConstantFieldGivesThePlaneHit) {
         for (float c : {0.0f, 0.35f, 0.9f}) check_constant_field(c, r);
 }
 
+// One pixel at uv (0.3, 0.6) per view: elevations from straight down to 2 degrees, each azimuth.
+std::vector<std::array<float, 5>> views_from_above_to_grazing(
+    std::initializer_list<double> azimuths) {
+    std::vector<std::array<float, 5>> px;
+    for (double elev : {90.0, 70.0, 45.0, 30.0, 15.0, 5.0, 2.0})
+        for (double az : azimuths) {
+            auto V = view_dir(elev, az);
+            px.push_back({0.3f, 0.6f, V[0], V[1], V[2]});
+        }
+    return px;
+}
+
 TEST(Analytic, PomStepCountFollowsTatarchusLerp) {
     // Tatarchuk's dynamic sampling: n = lerp(n_max, n_min, V.z) steps (rounded), more at grazing
     // views. On a floor (H = 0, r = 1) the linear search runs to the bottom plane, sample n, so
@@ -59,18 +71,39 @@ TEST(Analytic, PomStepCountFollowsTatarchusLerp) {
     HeightMap floor = constant_map(0.0f, 16, 16);
     PassSettings s;
     s.scale = 0.05f;
-    std::vector<std::array<float, 5>> px;
-    for (double elev : {90.0, 70.0, 45.0, 30.0, 15.0, 5.0, 2.0})
-        for (double az : {0.0, 130.0}) {
-            auto V = view_dir(elev, az);
-            px.push_back({0.3f, 0.6f, V[0], V[1], V[2]});
-        }
+    const std::vector<std::array<float, 5>> px = views_from_above_to_grazing({0.0, 130.0});
     for (const char* method : {"pom", "secant"}) {
         OffsetResult r =
             run(method, floor, row_gbuffer(px), s, {{"min_samples", "6"}, {"max_samples", "40"}});
         for (size_t k = 0; k < px.size(); ++k) {
             const double n = std::max(1.0, std::floor(40.0 + (6.0 - 40.0) * px[k][4] + 0.5));
             EXPECT_EQ(r.fetches[k], n + 1) << method << " at V.z = " << px[k][4];
+        }
+    }
+}
+
+TEST(Analytic, PomSpacingStepsByTheTexelsTheRayCrosses) {
+    // With spacing k the step count is ceil(texels / k) within [n_min, n_max], texels being those
+    // the ray crosses through the slab: s |(V.x W, V.y H)| / V.z on a W x H map (r = 1). On a
+    // floor the search runs to the bottom, n + 1 reads. A non-square map pins the per-axis sizes.
+    HeightMap floor = constant_map(0.0f, 32, 16);
+    PassSettings s;
+    s.scale = 0.05f;
+    const std::vector<std::array<float, 5>> px = views_from_above_to_grazing({0.0, 60.0, 130.0});
+    const double k = 1.5, n_min = 2, n_max = 12;
+    OffsetResult r = run("pom", floor, row_gbuffer(px), s,
+                         {{"min_samples", "2"}, {"max_samples", "12"}, {"spacing", "1.5"}});
+    for (size_t i = 0; i < px.size(); ++i) {
+        const double vx = px[i][2], vy = px[i][3], vz = px[i][4];
+        const double texels = s.scale * std::hypot(vx * 32, vy * 16) / vz;
+        const double q = texels / k;
+        const double n = std::clamp(std::ceil(q), n_min, n_max);
+        if (std::abs(q - std::round(q)) < 1e-4) {  // float rounding may go either way there
+            const double lo = std::clamp(std::round(q), n_min, n_max);
+            const double hi = std::clamp(std::round(q) + 1, n_min, n_max);
+            EXPECT_TRUE(r.fetches[i] == lo + 1 || r.fetches[i] == hi + 1) << i;
+        } else {
+            EXPECT_EQ(r.fetches[i], n + 1) << "texels " << texels << " at V.z = " << vz;
         }
     }
 }

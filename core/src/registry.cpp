@@ -134,21 +134,26 @@ const std::vector<MethodInfo>& methods() {
             .fetch_cap(cap_relief)
             .glsl("RELIEF"),
         Row("pom", "pom.cl")
-            .summary("linear search with lerp(n_max, n_min, V.z) steps, then the ray cut with the "
-                     "segment between the last two samples")
+            .summary("linear search with lerp(n_max, n_min, V.z) steps (or one per `spacing` "
+                     "texels crossed), then the ray cut with the segment between the last two "
+                     "samples")
             .reference("Tatarchuk 2006, practical parallax occlusion mapping")
             .params({integer_param("min_samples", 8, 1, 256, "steps when looking straight down",
                                    "max_samples"),
-                     integer_param("max_samples", 32, 1, 256, "steps at grazing views")})
+                     integer_param("max_samples", 32, 1, 256, "steps at grazing views"),
+                     real_param("spacing", 0, 0, 1024,
+                                "> 0: one step per this many texels the ray crosses, within "
+                                "[min_samples, max_samples]; 0: Tatarchuk's lerp by V.z")})
             .sweep({{{"min_samples", "1"}, {"max_samples", "8"}},
                     {{"min_samples", "1"}, {"max_samples", "10"}},
                     {{"min_samples", "2"}, {"max_samples", "10"}},
                     {{"min_samples", "4"}, {"max_samples", "16"}},
                     {{"min_samples", "8"}, {"max_samples", "32"}},
                     {{"min_samples", "16"}, {"max_samples", "64"}},
-                    {{"min_samples", "32"}, {"max_samples", "128"}}})
+                    {{"min_samples", "32"}, {"max_samples", "128"}},
+                    {{"min_samples", "1"}, {"max_samples", "16"}, {"spacing", "6"}}})
             .fetch_cap(cap_pom)
-            .glsl("POM"),
+            .glsl("POM", {{"spacing", 0}}),
         Row("sphere", "sphere.cl")
             .summary("sphere tracing through a conservative 3D distance map from the top plane")
             .reference(

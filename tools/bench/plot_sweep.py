@@ -5,7 +5,7 @@
 
 Writes OUT_DIR/pareto-ns.png (mean uv error against kernel ns/pixel) and OUT_DIR/pareto-fetches.png
 (against height fetches/pixel): log axes, one colour per method, each method's settings joined in
-sweep order, the Pareto front (no other point is both cheaper and more accurate) drawn and its
+order of cost, the Pareto front (no other point is both cheaper and more accurate) drawn and its
 members named; OUT_DIR/pareto-by-map.png, the ns/pixel chart per height map; and
 OUT_DIR/pareto-cheap.png, the cheap end (at most 8 fetches): p95 uv error against fetches, with half
 of parallax-iterative's p95 (interpolated between its settings) drawn as the line to beat. Every
@@ -67,7 +67,7 @@ def draw_cheap(points, where, path):
     fig, ax = plt.subplots(figsize=(10, 6.5))
     colours = plt.get_cmap("tab10")
     for i, m in enumerate(OrderedDict.fromkeys(p["method"] for p in points)):
-        ps = [p for p in cheap if p["method"] == m]
+        ps = sorted((p for p in cheap if p["method"] == m), key=lambda p: p["fetches"])
         if not ps:
             continue
         ax.plot([p["fetches"] for p in ps], [max(p["p95"], ERROR_FLOOR) for p in ps], "-o",
@@ -121,7 +121,8 @@ def draw(ax, points, cost, floor, title, annotate=True):
     methods = list(OrderedDict.fromkeys(p["method"] for p in points))
     colours = plt.get_cmap("tab10")
     for i, m in enumerate(methods):
-        ps = [p for p in points if p["method"] == m]
+        # A method's settings joined in order of cost: its grid may hold more than one rule.
+        ps = sorted((p for p in points if p["method"] == m), key=lambda p: p[cost])
         xs = [max(p[cost], floor) for p in ps]
         ys = [max(p["error"], ERROR_FLOOR) for p in ps]
         if m == "per-material":
