@@ -433,10 +433,17 @@ TEST(Renderer, FullScreenPeerTracesAsTheKernels) {
     for (const GBuffer& gb : {make_scene(plane), make_scene(RandomScene{128, 64, 3, 5.0, 90.0})}) {
         const DeviceGBuffer dg = upload(*rt, gb);
         GlslPeer peer(gb, map, s);
-        for (const std::string method : {"parallax", "pom", "steep", "relief"}) {
-            OffsetPass pass(rt, method);
+        const std::vector<std::pair<std::string, std::map<std::string, std::string> > > rows = {
+            {"parallax", {}},
+            {"pom", {}},
+            {"pom", {{"spacing", "6"}}},
+            {"steep", {}},
+            {"relief", {}}};
+        for (const auto& [method, set] : rows) {
+            const MethodParams params = resolve_params(find_method(method), set);
+            OffsetPass pass(rt, params);
             const OffsetResult kernel = run_offset(*rt, pass, dg, f, s, 1);
-            peer.set_method(resolve_params(find_method(method), {}));
+            peer.set_method(params);
             peer.run();
             const OffsetResult glsl = peer.result();
             size_t traced_px = 0, apart = 0, same_fetches = 0;
@@ -448,11 +455,13 @@ TEST(Renderer, FullScreenPeerTracesAsTheKernels) {
                 apart += !(std::hypot(du * map.width, dv * map.height) <= 0.01);
                 same_fetches += glsl.fetches[k] == kernel.fetches[k];
             }
-            std::printf("%-8s %zu of %zu pixels apart, %zu with the same fetches\n", method.c_str(),
+            std::string label = method;
+            for (const auto& [name, value] : set) label += " " + name + "=" + value;
+            std::printf("%-18s %zu of %zu pixels apart, %zu with the same fetches\n", label.c_str(),
                         apart, traced_px, same_fetches);
             ASSERT_GT(traced_px, gb.pixels() / 2);
-            EXPECT_LE(apart, traced_px / 200) << method;
-            EXPECT_GE(same_fetches, traced_px * 99 / 100) << method;
+            EXPECT_LE(apart, traced_px / 200) << label;
+            EXPECT_GE(same_fetches, traced_px * 99 / 100) << label;
         }
     }
     GlslPeer peer(make_scene(plane), map, s);

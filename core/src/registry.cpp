@@ -153,7 +153,7 @@ const std::vector<MethodInfo>& methods() {
                     {{"min_samples", "32"}, {"max_samples", "128"}},
                     {{"min_samples", "1"}, {"max_samples", "16"}, {"spacing", "6"}}})
             .fetch_cap(cap_pom)
-            .glsl("POM", {{"spacing", 0}}),
+            .glsl("POM"),
         Row("sphere", "sphere.cl")
             .summary("sphere tracing through a conservative 3D distance map from the top plane")
             .reference(

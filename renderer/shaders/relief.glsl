@@ -70,8 +70,15 @@ float om_trace(OmRay r) {
         }
         return om_ray_t(r, hi);
     }
-    // pom: Tatarchuk's dynamic sample count, then the segment between the last two samples.
-    int n = om_step_count(mix(u_params.y, u_params.x, r.v.z));
+    // pom: Tatarchuk's dynamic sample count (with a spacing, one sample per that many texels the
+    // ray crosses, within [n_min, n_max]), then the segment between the last two samples.
+    float want = mix(u_params.y, u_params.x, r.v.z);
+    if (u_params.z > 0.0) {
+        vec2 size = vec2(textureSize(u_heights, 0));
+        float across = (r.t_exit - r.t_enter) * length(r.v.xy * size);
+        want = clamp(ceil(across / u_params.z), u_params.x, u_params.y);
+    }
+    int n = om_step_count(want);
     int i = om_linear_search(r, n, h_prev, h_cur);
     float fn = float(n), l0 = float(i - 1) / fn, l1 = float(i) / fn;
     float d0 = h_prev - (1.0 - l0), d1 = h_cur - (1.0 - l1);
