@@ -75,6 +75,10 @@ uninit=--uninitialized run_case shade-hard-uninit 1 render --method none "${fram
     --shadows hard --color-out "$work/hn.png"
 run_case pom-clamp-float-lod 1 render --method pom "${frame[@]}" --address clamp \
     --height-storage float --lod-threshold 2
+# pom's spacing rule, which reads each lane's mip level size under LOD.
+run_case pom-spacing-lod 1 render --method pom "${frame[@]}" --set spacing=2 --lod-threshold 2
+run_case pom-spacing-lod-lanes16 16 render --method pom "${frame[@]}" --set spacing=2 \
+    --lod-threshold 2
 run_case exact-clamp-float 1 render --method exact "${frame[@]}" --address clamp \
     --height-storage float
 OFFSETMAP_IMAGES=1 run_case cone-images-clamp 1 render --method cone "${frame[@]}" --address clamp
