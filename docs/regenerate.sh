@@ -3,7 +3,7 @@
 # charts into docs/img/ (about 20 minutes on 2 cores; run it on a quiet machine, timings are in the
 # data). Then `/usr/bin/python3 tests/readme_figures.py --write` rewrites the pages' marked figures
 # and generated tables from these files, and `./run test` checks that they agree.
-#   docs/regenerate.sh [demo|sweep|failure|temporal|bench|materials|frame ...]  (default: all)
+#   docs/regenerate.sh [demo|sweep|failure|temporal|bench|materials|frame|rebuild ...]  (default: all)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 ./run build >/dev/null
@@ -14,7 +14,7 @@ tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 
 parts=("$@")
-[ ${#parts[@]} -gt 0 ] || parts=(demo sweep failure temporal bench materials frame)
+[ ${#parts[@]} -gt 0 ] || parts=(demo sweep failure temporal bench materials frame rebuild)
 for part in "${parts[@]}"; do
     case $part in
     demo)  # the README's first table: every method on the demo scene
@@ -97,6 +97,14 @@ for part in "${parts[@]}"; do
         ./build/release/offsetmap_bench --glsl-peer --out "$tmp/peer"
         cp "$tmp/peer/bench-glsl-peer.json" "$DATA/bench-glsl-peer.json"
         cp "$tmp/peer/bench-glsl-peer.png" "$IMG/"
+        ;;
+    rebuild)  # a field that changes every frame: its update and each precompute's rebuild, on
+        # PoCL's AVX-512 and AVX2 targets (docs/integrating.md)
+        ./build/release/offsetmap_bench --rebuild --out "$tmp/rebuild"
+        cp "$tmp/rebuild/bench-rebuild.json" "$DATA/bench-rebuild.json"
+        POCL_KERNELLIB_NAME=avx2 POCL_LLVM_CPU_NAME=znver3 \
+            ./build/release/offsetmap_bench --rebuild --out "$tmp/rebuild-avx2"
+        cp "$tmp/rebuild-avx2/bench-rebuild.json" "$DATA/bench-rebuild-avx2.json"
         ;;
     *) echo "regenerate.sh: unknown part '$part'" >&2; exit 2 ;;
     esac

@@ -177,6 +177,19 @@ TEST(AutoMethod, PicksTheCheapestCandidateWithinTheBudget) {
     EXPECT_TRUE(again.cached);
     EXPECT_EQ(again.chosen.params.method, a.chosen.params.method);
     EXPECT_EQ(again.chosen.setting, a.chosen.setting);
+    // Other kernels (an edited kernel folder; a newer library's) are another key: measured anew.
+    {
+        const auto kernels = temp_folder("auto_kernels");
+        std::filesystem::copy(std::string(OFFSETMAP_SOURCE_DIR) + "/kernels", kernels,
+                              std::filesystem::copy_options::recursive);
+        std::ofstream(kernels / "methods" / "pom.cl", std::ios::app) << "\n// edited\n";
+        ASSERT_EQ(std::getenv("OFFSETMAP_KERNEL_DIR"), nullptr);
+        setenv("OFFSETMAP_KERNEL_DIR", kernels.c_str(), 1);
+        const AutoChoice edited = choose_method(rt, m, frame, o);
+        unsetenv("OFFSETMAP_KERNEL_DIR");
+        std::filesystem::remove_all(kernels);
+        EXPECT_FALSE(edited.cached);
+    }
     // A predicate narrows the choice to the cheapest admitted candidate within the budget, and
     // names itself when none is.
     AutoOptions other = o;

@@ -117,43 +117,57 @@ int packed_heights_offset(const DeviceHeightField& f) {
 
 namespace {
 
-// A field of width x height with its pyramid allocated, level 0 still to fill.
-DeviceHeightField allocate_field(Runtime& rt, int width, int height, const Image4* normal_map,
-                                 bool packed) {
+void check_normal_map(const Image4* normal_map, int width, int height) {
     if (normal_map && (normal_map->width != width || normal_map->height != height))
         throw Error("normal map is " + std::to_string(normal_map->width) + "x" +
                     std::to_string(normal_map->height) + " but the height map is " +
                     std::to_string(width) + "x" + std::to_string(height));
+}
+
+// A field of width x height with its pyramid and normals allocated, level 0 still to fill. The
+// normals are writable whether they come from a file or not: an update may derive them.
+DeviceHeightField allocate_field(Runtime& rt, int width, int height, const Image4* normal_map,
+                                 bool packed) {
+    check_normal_map(normal_map, width, height);
     DeviceHeightField f;
     f.width = width;
     f.height = height;
     f.mip_levels = mip_level_count(width, height);
     f.packed = packed;
-    f.heights = device_buffer(
-        rt.context(), CL_MEM_READ_WRITE, height_buffer_bytes(f),
-        "the " + std::to_string(width) + "x" + std::to_string(height) + " height pyramid");
+    const std::string size = std::to_string(width) + "x" + std::to_string(height);
+    f.heights = device_buffer(rt.context(), CL_MEM_READ_WRITE, height_buffer_bytes(f),
+                              "the " + size + " height pyramid");
+    const size_t normals_bytes = static_cast<size_t>(width) * height * sizeof(cl_float4);
+    f.normals = normal_map ? device_buffer(rt.context(), CL_MEM_READ_WRITE | CL_MEM_COPY_HOST_PTR,
+                                           normals_bytes, "the " + size + " normal map",
+                                           normal_map->texels.data())
+                           : device_buffer(rt.context(), CL_MEM_READ_WRITE, normals_bytes,
+                                           "the " + size + " normals");
     return f;
 }
 
 // Everything after level 0 (`filled`): the mips, the unorm16 rounding and words, the normals
-// (derived from the heights the passes read, or the normal map's), and the field's `ready` marker.
+// (derived from the heights the passes read; or the normal map's, copied after `wait` from
+// `normal_texels` when given, already in place otherwise), and the field's `ready` marker.
 void finish_field(Runtime& rt, DeviceHeightField& f, const PassSettings& settings,
-                  const Image4* normal_map, const cl::Event& filled) {
-    const size_t n = static_cast<size_t>(f.width) * f.height;
-    const std::string size = std::to_string(f.width) + "x" + std::to_string(f.height);
+                  const Image4* normal_map, const cl::Event& filled,
+                  const std::vector<cl::Event>& wait = {},
+                  const cl::Buffer& normal_texels = cl::Buffer()) {
     std::vector<cl::Event> done = pack_unorm16(rt, f, build_mips(rt, f, {filled}));
     const std::vector<cl::Event> heights_done = f.packed ? done : std::vector<cl::Event>{filled};
     if (normal_map) {
-        f.normals = device_buffer(rt.context(), CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR,
-                                  n * sizeof(cl_float4), "the " + size + " normal map",
-                                  normal_map->texels.data());
+        if (normal_texels()) {
+            cl::Event copied;
+            rt.queue().enqueueCopyBuffer(normal_texels, f.normals, 0, 0,
+                                         normal_map->texels.size() * sizeof(cl_float4), &wait,
+                                         &copied);
+            done.push_back(copied);
+        }
     } else {
-        f.normals = device_buffer(rt.context(), CL_MEM_READ_WRITE, n * sizeof(cl_float4),
-                                  "the " + size + " normals");
         cl::Kernel k =
             rt.kernel(rt.program(sampling_program_files("prep/normals.cl")), "om_normals");
         set_args(k, offset_params(settings, f.width, f.height), f.heights, f.normals);
-        cl::Event normals;
+        cl::Event normals;  // after level 0, so after `wait` too
         enqueue_grid(rt.queue(), k, cl::NDRange(f.width, f.height), &heights_done, &normals);
         done.push_back(normals);
     }
@@ -161,10 +175,6 @@ void finish_field(Runtime& rt, DeviceHeightField& f, const PassSettings& setting
     // Submitted now, so a caller waiting on `ready` alone never waits on an unflushed queue.
     rt.queue().flush();
 }
-
-}  // namespace
-
-namespace {
 
 // Level 0 of `f` from `texels` (a buffer of `storage` values or an image) by the import kernel,
 // after `wait`; returns its event, and the clamped-value counter in `count`. Both uploads write
@@ -190,6 +200,79 @@ cl::Event import_level0(Runtime& rt, DeviceHeightField& f, const Input& texels, 
     return filled;
 }
 
+// The host map's heights in a buffer that copies them as it is made, so the caller's map may go
+// at once; the import into the pyramid is enqueued like the rest. The map's heights lie in [0, 1]
+// (validated), so the import keeps them bit for bit.
+Input host_texels(Runtime& rt, const HeightMap& map) {
+    Input texels;
+    texels.buffer = device_buffer(
+        rt.context(), CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, map.h.size() * sizeof(float),
+        "the " + std::to_string(map.width) + "x" + std::to_string(map.height) + " heights",
+        map.h.data());
+    return texels;
+}
+
+// Checks the device heights' size and input; returns the input as the import kernel reads it
+// and, in `after`, `wait` and the copy that makes it readable (if any).
+Input device_texels(Runtime& rt, const DeviceHeights& heights, const std::vector<cl::Event>& wait,
+                    std::vector<cl::Event>& after) {
+    const int w = heights.width, h = heights.height;
+    if (w <= 0 || h <= 0 || static_cast<long long>(w) * h > kMaxHeightTexels)
+        throw Error("the device heights are " + std::to_string(w) + "x" + std::to_string(h) +
+                    "; a height map has 1 to " + std::to_string(kMaxHeightTexels) + " texels");
+    check_input(rt.context(), heights.texels, "the device heights", 1, w, h);
+    cl::Event copied;
+    const Input texels = readable_input(rt, heights.texels, w, h, rt.queue(), wait, copied);
+    after = wait;
+    if (copied()) after.push_back(copied);
+    return texels;
+}
+
+// What an update may rewrite: a field of the same size whose buffers the library can write, kept
+// as the settings keep it (floats, or unorm16 words when the new heights fit them).
+void check_update(const Runtime& rt, const DeviceHeightField& f, int width, int height,
+                  const PassSettings& settings, bool lossless, const Image4* normal_map) {
+    check_field(rt.context(), f, true);
+    if (width != f.width || height != f.height)
+        throw Error("cannot update the " + std::to_string(f.width) + "x" +
+                    std::to_string(f.height) + " height field in place with " +
+                    std::to_string(width) + "x" + std::to_string(height) +
+                    " heights: a field changes size only by a new upload");
+    check_normal_map(normal_map, width, height);
+    check_buffer(rt.context(), f.heights,
+                 {"the height field's heights buffer", "float", sizeof(float),
+                  height_buffer_bytes(f) / sizeof(float), true});
+    check_buffer(rt.context(), f.normals,
+                 {"the height field's normals buffer", "float4", sizeof(cl_float4),
+                  static_cast<size_t>(f.width) * f.height, true});
+    if (f.packed && !packs(settings, lossless))
+        throw Error(
+            "cannot update the height field in place: it keeps its heights as unorm16 words "
+            "(uploaded from 16-bit values) and these heights are not 16-bit values (or the "
+            "settings ask for floats); upload a new field, or upload with HeightStorage::Float");
+    if (!f.packed && settings.heights == HeightStorage::Unorm16)
+        throw Error(
+            "cannot update the height field in place as unorm16 words: it keeps its heights as "
+            "floats; upload a new field with HeightStorage::Unorm16");
+}
+
+// Rewrites the field from `texels` after `after`: level 0, the pyramid, words and normals; the
+// field's `ready` becomes the last step and its version advances.
+void rewrite_field(Runtime& rt, DeviceHeightField& f, const PassSettings& settings,
+                   const Image4* normal_map, const Input& texels, bool depth_map,
+                   const std::vector<cl::Event>& after, cl::Buffer* clamped) {
+    const cl::Buffer normal_texels =
+        normal_map ? device_buffer(rt.context(), CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR,
+                                   normal_map->texels.size() * sizeof(cl_float4), "the normal map",
+                                   normal_map->texels.data())
+                   : cl::Buffer();
+    cl::Buffer count;
+    const cl::Event filled = import_level0(rt, f, texels, depth_map, after, count);
+    finish_field(rt, f, settings, normal_map, filled, after, normal_texels);
+    mark_changed(f, f.ready);
+    if (clamped) *clamped = count;
+}
+
 }  // namespace
 
 DeviceHeightField upload(Runtime& rt, const HeightMap& map, const PassSettings& settings,
@@ -198,16 +281,8 @@ DeviceHeightField upload(Runtime& rt, const HeightMap& map, const PassSettings& 
     validate(settings);
     DeviceHeightField f =
         allocate_field(rt, map.width, map.height, normal_map, packs(settings, holds_unorm16(map)));
-    // Level 0 through a buffer that copies the host data as it is created, so the caller's map
-    // may go at once; the import into the pyramid is enqueued like the rest. The map's heights lie
-    // in [0, 1] (validated), so the import keeps them bit for bit.
-    Input texels;
-    texels.buffer = device_buffer(
-        rt.context(), CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, map.h.size() * sizeof(float),
-        "the " + std::to_string(map.width) + "x" + std::to_string(map.height) + " heights",
-        map.h.data());
     cl::Buffer count;
-    const cl::Event filled = import_level0(rt, f, texels, false, wait, count);
+    const cl::Event filled = import_level0(rt, f, host_texels(rt, map), false, wait, count);
     finish_field(rt, f, settings, normal_map, filled);
     return f;
 }
@@ -216,22 +291,34 @@ DeviceHeightField upload(Runtime& rt, const DeviceHeights& heights, const PassSe
                          const Image4* normal_map, const std::vector<cl::Event>& wait,
                          cl::Buffer* clamped) {
     validate(settings);
-    const int w = heights.width, h = heights.height;
-    if (w <= 0 || h <= 0 || static_cast<long long>(w) * h > kMaxHeightTexels)
-        throw Error("the device heights are " + std::to_string(w) + "x" + std::to_string(h) +
-                    "; a height map has 1 to " + std::to_string(kMaxHeightTexels) + " texels");
-    check_input(rt.context(), heights.texels, "the device heights", 1, w, h);
-    DeviceHeightField f =
-        allocate_field(rt, w, h, normal_map, packs(settings, at_most_16_bits(heights)));
-    cl::Event copied;
-    const Input texels = readable_input(rt, heights.texels, w, h, rt.queue(), wait, copied);
-    std::vector<cl::Event> after = wait;
-    if (copied()) after.push_back(copied);
+    std::vector<cl::Event> after;
+    const Input texels = device_texels(rt, heights, wait, after);
+    DeviceHeightField f = allocate_field(rt, heights.width, heights.height, normal_map,
+                                         packs(settings, at_most_16_bits(heights)));
     cl::Buffer count;
     const cl::Event filled = import_level0(rt, f, texels, heights.depth_map != 0, after, count);
     finish_field(rt, f, settings, normal_map, filled);
     if (clamped) *clamped = count;
     return f;
+}
+
+void update(Runtime& rt, DeviceHeightField& f, const HeightMap& map, const PassSettings& settings,
+            const Image4* normal_map, const std::vector<cl::Event>& wait) {
+    validate_height_map(map, "height map");
+    validate(settings);
+    check_update(rt, f, map.width, map.height, settings, holds_unorm16(map), normal_map);
+    rewrite_field(rt, f, settings, normal_map, host_texels(rt, map), false, wait, nullptr);
+}
+
+void update(Runtime& rt, DeviceHeightField& f, const DeviceHeights& heights,
+            const PassSettings& settings, const Image4* normal_map,
+            const std::vector<cl::Event>& wait, cl::Buffer* clamped) {
+    validate(settings);
+    std::vector<cl::Event> after;
+    const Input texels = device_texels(rt, heights, wait, after);
+    check_update(rt, f, heights.width, heights.height, settings, at_most_16_bits(heights),
+                 normal_map);
+    rewrite_field(rt, f, settings, normal_map, texels, heights.depth_map != 0, after, clamped);
 }
 
 }  // namespace offsetmap

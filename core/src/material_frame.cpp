@@ -88,7 +88,7 @@ MaterialFrame::MaterialFrame(std::shared_ptr<Runtime> runtime, std::vector<Frame
     // Slots, methods and where each material's data goes in the gathered buffers.
     const size_t n_slots = materials_.size();
     slots_.assign(n_slots, OmMaterialSlot{});
-    std::vector<size_t> heights_at(n_slots), normals_at(n_slots), albedo_at(n_slots);
+    gathered_.assign(n_slots, Gathered{});
     size_t heights_total = 0, normals_total = 0, albedo_total = 0;
     std::vector<PrecomputeSpec::Built> built(n_slots);
     for (size_t s = 0; s < n_slots; ++s) {
@@ -99,75 +99,63 @@ MaterialFrame::MaterialFrame(std::shared_ptr<Runtime> runtime, std::vector<Frame
         if (it == methods_.end()) it = methods_.insert(methods_.end(), Method{m.params, {}, {}});
         slots_[s].method = static_cast<int>(it - methods_.begin());
         const DeviceHeightField& f = m.field;
-        heights_at[s] = heights_total;
+        Gathered& at = gathered_[s];
+        at.heights = heights_total;
         heights_total += aligned(height_buffer_bytes(f) / sizeof(float), 16);
-        normals_at[s] = normals_total;
+        at.normals = normals_total;
         normals_total += aligned(static_cast<size_t>(f.width) * f.height, 4);
-        albedo_at[s] = albedo_total;
+        at.albedo = albedo_total;
         if (m.albedo.texels())
             albedo_total += aligned(static_cast<size_t>(m.albedo.width) * m.albedo.height, 4);
-        if (info->precompute) {
-            try {
-                built[s] = info->precompute->build(rt, f, m.settings, m.params);
-            } catch (const cl::Error& e) {
-                throw Error(label(m) + ": cannot build the precomputed data of '" + info->name +
-                            "': " + describe_cl_error(e.err()));
-            }
-        }
+        at.version = f.version ? f.version->state() : FieldVersion::State{};
+        if (info->precompute) built[s] = build_precomputed(s);
         OmMaterialSlot& slot = slots_[s];
         slot.P = offset_params(m.settings, f.width, f.height);
         slot.P.mip_levels = f.mip_levels;
         slot.P.packed_heights = packed_heights_offset(f);
         std::copy(m.params.values.begin(), m.params.values.end(), slot.P.p);
         slot.id = m.id;
-        slot.heights_offset = element_offset(heights_at[s], "reliefs");
-        slot.normals_offset = element_offset(normals_at[s], "normals");
-        slot.albedo_offset = element_offset(albedo_at[s], "albedo images");
+        slot.heights_offset = element_offset(at.heights, "reliefs");
+        slot.normals_offset = element_offset(at.normals, "normals");
+        slot.albedo_offset = element_offset(at.albedo, "albedo images");
+    }
+    // Each method's precomputed data: its materials' in slot order.
+    std::vector<size_t> aux_total(methods_.size(), 0);
+    for (size_t s = 0; s < n_slots; ++s) {
+        if (!built[s].data()) continue;
+        size_t& total = aux_total[slots_[s].method];
+        gathered_[s].aux = total;
+        gathered_[s].aux_bytes = built[s].data.getInfo<CL_MEM_SIZE>();
+        slots_[s].aux_offset = element_offset(total, "precomputed data");
+        total += aligned(gathered_[s].aux_bytes / sizeof(float), 16);
     }
 
     // Gather: each material's relief, normals, albedo and precomputed data copied into the frame's
     // buffers (device copies, after each field's upload and each build).
-    auto gather = [&](const cl::Buffer& from, size_t bytes, cl::Buffer& to, size_t to_bytes,
-                      size_t at, const std::vector<cl::Event>& after, const std::string& what) {
-        if (!to()) to = device_buffer(context, CL_MEM_READ_ONLY, to_bytes, what);
-        cl::Event copied;
-        queue.enqueueCopyBuffer(from, to, 0, at, bytes, &after, &copied);
-        setup_.push_back(copied);
-    };
     try {
+        heights_ = device_buffer(context, CL_MEM_READ_ONLY, heights_total * sizeof(float),
+                                 "the material table's reliefs");
+        normals_ = device_buffer(context, CL_MEM_READ_ONLY, normals_total * sizeof(cl_float4),
+                                 "the material table's normals");
+        if (albedo_total > 0)
+            albedo_ = device_buffer(context, CL_MEM_READ_ONLY, albedo_total * sizeof(cl_float4),
+                                    "the material table's albedo images");
+        for (size_t k = 0; k < methods_.size(); ++k)
+            if (aux_total[k] > 0)
+                methods_[k].aux = device_buffer(
+                    context, CL_MEM_READ_ONLY, aux_total[k] * sizeof(float),
+                    "the precomputed data of '" + methods_[k].params.method->name + "'");
         for (size_t s = 0; s < n_slots; ++s) {
             const FrameMaterial& m = materials_[s];
-            const DeviceHeightField& f = m.field;
-            const std::vector<cl::Event> ready = field_ready(f);
-            const size_t texels = static_cast<size_t>(f.width) * f.height;
-            gather(f.heights, height_buffer_bytes(f), heights_, heights_total * sizeof(float),
-                   heights_at[s] * sizeof(float), ready, "the material table's reliefs");
-            gather(f.normals, texels * sizeof(cl_float4), normals_,
-                   normals_total * sizeof(cl_float4), normals_at[s] * sizeof(cl_float4), ready,
-                   "the material table's normals");
-            if (m.albedo.texels())
-                gather(m.albedo.texels,
-                       static_cast<size_t>(m.albedo.width) * m.albedo.height * sizeof(cl_float4),
-                       albedo_, albedo_total * sizeof(cl_float4), albedo_at[s] * sizeof(cl_float4),
-                       {}, "the material table's albedo images");
-        }
-        // Each method's precomputed data: its materials' in slot order.
-        for (size_t k = 0; k < methods_.size(); ++k) {
-            size_t total = 0;
-            std::vector<size_t> at(n_slots);
-            for (size_t s = 0; s < n_slots; ++s)
-                if (slots_[s].method == static_cast<int>(k) && built[s].data()) {
-                    at[s] = total;
-                    total += aligned(built[s].data.getInfo<CL_MEM_SIZE>() / sizeof(float), 16);
-                }
-            if (total == 0) continue;
-            for (size_t s = 0; s < n_slots; ++s)
-                if (slots_[s].method == static_cast<int>(k) && built[s].data()) {
-                    slots_[s].aux_offset = element_offset(at[s], "precomputed data");
-                    gather(built[s].data, built[s].data.getInfo<CL_MEM_SIZE>(), methods_[k].aux,
-                           total * sizeof(float), at[s] * sizeof(float), built[s].events,
-                           "the precomputed data of '" + methods_[k].params.method->name + "'");
-                }
+            gather_field(s, built[s], {});
+            if (m.albedo.texels()) {
+                cl::Event copied;
+                queue.enqueueCopyBuffer(
+                    m.albedo.texels, albedo_, 0, gathered_[s].albedo * sizeof(cl_float4),
+                    static_cast<size_t>(m.albedo.width) * m.albedo.height * sizeof(cl_float4),
+                    nullptr, &copied);
+                gathered_[s].albedo_copied = copied;
+            }
         }
         std::vector<cl_int> slot_of_id(id_limit_, -1), method_of_slot(n_slots);
         for (size_t s = 0; s < n_slots; ++s) {
@@ -199,6 +187,75 @@ MaterialFrame::MaterialFrame(std::shared_ptr<Runtime> runtime, std::vector<Frame
     shade_ = shade_kernel(rt, "om_shade_materials");
     // Compile the usual variant now, so a method's build errors surface here.
     for (Method& m : methods_) tile_kernel(m, variant_writing_every_output());
+}
+
+PrecomputeSpec::Built MaterialFrame::build_precomputed(size_t s) {
+    const FrameMaterial& m = materials_[s];
+    try {
+        return m.params.method->precompute->build(*runtime_, m.field, m.settings, m.params);
+    } catch (const cl::Error& e) {
+        throw Error(label(m) + ": cannot build the precomputed data of '" + m.params.method->name +
+                    "': " + describe_cl_error(e.err()));
+    }
+}
+
+void MaterialFrame::gather_field(size_t s, const PrecomputeSpec::Built& built,
+                                 const std::vector<cl::Event>& after) {
+    const cl::CommandQueue& queue = runtime_->queue();
+    const DeviceHeightField& f = materials_[s].field;
+    Gathered& at = gathered_[s];
+    // After the field's version read with the generation: a copy of a later change is gathered
+    // again at the next check, never an earlier one kept.
+    std::vector<cl::Event> ready = after;
+    if (f.ready()) ready.push_back(f.ready);
+    if (at.version.written()) ready.push_back(at.version.written);
+    const size_t texels = static_cast<size_t>(f.width) * f.height;
+    at.copies.assign(2, cl::Event());
+    queue.enqueueCopyBuffer(f.heights, heights_, 0, at.heights * sizeof(float),
+                            height_buffer_bytes(f), &ready, &at.copies[0]);
+    queue.enqueueCopyBuffer(f.normals, normals_, 0, at.normals * sizeof(cl_float4),
+                            texels * sizeof(cl_float4), &ready, &at.copies[1]);
+    if (built.data()) {
+        std::vector<cl::Event> done = after;
+        done.insert(done.end(), built.events.begin(), built.events.end());
+        at.copies.emplace_back();
+        queue.enqueueCopyBuffer(built.data, methods_[slots_[s].method].aux, 0,
+                                at.aux * sizeof(float), at.aux_bytes, &done, &at.copies.back());
+    }
+}
+
+std::vector<cl::Event> MaterialFrame::setup_events() const {
+    std::vector<cl::Event> out;
+    for (const Gathered& at : gathered_) {
+        out.insert(out.end(), at.copies.begin(), at.copies.end());
+        if (at.albedo_copied()) out.push_back(at.albedo_copied);
+    }
+    return out;
+}
+
+void MaterialFrame::refresh() {
+    std::vector<cl::Event> reads;  // what still reads the gathered buffers
+    for (const Dispatch& d : dispatches_) reads.push_back(d.event);
+    if (last_shade_()) reads.push_back(last_shade_);
+    bool changed = false;
+    try {
+        for (size_t s = 0; s < gathered_.size(); ++s) {
+            const DeviceHeightField& f = materials_[s].field;
+            if (!f.version) continue;
+            const FieldVersion::State now = f.version->state();
+            if (now.generation == gathered_[s].version.generation) continue;
+            gathered_[s].version = now;
+            const PrecomputeSpec::Built built = materials_[s].params.method->precompute
+                                                    ? build_precomputed(s)
+                                                    : PrecomputeSpec::Built{};
+            gather_field(s, built, reads);
+            changed = true;
+        }
+        if (changed) runtime_->queue().flush();  // as the constructor's copies
+    } catch (const cl::Error& e) {
+        throw Error("cannot gather the material table's changed fields on the device: " +
+                    describe_cl_error(e.err()));
+    }
 }
 
 cl::Kernel& MaterialFrame::tile_kernel(Method& m, OffsetVariant v) {
@@ -251,6 +308,7 @@ cl::Event MaterialFrame::enqueue(const DeviceGBuffer& g, const OffsetTargets& t,
     T.id_limit = id_limit_;
     const size_t n_methods = methods_.size();
     std::vector<cl_uint> counts(n_methods + 2);
+    refresh();
     // The last frame's dispatches read the lists this classification rewrites.
     std::vector<cl::Event> previous;
     for (const Dispatch& d : dispatches_) previous.push_back(d.event);
@@ -281,7 +339,8 @@ cl::Event MaterialFrame::enqueue(const DeviceGBuffer& g, const OffsetTargets& t,
         queue.enqueueFillBuffer(counts_, cl_uint(0xffffffffu), (n_methods + 1) * sizeof(cl_uint),
                                 sizeof(cl_uint), &wait, &unset);
         std::vector<cl::Event> deps = wait;
-        deps.insert(deps.end(), setup_.begin(), setup_.end());
+        const std::vector<cl::Event> setup = setup_events();
+        deps.insert(deps.end(), setup.begin(), setup.end());
         deps.insert(deps.end(), previous.begin(), previous.end());
         deps.push_back(zeroed);
         deps.push_back(unset);
@@ -357,8 +416,10 @@ cl::Event MaterialFrame::shade(const cl::Buffer& uv, const cl::Buffer& flags,
     }
     frame.has_light = g.light() ? 1 : 0;
     frame.shadow_mode = OM_SHADOW_NONE;
+    refresh();
     std::vector<cl::Event> deps = wait;
-    deps.insert(deps.end(), setup_.begin(), setup_.end());
+    const std::vector<cl::Event> setup = setup_events();
+    deps.insert(deps.end(), setup.begin(), setup.end());
     try {
         if (!shade_written_ || std::memcmp(&shade_settings_, &s, sizeof s) != 0) {
             if (shade_write_()) shade_write_.wait();  // slots_ is its source
@@ -382,11 +443,10 @@ cl::Event MaterialFrame::shade(const cl::Buffer& uv, const cl::Buffer& flags,
         set_args_from(shade_, 9, normals_, heights_);
         set_optional(shade_, 11, albedo_);
         shade_.setArg(12, out_rgba);
-        cl::Event event;
         queue.enqueueNDRangeKernel(shade_, cl::NullRange,
                                    shade_grid(shade_lanes_, g.width, g.height),
-                                   cl::NDRange(kLocalSize), &deps, &event);
-        return event;
+                                   cl::NDRange(kLocalSize), &deps, &last_shade_);
+        return last_shade_;
     } catch (const cl::Error& e) {
         throw Error("cannot shade the material frame: " + describe_cl_error(e.err()));
     }

@@ -73,12 +73,13 @@ void OffsetPass::prepare(const DeviceHeightField& f, const PassSettings& setting
 void OffsetPass::build_precomputed(const DeviceHeightField& f, const PassSettings& settings) {
     const PrecomputeSpec* spec = method_->precompute;
     if (!spec) return;
-    std::ostringstream key;
-    key << f.heights() << ' ' << f.width << 'x' << f.height << ' ' << settings.scale << ' '
-        << static_cast<int>(settings.address);
-    for (float p : params_.values) key << ' ' << p;
-    if (key.str() == aux_key_) return;
-    aux_key_.clear();
+    std::ostringstream detail;
+    detail << f.width << 'x' << f.height << ' ' << settings.scale << ' '
+           << static_cast<int>(settings.address);
+    for (float p : params_.values) detail << ' ' << p;
+    FieldKey key = field_key(f, detail.str());
+    if (key == aux_key_) return;
+    aux_key_ = FieldKey();
     precomputed_.bytes = spec->bytes(params_, settings, f.width, f.height);
     try {
         PrecomputeSpec::Built built = spec->build(*runtime_, f, settings, params_);
@@ -92,7 +93,7 @@ void OffsetPass::build_precomputed(const DeviceHeightField& f, const PassSetting
                     std::to_string(precomputed_.bytes) + " bytes): " + describe_cl_error(e.err()));
     }
     build_ms_known_ = false;
-    aux_key_ = key.str();
+    aux_key_ = std::move(key);
 }
 
 const OffsetPass::Precomputed& OffsetPass::precomputed() const {
@@ -104,13 +105,13 @@ const OffsetPass::Precomputed& OffsetPass::precomputed() const {
 }
 
 const cl::Image1DBuffer& OffsetPass::heights_image(const DeviceHeightField& f) {
-    if (image_of_ != f.heights()) {
+    if (image_of_() != f.heights()) {
         const size_t floats = f.heights.getInfo<CL_MEM_SIZE>() / sizeof(float);
         heights_image_ = floats <= runtime_->device().getInfo<CL_DEVICE_IMAGE_MAX_BUFFER_SIZE>()
                              ? cl::Image1DBuffer(runtime_->context(), CL_MEM_READ_ONLY,
                                                  cl::ImageFormat(CL_R, CL_FLOAT), floats, f.heights)
                              : cl::Image1DBuffer();
-        image_of_ = f.heights();
+        image_of_ = f.heights;
     }
     return heights_image_;
 }
@@ -183,7 +184,8 @@ cl::Event OffsetPass::launch(const DeviceGBuffer& g, const DeviceHeightField& f,
     try {
         // The caller's events, the field's upload and the precomputed data's build.
         std::vector<cl::Event> deps = wait;
-        if (f.ready()) deps.push_back(f.ready);
+        const std::vector<cl::Event> ready = field_ready(f);
+        deps.insert(deps.end(), ready.begin(), ready.end());
         deps.insert(deps.end(), aux_events_.begin(), aux_events_.end());
         cl::Buffer lod;
         if (settings.lod.enabled) {

@@ -117,8 +117,9 @@ cl::Event ShadePass::enqueue(const DeviceGBuffer& g, const DeviceHeightField& f,
     kernel_.setArg(8, out_rgba);
     cl::Event event;
     try {
-        std::vector<cl::Event> deps = wait;  // and the field's upload
-        if (f.ready()) deps.push_back(f.ready);
+        std::vector<cl::Event> deps = wait;  // and the field's upload or last change
+        const std::vector<cl::Event> ready = field_ready(f);
+        deps.insert(deps.end(), ready.begin(), ready.end());
         q.enqueueNDRangeKernel(kernel_, cl::NullRange, shade_grid(lanes_, g.width, g.height),
                                cl::NDRange(kLocalSize), &deps, &event);
     } catch (const cl::Error& e) {

@@ -144,10 +144,6 @@ AutoChoice choose_method(std::shared_ptr<Runtime> rt, const LoadedMaterial& m, c
     key.text(rt->device_name());
     key.text(views_signature(views));
     key.value(views.pixels());
-    char name[32];
-    std::snprintf(name, sizeof name, "auto-%016llx.json", static_cast<unsigned long long>(key.h));
-    const std::string folder = cache_folder(o.cache_dir);
-    const std::string cache_file = folder.empty() ? "" : folder + "/" + name;
 
     // Every method's sweep grid (its defaults when it has none).
     std::vector<std::pair<const MethodInfo*, std::map<std::string, std::string>>> grid;
@@ -161,7 +157,14 @@ AutoChoice choose_method(std::shared_ptr<Runtime> rt, const LoadedMaterial& m, c
             }
             grid.emplace_back(&info, s);
         }
+        // The kernels measured, as they would be built now: a cache measured by other kernels (an
+        // older library, an edited kernel folder) is another key, never a stale answer.
+        key.text(Runtime::program_source(offset_program_files(info), "", rt->is_pocl()));
     }
+    char name[32];
+    std::snprintf(name, sizeof name, "auto-%016llx.json", static_cast<unsigned long long>(key.h));
+    const std::string folder = cache_folder(o.cache_dir);
+    const std::string cache_file = folder.empty() ? "" : folder + "/" + name;
 
     if (!cache_file.empty()) {
         std::ifstream in(cache_file);

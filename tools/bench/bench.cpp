@@ -27,6 +27,7 @@
 #include "bench_frame.hpp"
 #include "bench_glsl_peer.hpp"
 #include "bench_materials.hpp"
+#include "bench_rebuild.hpp"
 #include "bench_util.hpp"
 #include "cpu_peer.hpp"
 #include "offsetmap/evaluation.hpp"
@@ -480,7 +481,7 @@ int main(int argc, char** argv) {
     CLI::App app{
         "offsetmap_bench: throughput of every offset method against the device's roofline"};
     bool quick = false, smoke = false, materials_only = false, peer_only = false,
-         frame_only = false;
+         frame_only = false, rebuild_only = false;
     std::string out_dir = "out/bench", device;
     double target_ms = 300;
     app.add_flag("--quick", quick, "720p only, smaller maps and grids (about a minute)");
@@ -505,6 +506,9 @@ int main(int argc, char** argv) {
     app.add_flag("--frame", frame_only,
                  "only the rendered room's deferred frame at the main resolution: each pass "
                  "against the offset pass, every shadow mode, in turns");
+    app.add_flag("--rebuild", rebuild_only,
+                 "only a changing height field: its in-place update and each method's "
+                 "precomputed data rebuilt, at 256^2, 1024^2 and 2048^2");
     std::vector<std::string> ab;
     app.add_option("--ab", ab,
                    "A/B of two kernel folders (copies of kernels/): the methods (or --methods) "
@@ -594,6 +598,15 @@ int main(int argc, char** argv) {
             std::printf("\nwrote %s/bench-ab.json\n", out_dir.c_str());
             return 0;
         }
+        const std::vector<int> rebuild_sizes =
+            smoke ? std::vector<int>{64, 256} : std::vector<int>{256, 1024, 2048};
+        const int rebuild_rounds = smoke ? 1 : quick ? 3 : 5;
+        if (rebuild_only) {
+            b.out["rebuild"] = bench_rebuild(b.rt, rebuild_sizes, rebuild_rounds);
+            std::ofstream(out_dir + "/bench-rebuild.json") << b.out.dump(2) << "\n";
+            std::printf("\nwrote %s/bench-rebuild.json\n", out_dir.c_str());
+            return 0;
+        }
         if (materials_only) {
             b.out["materials"] = bench_materials(b.rt, main_res, b.target_ms);
             std::ofstream(out_dir + "/bench-materials.json") << b.out.dump(2) << "\n";
@@ -665,6 +678,7 @@ int main(int argc, char** argv) {
         b.out["glsl_peer"] = bench_glsl_peer(b.rt, main_res, host_maps[1024], s, b.target_ms);
         b.out["reconstruct"] = b.reconstruct(main_res, field, s);
         b.out["materials"] = bench_materials(b.rt, main_res, b.target_ms);
+        b.out["rebuild"] = bench_rebuild(b.rt, rebuild_sizes, rebuild_rounds);
 
         // Cost against resolution (should be flat per pixel).
         json by_res = json::array();

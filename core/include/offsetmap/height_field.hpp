@@ -33,4 +33,20 @@ DeviceHeightField upload(Runtime& runtime, const DeviceHeights& heights,
                          const PassSettings& settings, const Image4* normal_map = nullptr,
                          const std::vector<cl::Event>& wait = {}, cl::Buffer* clamped = nullptr);
 
+// The field's heights rewritten in place, from the host or the caller's device memory: the same
+// size and settings, no reallocation. Level 0 is imported after `wait` (give it the events of every
+// frame still reading the field: the update overwrites what they read), then the mips, unorm16
+// words and normals are rebuilt on the device (the normals from `normal_map` when given, else
+// derived from the new heights); `field.ready` becomes the last step's event and the field's
+// version advances, so every pass and material frame holding the field, or a copy of it, rebuilds
+// its precomputed data on its next enqueue. Returns without waiting, as upload does. Throws Error
+// for another size, a buffer the library cannot write, or heights the field's storage cannot keep
+// (a field uploaded as unorm16 words takes only 16-bit values under HeightStorage::Auto).
+void update(Runtime& runtime, DeviceHeightField& field, const HeightMap& map,
+            const PassSettings& settings, const Image4* normal_map = nullptr,
+            const std::vector<cl::Event>& wait = {});
+void update(Runtime& runtime, DeviceHeightField& field, const DeviceHeights& heights,
+            const PassSettings& settings, const Image4* normal_map = nullptr,
+            const std::vector<cl::Event>& wait = {}, cl::Buffer* clamped = nullptr);
+
 }  // namespace offsetmap

@@ -1,4 +1,7 @@
 #pragma once
+#include <cstdint>
+#include <memory>
+#include <mutex>
 #include <string>
 #include <vector>
 
@@ -33,6 +36,26 @@ struct Image4 {
     std::vector<cl_float4> texels;
 };
 
+// Which heights a field's buffers hold, shared by every copy of the field. Its generation is a
+// number no other field, update or change in this process has had: the passes key what they derive
+// from a field (precomputed data, gathered copies) by it, so that neither a released field's
+// recycled handle nor heights rewritten in place meet stale data.
+class FieldVersion {
+  public:
+    FieldVersion();  // a new generation
+    struct State {
+        std::uint64_t generation = 0;
+        cl::Event written;  // the last change's completion (null: none since the field was made)
+    };
+    State state() const;
+    // The heights were rewritten, complete with `written`: a new generation.
+    void advance(const cl::Event& written);
+
+  private:
+    mutable std::mutex mutex_;
+    State state_;
+};
+
 // A height map and its derived data on one device.
 struct DeviceHeightField {
     int width = 0;
@@ -47,7 +70,34 @@ struct DeviceHeightField {
     // Complete once heights, mips and normals are on the device; the passes wait for it (a null
     // event: ready already). A caller filling the buffers itself sets it, or leaves it null.
     cl::Event ready;
+    // Shared by the field's copies: update() and mark_changed() advance it, and the passes wait
+    // for its last change as well as for `ready` (a copy made before an update has the old one).
+    std::shared_ptr<FieldVersion> version = std::make_shared<FieldVersion>();
 };
+
+// After rewriting a field's buffers itself (heights, mips or normals), the caller marks the field
+// changed, with the event the rewrite completes with (null: complete already): `ready` becomes it
+// and the version advances, so every pass and material frame holding the field (or a copy of it)
+// rebuilds what it derived from the heights on its next enqueue. update() does this itself.
+void mark_changed(DeviceHeightField& field, const cl::Event& written = cl::Event());
+
+// What to wait for before reading a field: its `ready` event and its version's last change.
+std::vector<cl::Event> field_ready(const DeviceHeightField& field);
+
+// What data derived from a field was made from, for a cache of it: the field's generation, its
+// heights buffer (held, so that its handle cannot be given to another buffer while the key lives,
+// and a field the caller re-points at another buffer without mark_changed is caught too) and what
+// else the data depends on (`detail`: size, settings, parameters).
+struct FieldKey {
+    std::uint64_t generation = 0;
+    cl::Buffer heights;
+    std::string detail;
+    bool operator==(const FieldKey& o) const {
+        return generation == o.generation && heights() == o.heights() && detail == o.detail;
+    }
+    bool operator!=(const FieldKey& o) const { return !(*this == o); }
+};
+FieldKey field_key(const DeviceHeightField& field, const std::string& detail = "");
 
 // Number of levels down to 1 x 1 (at most OM_MAX_MIP_LEVELS) and the floats they take in all.
 int mip_level_count(int width, int height);

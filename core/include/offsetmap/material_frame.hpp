@@ -28,7 +28,8 @@ struct FrameMaterial {
 };
 
 inline constexpr int kMaxMaterialId = 65535;
-// Tile rows (tiles are OM_TILE_W = 16 pixels wide): the tile measurement in docs/materials.md chose it.
+// Tile rows (tiles are OM_TILE_W = 16 pixels wide): the tile measurement in docs/materials.md chose
+// it.
 inline constexpr int kDefaultTileRows = 8;
 
 // The message for a G-buffer id without a table entry: the first such pixel (index in a row-major
@@ -38,8 +39,11 @@ std::string unknown_material(float id, size_t pixel, int width, size_t count);
 // The materials' passes as one frame. Construction gathers every material's relief (and normals,
 // albedo) into one buffer each and each method's precomputed data into one, so that a method runs
 // as one dispatch over all its materials' tiles with each material's parameters; enqueued on the
-// runtime's queue, waited for by the first frame. Throws Error for an empty table, more than
-// OM_MAX_MATERIALS materials, an id out of range or given twice, a field without normals, LOD
+// runtime's queue, waited for by the first frame. A field changed in place since (update(),
+// mark_changed(), through any copy of it) is gathered again with its precomputed data by the next
+// enqueue or shade, after the frames still reading the old copy; a new field (another upload)
+// needs a new frame, and the albedo images are copied once. Throws Error for an empty table, more
+// than OM_MAX_MATERIALS materials, an id out of range or given twice, a field without normals, LOD
 // settings, or settings validate() refuses, naming the material.
 class MaterialFrame {
   public:
@@ -84,8 +88,27 @@ class MaterialFrame {
         cl::Buffer aux;       // its materials' precomputed data, concatenated (or null)
         std::map<std::string, cl::Kernel> kernels;  // by the outputs bound
     };
+    // Where slot s's data lies in the gathered buffers (in their elements: floats, float4s,
+    // float4s, floats), the field version it was gathered from and the copies that gathered it.
+    struct Gathered {
+        size_t heights = 0, normals = 0, albedo = 0, aux = 0;
+        size_t aux_bytes = 0;
+        FieldVersion::State version;
+        std::vector<cl::Event> copies;  // relief, normals and precomputed data
+        cl::Event albedo_copied;
+    };
     // Its tile entry as `variant` asks (outputs only: the tile entry takes neither images nor LOD).
     cl::Kernel& tile_kernel(Method& m, OffsetVariant variant);
+    // Slot s's precomputed data built from its field (an Error naming the material on failure).
+    PrecomputeSpec::Built build_precomputed(size_t s);
+    // Copies slot s's relief, normals and `built` data into the gathered buffers, after `after`,
+    // its field's version and the build.
+    void gather_field(size_t s, const PrecomputeSpec::Built& built,
+                      const std::vector<cl::Event>& after);
+    // Gathers again every slot whose field changed since (update, mark_changed), after the frames
+    // still reading the gathered buffers.
+    void refresh();
+    std::vector<cl::Event> setup_events() const;  // every gathering copy's
     // The queue to enqueue on, after the G-buffer's checks (a material buffer required).
     const cl::CommandQueue& checked_queue(const DeviceGBuffer& g,
                                           const cl::CommandQueue& queue) const;
@@ -103,7 +126,8 @@ class MaterialFrame {
     bool shade_written_ = false;
     cl::Buffer heights_, normals_, albedo_;
     int id_limit_ = 1;
-    std::vector<cl::Event> setup_;  // the gathering copies and precomputed builds
+    std::vector<Gathered> gathered_;  // per slot
+    cl::Event last_shade_;            // the last shade dispatch (it reads the gathered buffers)
     cl::Kernel classify_, shade_;
     int shade_lanes_ = 1;  // shade_'s lanes, the runtime's when it was built
     // Per frame size: the classification's counts, lists and their bases.

@@ -76,9 +76,10 @@ class OffsetPass {
     const cl::Buffer& precomputed_buffer() const { return aux_; }
 
     // Enqueues the precomputed data's build for `field` now (enqueue does it on first use), after
-    // the field's `ready` event; the next enqueue waits for it. It is cached by the height buffer,
-    // size, scale, address mode and parameters: after rewriting the heights in the same buffer,
-    // use a new OffsetPass.
+    // the field's `ready` event; the next enqueue waits for it. It is kept for the field's
+    // generation (its version: every upload, update() and mark_changed() gives a new one), its
+    // heights buffer (held until the pass meets another field), size, scale, address mode and
+    // parameters, and rebuilt by the first enqueue after any of them changes.
     void prepare(const DeviceHeightField& field, const PassSettings& settings);
 
   private:
@@ -105,11 +106,13 @@ class OffsetPass {
     std::map<std::string, cl::Kernel> kernels_;
     int lanes_ = 1;   // pixels per group of lanes (the runtime's)
     int groups_ = 1;  // groups of lanes per work-item
+    // Derived from the last field, each with what it was made from: the key of a cache holds
+    // the buffer it names, so that its handle cannot be recycled while the cache lives.
     cl::Image1DBuffer heights_image_;
-    cl_mem image_of_ = nullptr;  // the height buffer heights_image_ views
+    cl::Buffer image_of_;  // the height buffer heights_image_ views (its contents may change)
     cl::Buffer aux_;
     std::vector<cl::Event> aux_events_;  // aux_ is complete when these are
-    std::string aux_key_;                // what aux_ was built for
+    FieldKey aux_key_;                   // what aux_ was built for
     cl::Buffer footprint_;               // per-pixel mip levels when the G-buffer brings none
     cl::Kernel footprint_kernel_;        // created on first use, reused every frame
     size_t footprint_pixels_ = 0;

@@ -24,9 +24,4 @@ std::vector<cl::Event> enqueue_with_progress(Runtime& runtime, cl::Kernel& kerne
 // Kernel milliseconds of the events, once they are complete (0 without a profiling queue).
 double events_ms(const Runtime& runtime, const std::vector<cl::Event>& events);
 
-// What a build waits for: the field's `ready` event, when it has one.
-inline std::vector<cl::Event> field_ready(const DeviceHeightField& f) {
-    return f.ready() ? std::vector<cl::Event>{f.ready} : std::vector<cl::Event>{};
-}
-
 }  // namespace offsetmap
