@@ -150,6 +150,15 @@ bool on_pocl(const cl::Device& device) {
                .find("Portable Computing Language") != std::string::npos;
 }
 
+// Oclgrind 21.10 cannot run what clang's optimiser makes of the kernels (llvm.ctpop,
+// freeze, llvm.experimental.noalias.scope.decl from inlined struct results; and it mis-evaluates
+// a vector `xor <N x i1>, true`): there programs are built unoptimised, their helpers as calls.
+bool on_oclgrind(const cl::Device& device) {
+    return cl::Platform(device.getInfo<CL_DEVICE_PLATFORM>())
+               .getInfo<CL_PLATFORM_NAME>()
+               .find("Oclgrind") != std::string::npos;
+}
+
 }  // namespace
 
 int Runtime::default_lanes(const cl::Device& device) {
@@ -187,6 +196,7 @@ Runtime::Runtime(cl::Context context, cl::Device device, cl::CommandQueue queue)
     profiling_ = (queue_.getInfo<CL_QUEUE_PROPERTIES>() & CL_QUEUE_PROFILING_ENABLE) != 0 &&
                  profiling_timer_works(context_, device_);
     is_pocl_ = on_pocl(device_);
+    is_oclgrind_ = on_oclgrind(device_);
     lanes_ = default_lanes(device_);
     if (const char* env = std::getenv("OFFSETMAP_LANES"); env && *env) {
         const std::string text = env;
@@ -226,7 +236,8 @@ cl::Program Runtime::program(const std::vector<std::string>& files, const std::s
     auto it = programs_.find(key);
     if (it != programs_.end()) return it->second;
 
-    const std::string source = program_source(files, defines, is_pocl_, kernel_dir_);
+    const std::string source = program_source(
+        files, (is_oclgrind_ ? "#define OM_PLAIN_CALLS 1\n" : "") + defines, is_pocl_, kernel_dir_);
     std::string what;
     for (const auto& f : files) what += (what.empty() ? "" : " + ") + f;
     cl::Program program(context_, source);
@@ -266,7 +277,9 @@ std::string Runtime::program_source(const std::vector<std::string>& files,
     return source;
 }
 
-std::string Runtime::build_options() const { return "-cl-std=CL1.2"; }
+std::string Runtime::build_options() const {
+    return is_oclgrind_ ? "-cl-std=CL1.2 -cl-opt-disable" : "-cl-std=CL1.2";
+}
 
 cl::Kernel Runtime::kernel(const cl::Program& program, const std::string& name) const {
     try {

@@ -9,10 +9,11 @@
 # Plugins: --data-races --check-api, beside Oclgrind's own checks of every access against its
 # buffer's bounds; --uninitialized too on the one-map runs of `none` (import, mips, unorm16 words,
 # normals, reconstruction, shading): elsewhere Oclgrind 21.10's plugin reports values that are
-# provably written, and at 16 lanes it crashes (docs/design.md, "Portability"). Built with
-# -cl-opt-disable -DOM_PLAIN_CALLS: optimised, Oclgrind 21.10 mis-evaluates `xor <N x i1>, true`
-# (a vector `!` gives -2, not 0) and cannot run freeze, llvm.ctpop or
-# llvm.experimental.noalias.scope.decl.
+# provably written, and at 16 lanes it crashes (docs/design.md, "Portability"). Run as a user runs
+# it, with no build options of its own: on Oclgrind the runtime builds every program unoptimised
+# with its helpers as calls (-cl-opt-disable, OM_PLAIN_CALLS), since optimised Oclgrind 21.10
+# mis-evaluates `xor <N x i1>, true` (a vector `!` gives -2, not 0) and cannot run freeze,
+# llvm.ctpop or llvm.experimental.noalias.scope.decl.
 #   oclgrind_check.sh OFFSETMAP_CLI MAP WORK_DIR [CASE_FILTER [TESTS]]
 # TESTS, the suite's binary, runs the kernels no CLI command reaches without a GL context (the
 # rendered frame cannot run under Oclgrind: its LLVM beside llvmpipe's aborts the process).
@@ -28,8 +29,8 @@ run_case() {
     local log="$work/$name.log" start=$SECONDS
     rm -f "$log"
     # shellcheck disable=SC2086  # $uninit is one flag or none
-    OFFSETMAP_LANES=$lanes timeout 900 oclgrind --build-options "-cl-opt-disable -DOM_PLAIN_CALLS" \
-        --data-races --check-api ${uninit:-} --log "$log" "${bin:-$om}" "$@" >"$work/$name.out" 2>&1
+    OFFSETMAP_LANES=$lanes timeout 900 oclgrind --data-races --check-api ${uninit:-} \
+        --log "$log" "${bin:-$om}" "$@" >"$work/$name.out" 2>&1
     local rc=$? reports=0
     [ -f "$log" ] && reports=$(grep -c '^[^[:space:]]' "$log")
     # A check of a wrong execution proves nothing: a render's pixel and fetch counts must be the

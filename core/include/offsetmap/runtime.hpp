@@ -26,7 +26,7 @@ class Runtime {
     const cl::Context& context() const { return context_; }
     const cl::Device& device() const { return device_; }
     const cl::CommandQueue& queue() const { return queue_; }
-    std::string device_name() const;  // "platform / device"
+    std::string device_name() const;               // "platform / device"
     bool profiling() const { return profiling_; }  // events time kernels (else no kernel times)
     bool is_pocl() const { return is_pocl_; }
 
@@ -59,7 +59,8 @@ class Runtime {
     static std::string program_source(const std::vector<std::string>& files,
                                       const std::string& defines, bool pocl,
                                       const std::string& dir = "");
-    // The options every program is built with.
+    // The options every program is built with: OpenCL C 1.2; on Oclgrind also unoptimised, with
+    // the helpers kept as calls (OM_PLAIN_CALLS), which is what Oclgrind 21.10 can run.
     std::string build_options() const;
     // Programs built so far (each a compile; a pass's first frame after prepare adds none).
     size_t programs_built() const;
@@ -86,6 +87,7 @@ class Runtime {
     cl::CommandQueue queue_;
     bool profiling_ = false;
     bool is_pocl_ = false;
+    bool is_oclgrind_ = false;
     int lanes_ = 1;
     bool images_ = false;
     mutable std::mutex mutex_;
