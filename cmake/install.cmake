@@ -6,7 +6,7 @@ include(CMakePackageConfigHelpers)
 set(OFFSETMAP_CMAKE_DIR "${CMAKE_INSTALL_LIBDIR}/cmake/offsetmap")
 set(OFFSETMAP_INSTALL_TARGETS offsetmap)
 if(OFFSETMAP_BUILD_EVALUATION)
-    list(APPEND OFFSETMAP_INSTALL_TARGETS offsetmap_evaluation)
+    list(APPEND OFFSETMAP_INSTALL_TARGETS offsetmap_reference offsetmap_evaluation)
 endif()
 install(TARGETS ${OFFSETMAP_INSTALL_TARGETS} EXPORT offsetmapTargets
     ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR}
@@ -19,8 +19,8 @@ install(TARGETS ${OFFSETMAP_INSTALL_TARGETS} EXPORT offsetmapTargets
 install(DIRECTORY "${PROJECT_SOURCE_DIR}/core/include/offsetmap"
     DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
 if(OFFSETMAP_BUILD_EVALUATION)
-    install(DIRECTORY "${PROJECT_SOURCE_DIR}/evaluation/include/offsetmap"
-        DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
+    install(DIRECTORY "${PROJECT_SOURCE_DIR}/reference/include/offsetmap"
+        "${PROJECT_SOURCE_DIR}/evaluation/include/offsetmap" DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
 endif()
 install(EXPORT offsetmapTargets NAMESPACE offsetmap:: DESTINATION ${OFFSETMAP_CMAKE_DIR})
 

@@ -1,0 +1,51 @@
+#!/usr/bin/env bash
+# bundle_check.sh TARBALL : the device check's bundle as a machine with a driver and nothing else
+# meets it: unpacked in a fresh folder and run with an empty environment (nothing of the build on
+# any path), on PoCL through the system's registered driver, with no driver registered (the
+# script then finds the vendors' libraries itself), and on rusticl. At most 40 MiB.
+set -uo pipefail
+tarball=$(realpath "$1")
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+fails=0
+fail() { echo "FAIL $*"; fails=$((fails + 1)); }
+size=$(du -k "$tarball" | cut -f1)
+[ "$size" -le $((40 * 1024)) ] || fail "the bundle is $size KiB, over 40 MiB"
+tar -C "$tmp" -xzf "$tarball"
+dir=$tmp/offsetmap-check
+echo "bundle: $size KiB; $(cd "$dir" && find . -type f | sort | tr '\n' ' ')"
+ldd "$dir/bin/offsetmap_check" | grep -q "not found" ||
+    LD_LIBRARY_PATH=$dir/lib ldd "$dir/bin/offsetmap_check" | grep -q "$dir/lib/libOpenCL.so.1" ||
+    fail "the check does not load the bundle's ICD loader"
+cd "$tmp"
+# PoCL, registered in /etc/OpenCL/vendors.
+env -i /bin/sh "$dir/check" --quick --device "portable computing" --json "$tmp/pocl.json" \
+    >"$tmp/pocl.out" 2>"$tmp/pocl.err"
+rc=$?
+if [ $rc -ne 0 ] || ! grep -q "OpenCL drivers registered in /etc/OpenCL/vendors" "$tmp/pocl.err" ||
+    ! grep -q '"failures": 0' "$tmp/pocl.json"; then
+    fail "PoCL from an empty environment (exit $rc)"; tail -5 "$tmp/pocl.err"
+else
+    echo "ok PoCL from an empty environment: $(grep -E 'cases, ' "$tmp/pocl.out")"
+fi
+# No driver registered: the script finds PoCL's library itself.
+mkdir -p "$tmp/no-vendors"
+env -i OCL_ICD_VENDORS="$tmp/no-vendors" /bin/sh "$dir/check" --list >"$tmp/found.out" \
+    2>"$tmp/found.err"
+rc=$?
+if [ $rc -ne 0 ] || ! grep -q "no OpenCL driver is registered .*libpocl.so" "$tmp/found.err" ||
+    ! grep -q "^Portable Computing Language" "$tmp/found.out"; then
+    fail "no driver registered (exit $rc)"; cat "$tmp/found.err"
+else
+    echo "ok no driver registered: $(head -1 "$tmp/found.err")"
+fi
+# rusticl over llvmpipe.
+env -i RUSTICL_ENABLE=llvmpipe /bin/sh "$dir/check" --quick --device llvmpipe \
+    >"$tmp/rusticl.out" 2>"$tmp/rusticl.err"
+rc=$?
+if [ $rc -ne 0 ]; then
+    fail "rusticl from an empty environment (exit $rc)"; tail -5 "$tmp/rusticl.err"
+else
+    echo "ok rusticl from an empty environment: $(grep -E 'cases, ' "$tmp/rusticl.out")"
+fi
+[ $fails -eq 0 ]
