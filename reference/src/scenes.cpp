@@ -1,5 +1,6 @@
 #include "offsetmap/scenes.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <glm/glm.hpp>
 #include <glm/gtc/matrix_transform.hpp>
@@ -7,6 +8,7 @@
 #include <random>
 
 #include "offsetmap/error.hpp"
+#include "offsetmap/shared.h"
 
 namespace offsetmap {
 namespace {
@@ -153,6 +155,23 @@ GBuffer make_scene(const SweepScene& s) {
         }
     }
     return gb;
+}
+
+HeightMap bench_map(int n) {
+    HeightMap m;
+    m.width = m.height = n;
+    m.h.resize(static_cast<size_t>(n) * n);
+    for (int j = 0; j < n; ++j)
+        for (int i = 0; i < n; ++i) {
+            double u = (i + 0.5) / n, v = (j + 0.5) / n, h = 0.5;
+            for (int k = 0; k < 5; ++k) {
+                double f = std::pow(2.0, k + 1), a = 0.22 / (k + 1);
+                h += a * std::sin(2 * M_PI * f * u + k) * std::sin(2 * M_PI * (f + 1) * v + 2 * k);
+            }
+            const double code = std::floor(std::clamp(h, 0.0, 1.0) * 65535.0 + 0.5);
+            m.h[static_cast<size_t>(j) * n + i] = static_cast<float>(code) * OM_UNORM16_STEP;
+        }
+    return m;
 }
 
 GBuffer make_scene(const RandomScene& s) {

@@ -16,7 +16,8 @@ struct Timing {
 };
 
 // Whether launches are timed by the host's clock: on a device whose events carry no times
-// (Runtime::profiling false: rusticl in Mesa 22.3 stamps every command 0, 1, 2, 3 ns). Main sets it.
+// (Runtime::profiling false: rusticl in Mesa 22.3 stamps every command 0, 1, 2, 3 ns). Main sets
+// it.
 inline bool& host_clock() {
     static bool on = false;
     return on;
@@ -70,26 +71,6 @@ inline std::vector<Timing> time_interleaved(const std::vector<std::function<cl::
     std::vector<std::function<double()>> runs;
     for (const auto& launch : launches) runs.push_back([&launch] { return launch_ms(launch); });
     return time_interleaved_ms(runs, target_ms);
-}
-
-// Several octaves of tiling sines: smooth at large scale, detailed at texel scale, so the access
-// pattern of a march is realistic for any size. Rounded to 16 bits, as a height texture an engine
-// ships holds it (R16 / unorm16), so uploads keep it as unorm16 words (HeightStorage::Auto).
-inline HeightMap bench_map(int n) {
-    HeightMap m;
-    m.width = m.height = n;
-    m.h.resize(static_cast<size_t>(n) * n);
-    for (int j = 0; j < n; ++j)
-        for (int i = 0; i < n; ++i) {
-            double u = (i + 0.5) / n, v = (j + 0.5) / n, h = 0.5;
-            for (int k = 0; k < 5; ++k) {
-                double f = std::pow(2.0, k + 1), a = 0.22 / (k + 1);
-                h += a * std::sin(2 * M_PI * f * u + k) * std::sin(2 * M_PI * (f + 1) * v + 2 * k);
-            }
-            const double code = std::floor(std::clamp(h, 0.0, 1.0) * 65535.0 + 0.5);
-            m.h[static_cast<size_t>(j) * n + i] = static_cast<float>(code) * OM_UNORM16_STEP;
-        }
-    return m;
 }
 
 struct Resolution {

@@ -12,22 +12,6 @@
 namespace offsetmap::check {
 namespace {
 
-// Several octaves of sines, rounded to 16 bits as a shipped height texture is.
-HeightMap timing_map(int n) {
-    HeightMap m;
-    m.width = m.height = n;
-    m.h.resize(static_cast<size_t>(n) * n);
-    for (size_t k = 0; k < m.h.size(); ++k) {
-        const double u = (k % n + 0.5) / n, v = (k / n + 0.5) / n;
-        double h = 0.5;
-        for (int octave = 1; octave <= 5; ++octave)
-            h += 0.2 / octave * std::sin(2 * M_PI * (1 << octave) * u + octave) *
-                 std::sin(2 * M_PI * ((1 << octave) + 1) * v + 2 * octave);
-        m.h[k] = static_cast<float>(std::nearbyint(std::clamp(h, 0.0, 1.0) * 65535.0) / 65535.0);
-    }
-    return m;
-}
-
 // Milliseconds of one launch: its event's, or the host's clock from enqueue to completion where
 // the device's events carry no times.
 double launch_ms(const Runtime& rt, const std::function<cl::Event()>& launch) {
@@ -128,7 +112,7 @@ void time_methods(const std::shared_ptr<Runtime>& rt, const Options& o, DeviceRe
                           "^2 map (unorm16), s = 0.05";
     PassSettings s;
     s.scale = 0.05f;
-    const DeviceHeightField field = upload(*rt, timing_map(map), s);
+    const DeviceHeightField field = upload(*rt, bench_map(map), s);
     PlaneScene camera;
     camera.width = w;
     camera.height = h;

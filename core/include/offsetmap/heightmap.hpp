@@ -95,7 +95,6 @@ struct FieldKey {
     bool operator==(const FieldKey& o) const {
         return generation == o.generation && heights() == o.heights() && detail == o.detail;
     }
-    bool operator!=(const FieldKey& o) const { return !(*this == o); }
 };
 FieldKey field_key(const DeviceHeightField& field, const std::string& detail = "");
 

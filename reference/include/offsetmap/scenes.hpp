@@ -3,6 +3,7 @@
 
 #include "offsetmap/engine_gbuffer.hpp"
 #include "offsetmap/gbuffer.hpp"
+#include "offsetmap/heightmap.hpp"
 
 namespace offsetmap {
 
@@ -44,6 +45,12 @@ struct RandomScene {
 };
 
 GBuffer make_scene(const PlaneScene& scene);
+
+// Several octaves of tiling sines: smooth at large scale, detailed at texel scale, so the access
+// pattern of a march is realistic for any size. Rounded to 16 bits, as a height texture an engine
+// ships holds it (R16 / unorm16), so uploads keep it as unorm16 words (HeightStorage::Auto). The
+// map the bench and the device check time the methods on.
+HeightMap bench_map(int n);
 
 // The plane scene as an engine writes it, on the host (float, row 0 first): window depth in the
 // given convention (the far value where the ray misses the plane or passes the far plane, 10^4;
