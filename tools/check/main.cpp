@@ -142,10 +142,20 @@ int main(int argc, char** argv) {
     try {
         a = parse(argc, argv);
     } catch (const std::exception& e) {
-        std::cerr << "offsetmap_check: " << e.what() << "\n" << kUsage;
+        std::cerr << "offsetmap_check: " << e.what() << " (offsetmap_check --help)\n";
         return 2;
     }
     try {
+        // Opened before the check runs, so that a path that cannot be written is said at once.
+        std::ofstream json;
+        if (!a.options.json.empty()) {
+            json.open(a.options.json);
+            if (!json) {
+                std::cerr << "offsetmap_check: cannot write the JSON report '" << a.options.json
+                          << "'\n";
+                return 1;
+            }
+        }
         const std::vector<cl::Device> devices = devices_matching(a.options.devices);
         if (devices.empty()) {
             std::cerr << "offsetmap_check: no OpenCL device"
@@ -164,11 +174,11 @@ int main(int argc, char** argv) {
         std::fflush(stdout);
         for (const DeviceReport& r : reports)
             for (const std::string& line : r.failures) std::cerr << line << "\n";
-        if (!a.options.json.empty()) {
-            std::ofstream out(a.options.json);
-            out << report_json(reports, a.options);
-            if (!out) {
-                std::cerr << "offsetmap_check: cannot write '" << a.options.json << "'\n";
+        if (json.is_open()) {
+            json << report_json(reports, a.options);
+            if (!json.flush()) {
+                std::cerr << "offsetmap_check: cannot write the JSON report '" << a.options.json
+                          << "'\n";
                 return 1;
             }
         }
