@@ -9,340 +9,69 @@
 #include <glm/gtc/matrix_transform.hpp>
 #include <glm/gtc/quaternion.hpp>
 
+#include "offsetmap/engine_reference.hpp"
 #include "support.hpp"
+
+// GoogleTest finds a parameter's printer in the parameter's namespace.
+namespace offsetmap::engine_ref {
+void PrintTo(const Encoding& e, std::ostream* os) { *os << e.name; }
+}  // namespace offsetmap::engine_ref
 
 namespace omtest {
 namespace {
 
+using engine_ref::decode_error;
+using engine_ref::Decoded;
+using engine_ref::encoded_frame;
+using engine_ref::Encoding;
+using engine_ref::EngineFrame;
+using engine_ref::Plane;
+using engine_ref::plane_frame;
+using engine_ref::randomise_frames;
+using engine_ref::Reference;
+using engine_ref::reference;
+using engine_ref::stored_value;
+
 constexpr double kU = 1.0 / (1 << 24);  // unit roundoff of float
 
-// ---- An engine's frame, in double, and its storage as the engine would write it. ----
-
-// Values per pixel as floats before storage, and how the engine stores them.
-struct Plane {
-    int values = 1;
-    std::vector<float> v;  // pixels * values
-    Storage storage = Storage::Float;
-    bool image = false;
-};
-
-// The value the device reads back from `x` stored as `s` (exact for float and half; the unorm and
-// snorm forms are the nearest code, decoded here in double: the device's division may differ from
-// it by its rounding, which the bounds below carry).
-double stored_value(float x, Storage s) {
-    switch (s) {
-        case Storage::Half:
-            return static_cast<float>(Imath::half(x));
-        case Storage::Snorm16:
-            return std::max(std::lround(std::clamp(x, -1.0f, 1.0f) * 32767.0) / 32767.0, -1.0);
-        case Storage::Unorm16:
-            return std::lround(std::clamp(x, 0.0f, 1.0f) * 65535.0) / 65535.0;
-        case Storage::Unorm8:
-            return std::lround(std::clamp(x, 0.0f, 1.0f) * 255.0) / 255.0;
-        case Storage::Float:
-            break;
-    }
-    return x;
-}
-
-// Relative error of the device's decoding of one stored value (OpenCL's division: 2.5 ulp, an ulp
-// being at most 2 u of the value; exact for float and half).
-double decode_error(Storage s) {
-    return (s == Storage::Float || s == Storage::Half) ? 0.0 : 5.0 * kU;
-}
-
-std::vector<unsigned char> encode(const Plane& p) {
-    const size_t bytes = storage_bytes(p.storage);
-    std::vector<unsigned char> out(p.v.size() * bytes);
-    for (size_t k = 0; k < p.v.size(); ++k) {
-        const float x = p.v[k];
-        unsigned char* dst = out.data() + k * bytes;
-        if (p.storage == Storage::Float) {
-            std::memcpy(dst, &x, 4);
-        } else if (p.storage == Storage::Half) {
-            uint16_t bits = Imath::half(x).bits();
-            std::memcpy(dst, &bits, 2);
-        } else if (p.storage == Storage::Snorm16) {
-            int16_t c = static_cast<int16_t>(std::lround(std::clamp(x, -1.0f, 1.0f) * 32767.0));
-            std::memcpy(dst, &c, 2);
-        } else if (p.storage == Storage::Unorm16) {
-            uint16_t c = static_cast<uint16_t>(std::lround(std::clamp(x, 0.0f, 1.0f) * 65535.0));
-            std::memcpy(dst, &c, 2);
-        } else {
-            *dst = static_cast<unsigned char>(std::lround(std::clamp(x, 0.0f, 1.0f) * 255.0));
-        }
-    }
-    return out;
-}
-
-Plane with_values(int values) {
-    Plane p;
-    p.values = values;
-    return p;
-}
-
-cl_channel_type image_type(Storage s) {
-    switch (s) {
-        case Storage::Half:
-            return CL_HALF_FLOAT;
-        case Storage::Snorm16:
-            return CL_SNORM_INT16;
-        case Storage::Unorm16:
-            return CL_UNORM_INT16;
-        case Storage::Unorm8:
-            return CL_UNORM_INT8;
-        case Storage::Float:
-            break;
-    }
-    return CL_FLOAT;
-}
-
-// Whether the device reads an image of the plane's format (rusticl over llvmpipe has no
-// CL_RGBA / CL_SNORM_INT16).
-bool device_has_image_format(const Plane& p) {
-    std::vector<cl::ImageFormat> formats;
-    runtime()->context().getSupportedImageFormats(CL_MEM_READ_ONLY, CL_MEM_OBJECT_IMAGE2D,
-                                                  &formats);
-    const cl_channel_order order = p.values == 1 ? CL_R : CL_RGBA;
-    for (const cl::ImageFormat& f : formats)
-        if (f.image_channel_order == order && f.image_channel_data_type == image_type(p.storage))
-            return true;
-    return false;
-}
-
-Input to_device(const Plane& p, int w, int h) {
-    const cl::Context& context = runtime()->context();
-    std::vector<unsigned char> bytes = encode(p);
-    Input in;
-    in.storage = p.storage;
-    if (!p.image) {
-        in.buffer = cl::Buffer(context, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, bytes.size(),
-                               bytes.data());
-        return in;
-    }
-    // One channel, or four (PoCL has no two-channel images; uv takes the first two of RGBA).
-    const cl_channel_order order = p.values == 1 ? CL_R : CL_RGBA;
-    if (p.values == 2) {
-        Plane four = p;
-        four.values = 4;
-        four.v.assign(p.v.size() * 2, 0.0f);
-        for (size_t k = 0; k < p.v.size() / 2; ++k) {
-            four.v[4 * k] = p.v[2 * k];
-            four.v[4 * k + 1] = p.v[2 * k + 1];
-        }
-        bytes = encode(four);
-    }
-    in.image = cl::Image2D(context, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR,
-                           cl::ImageFormat(order, image_type(p.storage)), w, h, 0, bytes.data());
-    return in;
-}
-
-// An engine's frame: its planes as floats before storage, and how each is stored.
-struct EngineFrame {
-    int width = 0, height = 0;
-    EngineCamera camera;
-    Plane depth = with_values(1), normal = with_values(4), tangent = with_values(4),
-          uv = with_values(2);
-    FrameForm form = FrameForm::NormalTangent;
-
-    EngineGBuffer to_device() const {
-        EngineGBuffer g;
-        g.width = width;
-        g.height = height;
-        g.camera = camera;
-        g.frame = form;
-        g.depth = omtest::to_device(depth, width, height);
-        g.normal = omtest::to_device(normal, width, height);
-        if (form == FrameForm::NormalTangent) g.tangent = omtest::to_device(tangent, width, height);
-        g.uv = omtest::to_device(uv, width, height);
-        return g;
-    }
-};
-
-// The plane scene as the library's engine scene writes it.
-EngineFrame plane_frame(const PlaneScene& s, DepthConvention depth, FirstRow first_row) {
-    EngineScene e = make_engine_scene(s, depth, first_row);
-    EngineFrame f;
-    f.width = e.width;
-    f.height = e.height;
-    f.camera = e.camera;
-    f.depth.v = e.depth;
-    f.normal.v = e.normal;
-    f.tangent.v = e.tangent;
-    f.uv.v = e.uv;
-    return f;
-}
-
-// Random tangent frames on the plane frame's pixels: unnormalised, the tangent leaning toward the
-// normal, half of them mirrored (or quaternions of random length and sign carrying it).
-void randomise_frames(EngineFrame& f, FrameForm form, uint64_t seed) {
-    std::mt19937_64 rng(seed);
-    std::normal_distribution<double> gauss;
-    std::uniform_real_distribution<double> uniform(0.5, 2.0);
-    f.form = form;
-    for (size_t k = 0; k < f.depth.v.size(); ++k) {
-        glm::dquat q = glm::normalize(glm::dquat(gauss(rng), gauss(rng), gauss(rng), gauss(rng)));
-        if (std::abs(q.w) < 0.05) {  // keep the handedness sign through 16 bits
-            q.w = 0.05;
-            q = glm::normalize(q);
-        }
-        const bool mirrored = rng() & 1;
-        const glm::dmat3 r = glm::mat3_cast(q);
-        float* n = &f.normal.v[4 * k];
-        float* t = &f.tangent.v[4 * k];
-        if (form == FrameForm::Quaternion) {
-            const double len = uniform(rng), sign = (q.w < 0) == mirrored ? 1.0 : -1.0;
-            const double c[4] = {q.x, q.y, q.z, q.w};
-            for (int i = 0; i < 4; ++i) n[i] = static_cast<float>(sign * len * c[i] * 0.45);
-            continue;
-        }
-        const double ln = uniform(rng), lt = uniform(rng) * 0.5, lean = 0.6 * gauss(rng);
-        for (int i = 0; i < 3; ++i) {
-            n[i] = static_cast<float>(ln * r[2][i] * 0.5);
-            t[i] = static_cast<float>(lt * (r[0][i] + lean * r[2][i]) * 0.5);
-        }
-        n[3] = 0.0f;
-        t[3] = mirrored ? -1.0f : 1.0f;
-    }
-}
-
-// ---- The reference: the kernel's formula in double, from the stored values, and its bound. ----
-
-struct Reference {
-    bool sky = false, valid = true;
-    glm::dvec3 v_ts{0.0}, l_ts{0.0};
-    double bound = 0.0;  // on each component of V (and of L for a directional light)
-    double l_bound = 0.0;
-};
-
-glm::dvec4 stored4(const Plane& p, size_t k) {
-    glm::dvec4 out(0.0);
-    for (int i = 0; i < p.values; ++i) out[i] = stored_value(p.v[p.values * k + i], p.storage);
-    return out;
-}
-
-// Forward error analysis of kernels/gbuffer/reconstruct.cl in float (u = 2^-24; +, -, * round
-// within u; OpenCL's division within 2.5 ulp and rsqrt within 2 ulp, an ulp at most 2 u of the
-// value; dot products of n terms within gamma_n = n u / (1 - n u) of the sum of |terms|), to first
-// order, per pixel:
-//   ndc x, y: (2x + 1) / W - 1, within 6 u; z: d (or 2 d - 1), within 2 u plus d's decoding error.
-//   c = M (ndc, 1): |dc_i| <= sum_j |M_ij| |d ndc_j| + gamma_4 sum_j |M_ij| |ndc_j|.
-//   p = c.xyz / c.w: |dp_i| <= (|dc_i| + |p_i| |dc_w|) / |c_w| + 5 u |p_i|.
-//   e = eye - p: |de_i| <= |dp_i| + u |e_i|; V = e rsqrt(e.e): |dV| <= |de| / |e| + 8 u (the
-//   normalisation's derivative has norm 1 / |e|; 1.5 u from the dot, 4 u from rsqrt, u the
-//   product). Frame: n = n rsqrt(n.n): |dn| <= decode + 8 u; t_p = t - n (n.t): |dt_p| <= (2 |dn| +
-//   6 u + decode) |t|; t = t_p / |t_p|: |dt| <= |dt_p| / |t_p| + 8 u; b = n x t: |db| <= |dn| +
-//   |dt| + 6 u. Quaternion: |dq| <= decode + 8 u; each entry of the rotation is a quadratic form in
-//   q whose gradient has norm at most 4, plus 4 roundings of values <= 2: |dcolumn| <= sqrt 3 (4
-//   |dq| + 8 u). V_ts_i = V . f_i: |dV_ts_i| <= |dV| + |df_i| + gamma_3.
-Reference reference(const EngineFrame& f, size_t k, const EngineLight& light) {
-    Reference out;
-    const int x = static_cast<int>(k % f.width), y = static_cast<int>(k / f.width);
-    const double d = stored_value(f.depth.v[k], f.depth.storage);
-    const auto& cam = f.camera;
-    out.sky = cam.depth == DepthConvention::Reversed ? d <= 0.0 : d >= 1.0;
-    if (out.sky) return out;
-    const double u = kU, g3 = 3 * u / (1 - 3 * u), g4 = 4 * u / (1 - 4 * u);
-    const double row = static_cast<int>(cam.first_row);
-    const glm::dvec4 ndc((2.0 * x + 1) / f.width - 1.0, row * (1.0 - (2.0 * y + 1) / f.height),
-                         cam.depth == DepthConvention::GL ? 2 * d - 1 : d, 1.0);
-    const double dz_decode =
-        decode_error(f.depth.storage) * d * (cam.depth == DepthConvention::GL ? 2 : 1);
-    const double dndc[4] = {6 * u, 6 * u, 2 * u + dz_decode, 0.0};
-    glm::dmat4 m;
-    for (int c = 0; c < 4; ++c)
-        for (int r = 0; r < 4; ++r) m[c][r] = cam.inverse_view_projection[4 * c + r];
-    const glm::dvec4 c = m * ndc;
-    double dc[4];
-    for (int i = 0; i < 4; ++i) {
-        double sum = 0.0, mag = 0.0;
-        for (int j = 0; j < 4; ++j) {
-            sum += std::abs(m[j][i]) * dndc[j];
-            mag += std::abs(m[j][i]) * std::abs(ndc[j]);
-        }
-        dc[i] = sum + g4 * mag;
-    }
-    const glm::dvec3 p = glm::dvec3(c) / c.w;
-    const glm::dvec3 eye(cam.eye[0], cam.eye[1], cam.eye[2]);
-    const glm::dvec3 e = eye - p;
-    double de2 = 0.0, dp2 = 0.0;
-    for (int i = 0; i < 3; ++i) {
-        const double dp = (dc[i] + std::abs(p[i]) * dc[3]) / std::abs(c.w) + 5 * u * std::abs(p[i]);
-        const double dei = dp + u * std::abs(e[i]);
-        dp2 += dp * dp;
-        de2 += dei * dei;
-    }
-    const glm::dvec3 v = glm::normalize(e);
-    const double dv = std::sqrt(de2) / glm::length(e) + 8 * u;
-
-    glm::dvec3 t, b, n;
-    double df[3];
-    const glm::dvec4 fa = stored4(f.normal, k);
-    if (f.form == FrameForm::Quaternion) {
-        const glm::dvec4 q = fa / glm::length(fa);
-        const glm::dmat3 r = glm::mat3_cast(glm::dquat(q.w, q.x, q.y, q.z));
-        t = r[0];
-        b = fa.w < 0 ? -r[1] : r[1];
-        n = r[2];
-        const double dq = decode_error(f.normal.storage) + 8 * u;
-        df[0] = df[1] = df[2] = std::sqrt(3.0) * (4 * dq + 8 * u);
-    } else {
-        const glm::dvec4 ta = stored4(f.tangent, k);
-        n = glm::normalize(glm::dvec3(fa));
-        const glm::dvec3 tp = glm::dvec3(ta) - n * glm::dot(n, glm::dvec3(ta));
-        t = glm::normalize(tp);
-        b = glm::cross(n, t) * (ta.w < 0 ? -1.0 : 1.0);
-        const double dn = decode_error(f.normal.storage) + 8 * u;
-        const double dtp =
-            (2 * dn + 6 * u + decode_error(f.tangent.storage)) * glm::length(glm::dvec3(ta));
-        const double dt = dtp / glm::length(tp) + 8 * u;
-        df[0] = dt;
-        df[1] = dn + dt + 6 * u;
-        df[2] = dn;
-    }
-    out.v_ts = {glm::dot(v, t), glm::dot(v, b), glm::dot(v, n)};
-    double worst = 0.0;
-    for (int i = 0; i < 3; ++i) worst = std::max(worst, dv + df[i] + g3);
-    out.bound = worst;
-    if (light.kind != LightKind::None) {
-        glm::dvec3 l(light.vector[0], light.vector[1], light.vector[2]);
-        l = light.kind == LightKind::Point ? glm::normalize(l - p) : glm::normalize(l);
-        out.l_ts = {glm::dot(l, t), glm::dot(l, b), glm::dot(l, n)};
-        // A directional light's error is its normalisation's; a point light's adds p's, as V's.
-        const double dl =
-            light.kind == LightKind::Point
-                ? (std::sqrt(dp2) + u * glm::length(l)) /
-                          glm::length(
-                              glm::dvec3(light.vector[0], light.vector[1], light.vector[2]) - p) +
-                      8 * u
-                : 8 * u;
-        out.l_bound = dl + std::max({df[0], df[1], df[2]}) + g3;
-    }
-    return out;
-}
-
-// Reads the reconstructed G-buffer back.
-struct Decoded {
-    std::vector<cl_float2> uv;
-    std::vector<cl_float4> view, light;
-};
-
+// The engine frame's reference on the tests' runtime.
 Decoded reconstruct(const EngineGBuffer& in, bool light,
                     const std::shared_ptr<Runtime>& rt = runtime()) {
-    DeviceGBuffer out = allocate_gbuffer(*rt, in.width, in.height, light, false);
-    ReconstructPass pass(rt);
-    pass.enqueue(in, out).wait();
-    Decoded d;
-    const size_t n = in.pixels();
-    d.uv.resize(n);
-    d.view.resize(n);
-    rt->queue().enqueueReadBuffer(out.uv, CL_TRUE, 0, n * sizeof(cl_float2), d.uv.data());
-    rt->queue().enqueueReadBuffer(out.view, CL_TRUE, 0, n * sizeof(cl_float4), d.view.data());
-    if (light) {
-        d.light.resize(n);
-        rt->queue().enqueueReadBuffer(out.light, CL_TRUE, 0, n * sizeof(cl_float4), d.light.data());
+    return engine_ref::reconstruct(rt, in, light);
+}
+
+// The reference's own half conversion (the device check has no Imath) against Imath's, bit for
+// bit, over every half's neighbourhood: each half, the floats a hair either side of it and the
+// ties halfway to the next, subnormals, overflow, infinities and NaN.
+Imath::half half_of_bits(std::uint32_t bits) {
+    Imath::half h;
+    h.setBits(static_cast<std::uint16_t>(bits));
+    return h;
+}
+
+TEST(EngineGBuffer, HalfConversionMatchesImath) {
+    size_t checked = 0;
+    for (std::uint32_t bits = 0; bits < 0x10000; ++bits) {
+        const Imath::half h = half_of_bits(bits);
+        const float x = h;
+        if (std::isnan(x)) {
+            EXPECT_TRUE(std::isnan(engine_ref::half_value(static_cast<std::uint16_t>(bits))));
+            continue;
+        }
+        ASSERT_EQ(engine_ref::half_value(static_cast<std::uint16_t>(bits)), x) << bits;
+        const float next = half_of_bits(bits + 1);
+        for (float y : {x, std::nextafter(x, 0.0f), std::nextafter(x, 2 * x), 0.5f * (x + next),
+                        std::nextafter(0.5f * (x + next), 0.0f),
+                        std::nextafter(0.5f * (x + next), 2 * next)}) {
+            if (!std::isfinite(y)) continue;
+            ASSERT_EQ(engine_ref::half_bits(y), Imath::half(y).bits()) << y;
+            ++checked;
+        }
     }
-    return d;
+    for (float y : {1e-10f, 65519.99f, 65520.0f, 65520.01f, -65520.0f, 1e6f, -INFINITY})
+        EXPECT_EQ(engine_ref::half_bits(y), Imath::half(y).bits()) << y;
+    EXPECT_EQ(engine_ref::half_bits(std::nanf("")) & 0x7e00u, 0x7e00u);
+    EXPECT_GT(checked, 5u * 0xf800u);
 }
 
 // The two reconstructions are equal bit for bit (NaNs included).
@@ -369,34 +98,16 @@ PlaneScene small_plane() {
     return s;
 }
 
-struct Encoding {
-    const char* name;
-    FrameForm form;
-    DepthConvention projection;
-    FirstRow first_row;
-    Storage depth, frame, uv;
-    bool images;
-    EngineLight light;
-};
-
-void PrintTo(const Encoding& e, std::ostream* os) { *os << e.name; }
-
 class Reconstruct : public ::testing::TestWithParam<Encoding> {};
 
 // V (and L) from every encoding within the derived bound of the double reference; sky pixels
 // empty, the rest keep their stored uv.
 TEST_P(Reconstruct, ViewAndLightWithinTheDerivedBound) {
     const Encoding& e = GetParam();
-    EngineFrame f = plane_frame(small_plane(), e.projection, e.first_row);
-    randomise_frames(f, e.form, 7);
-    f.depth.storage = e.depth;
-    f.normal.storage = f.tangent.storage = e.frame;
-    f.uv.storage = e.uv;
-    f.depth.image = f.normal.image = f.tangent.image = f.uv.image = e.images;
-    for (const Plane* p : {&f.depth, &f.normal, &f.tangent, &f.uv})
-        if (p->image && !device_has_image_format(*p))
-            GTEST_SKIP() << runtime()->device_name() << " has no image format for " << e.name;
-    EngineGBuffer in = f.to_device();
+    EngineFrame f = encoded_frame(small_plane(), e, 7);
+    if (!engine_ref::device_reads_images(runtime()->context(), f))
+        GTEST_SKIP() << runtime()->device_name() << " has no image format for " << e.name;
+    EngineGBuffer in = f.to_device(runtime()->context());
     in.light = e.light;
     const bool lit = e.light.kind != LightKind::None;
     Decoded d = reconstruct(in, lit);
@@ -466,10 +177,10 @@ TEST(EngineGBuffer, ImagesReadTheSameAsBuffers) {
         randomise_frames(f, FrameForm::NormalTangent, 11);
         // Depth too: PoCL misreads one-channel half images, which the pass copies to a buffer.
         f.depth.storage = f.normal.storage = f.tangent.storage = f.uv.storage = storage;
-        EngineGBuffer buffers = f.to_device();
+        EngineGBuffer buffers = f.to_device(runtime()->context());
         buffers.light = kLamp;
         f.depth.image = f.normal.image = f.tangent.image = f.uv.image = true;
-        EngineGBuffer images = f.to_device();
+        EngineGBuffer images = f.to_device(runtime()->context());
         images.light = kLamp;
         expect_same_bits(reconstruct(buffers, true), reconstruct(images, true),
                          storage == Storage::Half ? "half" : "float");
@@ -483,7 +194,7 @@ TEST(EngineGBuffer, EveryLaneCountGivesTheSameFrame) {
     randomise_frames(f, FrameForm::NormalTangent, 3);
     f.normal.storage = Storage::Snorm16;
     f.uv.storage = Storage::Half;
-    EngineGBuffer in = f.to_device();
+    EngineGBuffer in = f.to_device(runtime()->context());
     in.light = kLamp;
     std::vector<Decoded> frames;
     for (int lanes : {1, 8, 16}) {
@@ -504,12 +215,12 @@ TEST(EngineGBuffer, HalfStorageEqualsTheFloatPathOfItsValues) {
     EngineFrame f = plane_frame(small_plane(), DepthConvention::Reversed, FirstRow::Top);
     randomise_frames(f, FrameForm::Quaternion, 5);
     f.normal.storage = f.uv.storage = Storage::Half;
-    EngineGBuffer half = f.to_device();
+    EngineGBuffer half = f.to_device(runtime()->context());
     for (Plane* p : {&f.normal, &f.uv}) {
         for (float& x : p->v) x = static_cast<float>(stored_value(x, Storage::Half));
         p->storage = Storage::Float;
     }
-    EngineGBuffer full = f.to_device();
+    EngineGBuffer full = f.to_device(runtime()->context());
     expect_same_bits(reconstruct(half, false), reconstruct(full, false), "half");
 }
 
@@ -551,7 +262,7 @@ TEST(EngineGBuffer, SameSceneBothWaysWithinRounding) {
     std::vector<cl_uint> flags_engine, flags_library;
     DeviceGBuffer decoded = allocate_gbuffer(*rt, s.width, s.height, false, false);
     ReconstructPass reconstruct_pass(rt);
-    cl::Event done = reconstruct_pass.enqueue(f.to_device(), decoded);
+    cl::Event done = reconstruct_pass.enqueue(f.to_device(runtime()->context()), decoded);
     trace(decoded, uv_engine, flags_engine, {done});
     GBuffer library = make_scene(s);
     trace(upload(*rt, library), uv_library, flags_library, {});
@@ -638,7 +349,7 @@ TEST(EngineGBuffer, SkyIsEmptyAndDegenerateFramesAreInvalid) {
             }
         DeviceGBuffer decoded = allocate_gbuffer(*rt, g.width, 1, false, false);
         ReconstructPass pass(rt);
-        cl::Event done = pass.enqueue(g.to_device(), decoded);
+        cl::Event done = pass.enqueue(g.to_device(runtime()->context()), decoded);
         OffsetPass offset(rt, "pom");
         OffsetTargets t;
         t.uv = cl::Buffer(rt->context(), CL_MEM_READ_WRITE, pixels.size() * sizeof(cl_float2));
@@ -667,7 +378,7 @@ TEST(EngineGBuffer, WrongInputsAreRefusedByName) {
     auto rt = runtime();
     const cl::Context& context = rt->context();
     EngineFrame f = plane_frame(small_plane(), DepthConvention::ZeroToOne, FirstRow::Top);
-    const EngineGBuffer good = f.to_device();
+    const EngineGBuffer good = f.to_device(runtime()->context());
     DeviceGBuffer out = allocate_gbuffer(*rt, f.width, f.height, false, false);
     ReconstructPass pass(rt);
     auto error = [&](const EngineGBuffer& in, const DeviceGBuffer& o) {
@@ -727,7 +438,7 @@ TEST(EngineGBuffer, PrepareLeavesNothingToCompile) {
         std::make_shared<Runtime>(runtime()->context(), runtime()->device(), runtime()->queue());
     EngineFrame f = plane_frame(small_plane(), DepthConvention::GL, FirstRow::Top);
     f.normal.image = true;
-    EngineGBuffer in = f.to_device();
+    EngineGBuffer in = f.to_device(runtime()->context());
     DeviceGBuffer out = allocate_gbuffer(*rt, f.width, f.height, false, false);
     ReconstructPass pass(rt);
     pass.prepare(in, out);

@@ -4,6 +4,7 @@
 // alone: it builds and runs where only an OpenCL driver is installed (docs/integrating.md,
 // "Checking your device").
 #pragma once
+#include <cstdint>
 #include <memory>
 #include <string>
 #include <utility>
@@ -65,6 +66,19 @@ struct DeviceReport {
 
 std::vector<Fact> describe_device(const Runtime& runtime);
 
+// A relief the check makes itself, as the passes read it (rounded to 16 bits where kept as words).
+struct MapCase {
+    std::string name;  // relief, size, address mode, storage, s and r
+    HeightMap map;
+    PassSettings settings;
+};
+// Power-of-two, odd and other sizes; wrap and clamp; floats and unorm16 words (two with `quick`).
+std::vector<MapCase> map_cases(bool quick);
+// Views over the tile down to grazing ones, and a row with an empty, a back-facing and a zero view.
+GBuffer case_views(bool quick);
+// A texel's hash in [0, 1): inputs without files, the same on every machine.
+float hashed(std::uint64_t seed, int i, int j);
+
 // Every selected method on the check's maps and views: the exact walks against the double oracle
 // within the per-ray float bound, the others against the C++ peer (the same kernel compiled as
 // C++) to 1e-3 texel except where the kernel itself jumps; flags and fetch caps too.
@@ -74,6 +88,14 @@ void check_methods(const std::shared_ptr<Runtime>& runtime, const Options& optio
 // alone, bit for bit.
 void check_material_frame(const std::shared_ptr<Runtime>& runtime, const Options& options,
                           DeviceReport& report);
+// The shade pass (lit, hard and soft self-shadows, albedo or checker, global or per-pixel light)
+// over each map's relief against the shade kernel compiled as C++, off its discontinuities.
+void check_shade(const std::shared_ptr<Runtime>& runtime, const Options& options,
+                 DeviceReport& report);
+// The reconstruct pass over engine G-buffer forms (both frame forms, every depth convention and
+// storage, buffers and images, lights) against the double reference within its float bound.
+void check_reconstruct(const std::shared_ptr<Runtime>& runtime, const Options& options,
+                       DeviceReport& report);
 // Each method's time at 1080p (a camera view and random rays) and the fetch roofline.
 void time_methods(const std::shared_ptr<Runtime>& runtime, const Options& options,
                   DeviceReport& report);

@@ -24,7 +24,7 @@ const char* const kUsage =
     "  --device TEXT   only devices whose \"platform / device\" contains TEXT (any case;\n"
     "                  repeatable); default: every OpenCL device\n"
     "  --methods LIST  only these methods (comma-separated); default: every method\n"
-    "  --quick         smaller cases and timing frames (about 20 s on a 2-core CPU)\n"
+    "  --quick         smaller cases and timing frames (about 15 s on a 2-core CPU)\n"
     "  --no-timing     correctness only\n"
     "  --json FILE     write the whole report as JSON\n"
     "  --list          list the devices and what the passes choose there, nothing else\n"
@@ -126,6 +126,8 @@ DeviceReport check_device(const cl::Device& device, const Options& o, bool list_
     };
     stage("methods", [&] { check_methods(rt, o, r); });
     stage("material frame", [&] { check_material_frame(rt, o, r); });
+    stage("shade", [&] { check_shade(rt, o, r); });
+    stage("reconstruct", [&] { check_reconstruct(rt, o, r); });
     if (o.timing) stage("timing", [&] { time_methods(rt, o, r); });
     collect_failures(r);
     const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

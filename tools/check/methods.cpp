@@ -15,92 +15,6 @@
 namespace offsetmap::check {
 namespace {
 
-// A texel's hash in [0, 1): maps without files, the same on every machine.
-float hashed(std::uint64_t seed, int i, int j) {
-    std::uint64_t x = seed ^ (static_cast<std::uint64_t>(static_cast<std::uint32_t>(j)) << 32 |
-                              static_cast<std::uint32_t>(i));
-    x *= 0x9E3779B97F4A7C15ull;
-    x ^= x >> 31;
-    x *= 0xBF58476D1CE4E5B9ull;
-    x ^= x >> 29;
-    return static_cast<float>((x >> 40) * 0x1.0p-24);
-}
-
-struct MapCase {
-    std::string name;
-    HeightMap map;  // as the passes read it (rounded to 16 bits where kept as words)
-    PassSettings settings;
-};
-
-template <typename F>
-MapCase make_case(const std::string& relief, int w, int h, AddressMode address, bool words,
-                  float scale, float reference, F height) {
-    MapCase c;
-    c.map.width = w;
-    c.map.height = h;
-    c.map.h.resize(static_cast<size_t>(w) * h);
-    for (int j = 0; j < h; ++j)
-        for (int i = 0; i < w; ++i) {
-            const float v = std::clamp(height(i, j), 0.0f, 1.0f);
-            c.map.h[static_cast<size_t>(j) * w + i] =
-                words ? std::nearbyint(v * 65535.0f) / 65535.0f : v;
-        }
-    c.settings.scale = scale;
-    c.settings.reference_plane = reference;
-    c.settings.address = address;
-    c.settings.heights = words ? HeightStorage::Unorm16 : HeightStorage::Float;
-    char text[160];
-    std::snprintf(text, sizeof text, "%s %dx%d, %s, %s heights, s=%.2f, r=%.1f", relief.c_str(), w,
-                  h, address == AddressMode::Wrap ? "wrap" : "clamp", words ? "unorm16" : "float",
-                  scale, reference);
-    c.name = text;
-    return c;
-}
-
-// Power-of-two, odd and other sizes; wrap and clamp; floats and unorm16 words; smooth relief,
-// walls, noise and one-texel ridges.
-std::vector<MapCase> map_cases(bool quick) {
-    std::vector<MapCase> out;
-    out.push_back(
-        make_case("sines", 64, 64, AddressMode::Wrap, false, 0.05f, 1.0f, [](int i, int j) {
-            const double u = (i + 0.5) / 64, v = (j + 0.5) / 64;
-            return static_cast<float>(0.5 + 0.3 * std::sin(2 * M_PI * (2 * u + v)) *
-                                                std::cos(2 * M_PI * 3 * v));
-        }));
-    out.push_back(make_case("noise", 37, 23, AddressMode::Clamp, true, 0.08f, 1.0f,
-                            [](int i, int j) { return hashed(7, i, j); }));
-    if (quick) return out;
-    out.push_back(
-        make_case("walls", 96, 80, AddressMode::Wrap, true, 0.05f, 0.6f,
-                  [](int i, int j) { return hashed(11, i / 4, j / 5) < 0.5f ? 0.1f : 0.95f; }));
-    out.push_back(make_case("ridges", 61, 128, AddressMode::Clamp, false, 0.1f, 1.0f,
-                            [](int i, int j) { return i % 7 == 3 || j % 9 == 4 ? 1.0f : 0.05f; }));
-    return out;
-}
-
-// Random views over the tile (elevations 5-90 degrees), then grazing ones (0.5-5: the grazing rule
-// raises those below its minimum), then one row with an empty, a back-facing and a zero view.
-GBuffer case_views(bool quick) {
-    const int w = quick ? 48 : 96;
-    GBuffer steep = make_scene(RandomScene{w, quick ? 24 : 48, 2027, 5.0, 90.0});
-    GBuffer grazing = make_scene(RandomScene{w, quick ? 8 : 16, 2028, 0.5, 5.0});
-    GBuffer gb;
-    gb.resize(w, steep.height + grazing.height + 1, false, false);
-    std::copy(steep.uv.begin(), steep.uv.end(), gb.uv.begin());
-    std::copy(steep.view.begin(), steep.view.end(), gb.view.begin());
-    std::copy(grazing.uv.begin(), grazing.uv.end(), gb.uv.begin() + steep.pixels());
-    std::copy(grazing.view.begin(), grazing.view.end(), gb.view.begin() + steep.pixels());
-    const size_t last = steep.pixels() + grazing.pixels();
-    for (int x = 0; x < w; ++x) {
-        gb.uv[last + x] = {{0.25f + 0.5f * x / w, 0.5f}};
-        gb.view[last + x] = {{0.3f, 0.2f, 0.93f, 0.0f}};
-    }
-    gb.uv[last] = {{std::numeric_limits<float>::quiet_NaN(), 0.5f}};  // empty
-    gb.view[last + 1] = {{0.3f, 0.2f, -0.5f, 0.0f}};                  // back-facing
-    gb.view[last + 2] = {{0.0f, 0.0f, 0.0f, 0.0f}};                   // invalid
-    return gb;
-}
-
 struct Reference {
     std::vector<PreparedRay> rays;
     std::vector<ExactHit> hits;  // for traced rays
@@ -263,6 +177,88 @@ void against_peer(const std::shared_ptr<Runtime>& rt, const MapCase& c, const GB
 }
 
 }  // namespace
+
+float hashed(std::uint64_t seed, int i, int j) {
+    std::uint64_t x = seed ^ (static_cast<std::uint64_t>(static_cast<std::uint32_t>(j)) << 32 |
+                              static_cast<std::uint32_t>(i));
+    x *= 0x9E3779B97F4A7C15ull;
+    x ^= x >> 31;
+    x *= 0xBF58476D1CE4E5B9ull;
+    x ^= x >> 29;
+    return static_cast<float>((x >> 40) * 0x1.0p-24);
+}
+
+namespace {
+
+template <typename F>
+MapCase make_case(const std::string& relief, int w, int h, AddressMode address, bool words,
+                  float scale, float reference, F height) {
+    MapCase c;
+    c.map.width = w;
+    c.map.height = h;
+    c.map.h.resize(static_cast<size_t>(w) * h);
+    for (int j = 0; j < h; ++j)
+        for (int i = 0; i < w; ++i) {
+            const float v = std::clamp(height(i, j), 0.0f, 1.0f);
+            c.map.h[static_cast<size_t>(j) * w + i] =
+                words ? std::nearbyint(v * 65535.0f) / 65535.0f : v;
+        }
+    c.settings.scale = scale;
+    c.settings.reference_plane = reference;
+    c.settings.address = address;
+    c.settings.heights = words ? HeightStorage::Unorm16 : HeightStorage::Float;
+    char text[160];
+    std::snprintf(text, sizeof text, "%s %dx%d, %s, %s heights, s=%.2f, r=%.1f", relief.c_str(), w,
+                  h, address == AddressMode::Wrap ? "wrap" : "clamp", words ? "unorm16" : "float",
+                  scale, reference);
+    c.name = text;
+    return c;
+}
+
+}  // namespace
+
+// Smooth relief, walls, noise and one-texel ridges.
+std::vector<MapCase> map_cases(bool quick) {
+    std::vector<MapCase> out;
+    out.push_back(
+        make_case("sines", 64, 64, AddressMode::Wrap, false, 0.05f, 1.0f, [](int i, int j) {
+            const double u = (i + 0.5) / 64, v = (j + 0.5) / 64;
+            return static_cast<float>(0.5 + 0.3 * std::sin(2 * M_PI * (2 * u + v)) *
+                                                std::cos(2 * M_PI * 3 * v));
+        }));
+    out.push_back(make_case("noise", 37, 23, AddressMode::Clamp, true, 0.08f, 1.0f,
+                            [](int i, int j) { return hashed(7, i, j); }));
+    if (quick) return out;
+    out.push_back(
+        make_case("walls", 96, 80, AddressMode::Wrap, true, 0.05f, 0.6f,
+                  [](int i, int j) { return hashed(11, i / 4, j / 5) < 0.5f ? 0.1f : 0.95f; }));
+    out.push_back(make_case("ridges", 61, 128, AddressMode::Clamp, false, 0.1f, 1.0f,
+                            [](int i, int j) { return i % 7 == 3 || j % 9 == 4 ? 1.0f : 0.05f; }));
+    return out;
+}
+
+// Random views over the tile (elevations 5-90 degrees), then grazing ones (0.5-5: the grazing rule
+// raises those below its minimum), then one row with an empty, a back-facing and a zero view.
+GBuffer case_views(bool quick) {
+    const int w = quick ? 48 : 96;
+    GBuffer steep = make_scene(RandomScene{w, quick ? 24 : 48, 2027, 5.0, 90.0});
+    GBuffer grazing = make_scene(RandomScene{w, quick ? 8 : 16, 2028, 0.5, 5.0});
+    GBuffer gb;
+    gb.resize(w, steep.height + grazing.height + 1, false, false);
+    std::copy(steep.uv.begin(), steep.uv.end(), gb.uv.begin());
+    std::copy(steep.view.begin(), steep.view.end(), gb.view.begin());
+    std::copy(grazing.uv.begin(), grazing.uv.end(), gb.uv.begin() + steep.pixels());
+    std::copy(grazing.view.begin(), grazing.view.end(), gb.view.begin() + steep.pixels());
+    const size_t last = steep.pixels() + grazing.pixels();
+    for (int x = 0; x < w; ++x) {
+        gb.uv[last + x] = {{0.25f + 0.5f * x / w, 0.5f}};
+        gb.view[last + x] = {{0.3f, 0.2f, 0.93f, 0.0f}};
+    }
+    gb.uv[last] = {{std::numeric_limits<float>::quiet_NaN(), 0.5f}};  // empty
+    gb.view[last + 1] = {{0.3f, 0.2f, -0.5f, 0.0f}};                  // back-facing
+    gb.view[last + 2] = {{0.0f, 0.0f, 0.0f, 0.0f}};                   // invalid
+    return gb;
+}
 
 std::string pixel_name(size_t k, int width) {
     return "pixel (" + std::to_string(k % width) + ", " + std::to_string(k / width) + ")";

@@ -1,6 +1,6 @@
 // The offset kernels run as plain threaded C++ loops over pixels (the kernel sources compiled as
-// C++ with -O3 -march=native): the peer the OpenCL kernels are compared against in the bench, and an
-// independent compilation of the same code for the tests.
+// C++ with -O3 -march=native): the peer the OpenCL kernels are compared against in the bench, and
+// an independent compilation of the same code for the tests.
 #pragma once
 #include <cstdint>
 #include <string>
@@ -26,6 +26,21 @@ struct Args {
     std::uint32_t* out_fetches;
     std::uint32_t* out_flags;
 };
+
+// The shade kernel's arguments (om_shade); light, flags and albedo may be null.
+struct ShadeArgs {
+    OmShadeParams params;  // as the shade pass sets them, the G-buffer's size and has_light too
+    const void* uv;        // float2 per pixel
+    const std::uint32_t* flags;
+    const void* view;  // float4 per pixel
+    const void* light;
+    const void* normals;  // float4 per texel
+    const float* heights;
+    const void* albedo;  // float4 per texel
+    void* out_rgba;      // float4 per pixel
+};
+// om_shade over its work-items [begin, end): one pixel each (one lane).
+void shade(const ShadeArgs& args, int begin, int end);
 
 // The compiled peer of a method (by kernel file, e.g. "pom.cl"); throws Error if none.
 using Entry = void (*)(const Args&, int begin, int end);
