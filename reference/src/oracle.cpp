@@ -62,12 +62,20 @@ double bilinear_height(const HeightMap& map, double u, double v, AddressMode add
 
 ExactHit exact_hit(const HeightMap& map, double u, double v, const double V[3],
                    const PassSettings& s) {
+    return exact_hit(map, u, v, V, s, CellLift{});
+}
+
+ExactHit exact_hit(const HeightMap& map, double u, double v, const double V[3],
+                   const PassSettings& s, const CellLift& lift) {
     const double scale = s.scale, ref = s.reference_plane;
-    const double t0 = -scale * (1.0 - ref) / V[2], t1 = scale * ref / V[2];
-    // Ray height above the relief; the first t where it is <= 0 is the hit.
+    const double top = 1.0 + std::max(lift.highest, 0.0), bottom = std::min(lift.lowest, 0.0);
+    const double t0 = -scale * (top - ref) / V[2], t1 = scale * (ref - bottom) / V[2];
+    // Ray height above the relief; the first t where it is <= 0 is the hit. Each segment lies in
+    // one bilinear cell, whose lift it takes.
+    double moved = 0.0;
     auto gap = [&](double t) {
         return -t * V[2] -
-               scale * (bilinear_height(map, u - t * V[0], v - t * V[1], s.address) - ref);
+               scale * (bilinear_height(map, u - t * V[0], v - t * V[1], s.address) + moved - ref);
     };
     // Every t where the footprint crosses a line through texel centres: between two consecutive
     // ones the ray stays inside one bilinear patch, where gap(t) is exactly quadratic.
@@ -85,6 +93,12 @@ ExactHit exact_hit(const HeightMap& map, double u, double v, const double V[3],
     for (size_t k = 0; k + 1 < ts.size(); ++k) {
         double a = std::clamp(ts[k], t0, t1), b = std::clamp(ts[k + 1], t0, t1);
         if (b <= a) continue;
+        if (lift.at) {
+            const double mid = 0.5 * (a + b);
+            moved =
+                lift.at(static_cast<long long>(std::floor((u - mid * V[0]) * map.width - 0.5)),
+                        static_cast<long long>(std::floor((v - mid * V[1]) * map.height - 0.5)));
+        }
         double ga = gap(a);
         if (ga <= 0.0) return at(a);
         double m = 0.5 * (a + b), gm = gap(m), gb = gap(b);

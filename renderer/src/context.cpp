@@ -3,6 +3,8 @@
 #include <EGL/egl.h>
 #include <EGL/eglext.h>
 
+#include <mutex>
+
 #include "gl.hpp"
 #include "offsetmap/error.hpp"
 
@@ -15,6 +17,11 @@ std::string egl_error() {
     std::snprintf(text, sizeof text, "EGL error 0x%04x", eglGetError());
     return text;
 }
+
+// Every context of the process shares the one surfaceless display, and eglTerminate ends all of
+// them: the last context to go terminates it.
+std::mutex display_mutex;
+int display_users = 0;
 
 }  // namespace
 
@@ -33,6 +40,10 @@ std::unique_ptr<GlContext> GlContext::create() {
         throw Error("OpenGL: cannot open EGL's surfaceless display (" + egl_error() +
                     "); is a Mesa driver installed (Debian: libgl1-mesa-dri)?");
     std::unique_ptr<GlContext> gl(new GlContext);
+    {
+        std::lock_guard<std::mutex> lock(display_mutex);
+        ++display_users;
+    }
     gl->display_ = display;
     if (!eglBindAPI(EGL_OPENGL_API)) throw Error("OpenGL: EGL cannot bind the OpenGL API");
     const EGLint attributes[] = {EGL_CONTEXT_MAJOR_VERSION,
@@ -55,7 +66,10 @@ GlContext::~GlContext() {
         eglMakeCurrent(display_, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
         eglDestroyContext(display_, context_);
     }
-    if (display_) eglTerminate(display_);
+    if (display_) {
+        std::lock_guard<std::mutex> lock(display_mutex);
+        if (--display_users == 0) eglTerminate(display_);
+    }
 }
 
 void GlContext::make_current() const {

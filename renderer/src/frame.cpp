@@ -167,7 +167,10 @@ std::pair<double, double> FrameRenderer::rerun_kernels(int repeats) {
 
 void FrameRenderer::set_shading(const ShadeSettings& shading) { impl_->shading = shading; }
 
-std::string FrameRenderer::gl_renderer() const { return impl_->gl->renderer(); }
+std::string FrameRenderer::gl_renderer() const {
+    impl_->gl->make_current();  // another renderer's context may be current, or none
+    return impl_->gl->renderer();
+}
 
 size_t FrameRenderer::covered_pixels() const {
     size_t c = 0;
@@ -379,6 +382,36 @@ FrameRun FrameRenderer::render(FrameMode mode, bool prepass, int repeats) {
     explicit_.light = flip_rows(explicit_.light, w, h, 1);
     explicit_.material = engine_.material;
     return run;
+}
+
+GeometryFrame FrameRenderer::render_geometry(const Scene& scene, int repeats) {
+    Impl& m = *impl_;
+    m.gl->make_current();
+    Raster raster(scene, m.width, m.height);
+    std::vector<double> times;
+    for (int k = 0; k <= repeats; ++k) {
+        const auto t0 = Clock::now();
+        raster.draw(m.view, nullptr, false);  // ends in glFinish
+        if (k > 0) times.push_back(ms_since(t0));
+    }
+    const RasterPlanes planes = raster.read(false);
+    GeometryFrame g;
+    g.raster_ms = median(times);
+    g.uv = flip_rows(planes.uv, m.width, m.height, 2);
+    g.depth = flip_rows(planes.depth, m.width, m.height, 1);
+    const size_t n = static_cast<size_t>(m.width) * m.height;
+    g.material.resize(n);
+    g.density.resize(n);
+    g.normal.resize(3 * n);
+    const std::vector<float> normals = flip_rows(planes.normal, m.width, m.height, 4);
+    for (size_t k = 0; k < n; ++k)
+        for (int c = 0; c < 3; ++c) g.normal[3 * k + c] = normals[4 * k + c];
+    const std::vector<float> ids = flip_rows(planes.material, m.width, m.height, 2);
+    for (size_t k = 0; k < n; ++k) {
+        g.material[k] = ids[2 * k];
+        g.density[k] = ids[2 * k + 1];
+    }
+    return g;
 }
 
 OffsetResult FrameRenderer::exact() const {

@@ -261,8 +261,7 @@ class Loader {
                 v.uv = {uv[2 * i], uv[2 * i + 1]};
                 // In float, as the renderer keeps them: a world position past float's range is
                 // as unusable as a NaN.
-                if (!(len > 1e-12) ||
-                    !std::isfinite(v.position[0] + v.position[1] + v.position[2]))
+                if (!(len > 1e-12) || !std::isfinite(v.position[0] + v.position[1] + v.position[2]))
                     fail(what + " has a zero or non-finite normal or position at vertex " +
                          std::to_string(i));
                 if (!std::isfinite(v.uv[0] + v.uv[1]))

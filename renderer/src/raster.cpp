@@ -91,6 +91,7 @@ View make_view(const Camera& c, int width, int height) {
 
 Raster::Raster(const Scene& scene, int width, int height) : width_(width), height_(height) {
     for (const Mesh& m : scene.meshes) {
+        if (m.indices.empty()) continue;  // GL takes no empty buffer (a mesh culled away)
         DrawMesh d;
         d.material = m.material;
         GLuint ids[3];

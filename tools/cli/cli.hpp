@@ -118,7 +118,8 @@ std::string find_beside_program(const std::string& folder, const std::string& ma
 // The default maps (data/).
 std::string default_data_dir();
 
-// Shows a slow step's progress on stderr (a carriage-return line, cleared when done).
+// Shows a slow step's progress on stderr: on a terminal a carriage-return line (cleared with ""),
+// otherwise a plain line each (the empty one dropped).
 void progress_line(const std::string& line);
 // Runtime progress (precomputes) on stderr: on a terminal a line updated in place once a step has
 // run for half a second; otherwise a line every ten seconds once it has run for two.
@@ -138,6 +139,8 @@ struct FrameCommand {
     std::string method;
     std::vector<std::string> sets;
     bool forward = false;
+    bool truth = false;        // the displaced mesh as the truth, every frame against it
+    float truth_level = 0.5f;  // its lattice, texels per quad
     std::string out_dir = "out/frame";
     int repeats = 3;
     std::string shadows = "none";
@@ -211,7 +214,8 @@ struct Command {
 std::vector<std::unique_ptr<Command>> make_commands();
 std::unique_ptr<Command> demo_command();
 
-// Runs tools/bench/<script> with Debian's Python (matplotlib); false (with a warning) when it cannot.
+// Runs tools/bench/<script> with Debian's Python (matplotlib); false (with a warning) when it
+// cannot.
 bool run_chart_script(const std::string& script, const std::vector<std::string>& args);
 
 }  // namespace offsetmap::cli

@@ -11,6 +11,7 @@
 #ifdef OFFSETMAP_HAVE_RENDERER
 #include "offsetmap/renderer/frame.hpp"
 #include "offsetmap/renderer/gltf.hpp"
+#include "offsetmap/renderer/truth.hpp"
 #endif
 
 namespace offsetmap::cli {
@@ -38,6 +39,14 @@ void FrameCommand::add_to(CLI::App& app) {
     app.add_flag("--forward", forward,
                  "also render the forward peer: each material's method in the G-buffer "
                  "fragment shader (GLSL), with and without a depth pre-pass");
+    app.add_flag("--truth", truth,
+                 "also draw the truth: each relief mesh tessellated and displaced for real, and "
+                 "measure every frame against it (frame.json's truth, truth-*.png)");
+    app.add_option("--truth-level", truth_level,
+                   "the truth's lattice in texels per quad (0.5: 2 x 2 quads a texel; 1, 0.25, "
+                   "...)")
+        ->check(CLI::Range(0.0625, 1.0))
+        ->capture_default_str();
     app.add_option("-o,--out", out_dir, "output folder")->capture_default_str();
     app.add_option("--repeats", repeats, "timed frames per mode (median reported)")
         ->check(CLI::Range(1, 100))
@@ -83,6 +92,209 @@ Rgb8 depth_change_image(int w, int h, const std::vector<float>& before,
     for (size_t k = 0; k < change.size(); ++k)
         change[k] = before[k] >= 1.0f ? std::nanf("") : std::abs(after[k] - before[k]) * 1e4f;
     return heat_map(w, h, change, 16.0f);
+}
+
+nlohmann::json summary_json(const ErrorSummary& e) {
+    return {{"mean", e.mean}, {"p95", e.p95}, {"max", e.max}};
+}
+
+// Mismatched pixels over the frame, darkened: red where the truth shows relief and the frame none,
+// blue where the frame shows relief and the truth none, magenta where both show relief of
+// different surfaces.
+Rgb8 mismatch_overlay(int w, int h, const std::vector<cl_float4>& color,
+                      const std::vector<std::uint8_t>& mismatched, const GeometryFrame& truth,
+                      const std::vector<float>& frame_ids,
+                      const std::vector<std::uint32_t>& flags) {
+    std::vector<cl_float4> c(color);
+    for (size_t k = 0; k < c.size(); ++k) {
+        for (int i = 0; i < 3; ++i) c[k].s[i] *= 0.35f;
+        if (!mismatched[k]) continue;
+        const bool truth_relief = truth.depth[k] < 1.0f && truth.material[k] > 0.0f;
+        const bool frame_relief =
+            frame_ids[k] > 0.0f && !(flags[k] & (OM_FLAG_EMPTY | OM_FLAG_OUT_OF_TILE));
+        c[k] = truth_relief && frame_relief ? cl_float4{{1.0f, 0.2f, 1.0f, 1.0f}}
+               : truth_relief               ? cl_float4{{1.0f, 0.1f, 0.05f, 1.0f}}
+                                            : cl_float4{{0.1f, 0.35f, 1.0f, 1.0f}};
+    }
+    return to_srgb8(w, h, c);
+}
+
+// The displaced mesh drawn as the truth, and each frame against it.
+nlohmann::json truth_section(const FrameCommand& cmd, const Scene& scene,
+                             const std::vector<LoadedMaterial>& table,
+                             const std::shared_ptr<Runtime>& rt, FrameRenderer& renderer,
+                             const GBuffer& gb, const EngineScene& engine,
+                             const std::vector<FrameRun>& runs,
+                             const std::vector<std::vector<float> >& shown_ids,
+                             std::vector<std::pair<std::string, Rgb8> >& tiles) {
+    const int w = cmd.width, h = cmd.height;
+    TessellationOptions options;
+    options.texels_per_quad = cmd.truth_level;
+    options.width = w;
+    options.height = h;
+    progress_line("truth: tessellating the relief meshes at " + std::to_string(cmd.truth_level) +
+                  " texels per quad");
+    const Tessellation tess = displace_scene(scene, table, options);
+    size_t relief_meshes = 0;
+    for (const TessellatedMesh& m : tess.meshes) relief_meshes += m.texels_per_quad > 0.0f;
+    if (relief_meshes == 0) {
+        const std::string note = "the scene has no mesh with relief: nothing to measure";
+        std::printf("truth: %s\n", note.c_str());
+        return {{"note", note}};
+    }
+    const GeometryFrame truth = renderer.render_geometry(tess.scene, 1);
+    const std::vector<float> bound = truth_bound_texels(gb, engine.material, table, tess);
+    const std::vector<std::uint8_t> band =
+        silhouette_band(engine.material, engine.depth, runs[0].offset.flags, w, h);
+    nlohmann::json modes = nlohmann::json::array();
+    std::printf("truth: %zu triangles (%.1f MiB) built in %.0f ms, drawn in %.0f ms\n",
+                tess.triangles, tess.bytes / 1048576.0, tess.build_ms, truth.raster_ms);
+    std::printf("%-20s %9s %28s %28s %10s %8s %8s\n", "mode vs truth", "compared",
+                "uv texels mean/p95/max", "depth mean/p95/max", "mismatch", "band", "inside");
+    std::vector<double> bounds;
+    for (size_t r = 0; r < runs.size(); ++r) {
+        const FrameRun& run = runs[r];
+        const std::string name = run.mode == FrameMode::Deferred
+                                     ? "deferred"
+                                     : (run.prepass ? "forward-prepass" : "forward");
+        const ShownFrame shown{name, &shown_ids[r], &run.offset.uv, &run.depth_after,
+                               &run.offset.flags};
+        const TruthComparison c =
+            compare_to_truth(truth, shown, gb, engine.depth, engine.normal, band, table,
+                             engine.camera.inverse_view_projection, w, h);
+        std::printf("%-20s %9zu %9.3g %9.3g %9.3g %9.3g %9.3g %9.3g %10zu %8zu %8zu\n",
+                    name.c_str(), c.compared_pixels, c.uv_err_texels.mean, c.uv_err_texels.p95,
+                    c.uv_err_texels.max, c.depth_err.mean, c.depth_err.p95, c.depth_err.max,
+                    c.mismatch, c.mismatch_band, c.mismatch_interior);
+        // Per material, off the silhouette band: flat against curved surfaces.
+        nlohmann::json per_material = nlohmann::json::array();
+        for (const LoadedMaterial& m : table) {
+            std::vector<double> errors;
+            for (size_t k = 0; k < c.uv_error.size(); ++k)
+                if (!band[k] && std::isfinite(c.uv_error[k]) &&
+                    shown_ids[r][k] == static_cast<float>(m.spec.id))
+                    errors.push_back(c.uv_error[k]);
+            const ErrorStats e = error_stats(errors);
+            per_material.push_back(
+                {{"id", m.spec.id},
+                 {"name", m.spec.name},
+                 {"interior_pixels", e.count},
+                 {"uv_err_texels", {{"mean", e.mean}, {"p95", e.p95}, {"max", e.max}}}});
+            if (r == 0)
+                std::printf("  %-18s %9zu %9.3g %9.3g %9.3g  (interior)\n",
+                            (std::to_string(m.spec.id) + " " + m.spec.name).c_str(), e.count,
+                            e.mean, e.p95, e.max);
+        }
+        modes.push_back({{"mode", name},
+                         {"materials", per_material},
+                         {"compared_pixels", c.compared_pixels},
+                         {"uv_err_texels", summary_json(c.uv_err_texels)},
+                         {"depth_err", summary_json(c.depth_err)},
+                         {"coverage_mismatch",
+                          {{"pixels", c.mismatch},
+                           {"silhouette_band", c.mismatch_band},
+                           {"interior", c.mismatch_interior}}}});
+        if (r == 0) {
+            for (size_t k = 0; k < bound.size(); ++k)
+                if (std::isfinite(c.uv_error[k]) && std::isfinite(bound[k]))
+                    bounds.push_back(bound[k]);
+            tiles.push_back({"deferred uv error vs the displaced mesh (log, white = 16 texels)",
+                             heat_map(w, h, c.uv_error, 16.0f)});
+            tiles.push_back(
+                {"coverage vs the truth: red truth only, blue deferred only, magenta other surface",
+                 mismatch_overlay(w, h, run.color, c.mismatched, truth, shown_ids[r],
+                                  run.offset.flags)});
+        }
+    }
+    // Tessellation as the competitor: coarser lattices of the same displaced mesh, each drawn and
+    // timed by the same raster and measured against the truth.
+    nlohmann::json levels = nlohmann::json::array();
+    const std::vector<std::uint32_t> no_flags(static_cast<size_t>(w) * h, 0u);
+    std::printf("%-20s %12s %10s %10s %28s %10s\n", "tessellation", "triangles", "MiB", "raster ms",
+                "uv texels mean/p95/max", "mismatch");
+    std::vector<float> lattice = {8.0f, 4.0f, 2.0f, 1.0f};
+    if (cmd.truth_level < 1.0f) lattice.push_back(cmd.truth_level);
+    for (float level : lattice) {
+        progress_line("truth: tessellation at " + std::to_string(level) + " texels per quad");
+        TessellationOptions lo = options;
+        lo.texels_per_quad = level;
+        const bool own = level == cmd.truth_level;
+        const Tessellation t = own ? Tessellation() : displace_scene(scene, table, lo);
+        const GeometryFrame g = renderer.render_geometry(own ? tess.scene : t.scene, cmd.repeats);
+        std::vector<cl_float2> uv(static_cast<size_t>(w) * h);
+        for (size_t k = 0; k < uv.size(); ++k) uv[k] = {{g.uv[2 * k], g.uv[2 * k + 1]}};
+        const ShownFrame shown{"tessellation", &g.material, &uv, &g.depth, &no_flags, &g.normal};
+        const TruthComparison c =
+            compare_to_truth(truth, shown, gb, engine.depth, engine.normal, band, table,
+                             engine.camera.inverse_view_projection, w, h);
+        const size_t triangles = own ? tess.triangles : t.triangles;
+        const size_t bytes = own ? tess.bytes : t.bytes;
+        progress_line("");
+        std::printf("%-20s %12zu %10.1f %10.2f %9.3g %9.3g %9.3g %10zu\n",
+                    ("  " + std::to_string(level).substr(0, 5) + " texels/quad").c_str(), triangles,
+                    bytes / 1048576.0, g.raster_ms, c.uv_err_texels.mean, c.uv_err_texels.p95,
+                    c.uv_err_texels.max, c.mismatch);
+        levels.push_back({{"texels_per_quad", level},
+                          {"triangles", triangles},
+                          {"raster_ms", g.raster_ms},
+                          {"bytes", bytes},
+                          {"uv_err_texels", summary_json(c.uv_err_texels)},
+                          {"coverage_mismatch",
+                           {{"pixels", c.mismatch},
+                            {"silhouette_band", c.mismatch_band},
+                            {"interior", c.mismatch_interior}}}});
+    }
+    // The per-pixel methods over the same frame (every material the same method, its defaults),
+    // costed as the G-buffer draw of the base meshes plus the offset pass: what a pixel's uv'
+    // costs each way.
+    nlohmann::json pixel_methods = nlohmann::json::array();
+    for (const char* name :
+         {"none", "parallax-limited", "steep", "pom", "relief", "secant", "exact"}) {
+        progress_line(std::string("truth: the frame with ") + name);
+        const std::vector<MethodParams> one(table.size(), resolve_params(find_method(name), {}));
+        FrameRenderer f(rt, scene, table, one, w, h, ShadeSettings{});
+        const FrameRun run = f.render(FrameMode::Deferred, false, cmd.repeats);
+        const std::vector<float> ids = f.gbuffer().material;
+        const ShownFrame shown{name, &ids, &run.offset.uv, &run.depth_after, &run.offset.flags};
+        const TruthComparison c =
+            compare_to_truth(truth, shown, gb, engine.depth, engine.normal, band, table,
+                             engine.camera.inverse_view_projection, w, h);
+        progress_line("");
+        pixel_methods.push_back({{"method", name},
+                                 {"gbuffer_ms", run.ms.gbuffer},
+                                 {"offset_ms", run.ms.offset},
+                                 {"offset_kernel_ms", run.offset_kernel_ms},
+                                 {"uv_err_texels", summary_json(c.uv_err_texels)},
+                                 {"coverage_mismatch",
+                                  {{"pixels", c.mismatch},
+                                   {"silhouette_band", c.mismatch_band},
+                                   {"interior", c.mismatch_interior}}}});
+    }
+    const ErrorStats b = error_stats(bounds);
+    std::printf("truth's own bound: mean %.3g, p95 %.3g, max %.3g texels over %zu pixels\n", b.mean,
+                b.p95, b.max, b.count);
+    nlohmann::json meshes = nlohmann::json::array();
+    for (const TessellatedMesh& m : tess.meshes)
+        meshes.push_back(
+            {{"name", m.name},
+             {"material", m.material},
+             {"base_triangles", m.base_triangles},
+             {"triangles", m.triangles},
+             {"height_bound",
+              std::isfinite(m.height_bound) ? nlohmann::json(m.height_bound) : nlohmann::json()}});
+    return {{"texels_per_quad", cmd.truth_level},
+            {"triangles", tess.triangles},
+            {"bytes", tess.bytes},
+            {"build_ms", tess.build_ms},
+            {"raster_ms", truth.raster_ms},
+            {"bound_texels", b.p95},
+            {"bound_texels_stats", {{"mean", b.mean}, {"p95", b.p95}, {"max", b.max}}},
+            {"meshes", meshes},
+            {"modes", modes},
+            {"tessellation", levels},
+            {"pixel_methods", pixel_methods},
+            {"raster_on", renderer.gl_renderer()},
+            {"passes_on", rt->device_name()}};
 }
 
 }  // namespace
@@ -190,9 +402,11 @@ int run_frame(const FrameCommand& cmd) {
     const size_t covered = renderer.covered_pixels();
 
     std::vector<FrameRun> runs = {deferred};
+    std::vector<std::vector<float> > shown_ids = {engine.material};  // each run's G-buffer ids
     if (cmd.forward) {
         for (bool prepass : {false, true}) {
             runs.push_back(renderer.render(FrameMode::Forward, prepass, cmd.repeats));
+            shown_ids.push_back(renderer.gbuffer().material);
             // Where the forward shader dropped a fragment (the tile mask) the pixel shows the
             // surface behind it, or none after a pre-pass: errors are compared only where both
             // frames show the same surface (the same uv in their G-buffers).
@@ -256,6 +470,12 @@ int run_frame(const FrameCommand& cmd) {
     }
 
     const std::string d = cmd.out_dir + "/";
+    nlohmann::json truth_doc;
+    std::vector<std::pair<std::string, Rgb8> > truth_tiles;
+    if (cmd.truth) {
+        truth_doc = truth_section(cmd, scene, table, rt, renderer, gb, engine, runs, shown_ids,
+                                  truth_tiles);
+    }
     write_image(d + "final.png", to_srgb8(w, h, deferred.color));
     save_engine_gbuffer(d + "gbuffer.exr", engine);
     write_depth_exr(d + "depth-before.exr", w, h, engine.depth);
@@ -271,6 +491,7 @@ int run_frame(const FrameCommand& cmd) {
             {"forward frame (the methods in the fragment shader)", to_srgb8(w, h, runs[1].color)});
         tiles.push_back({"forward uv error vs exact", heat_map(w, h, errors[1], 16.0f)});
     }
+    tiles.insert(tiles.end(), truth_tiles.begin(), truth_tiles.end());
     write_image(d + "frame-sheet.png", contact_sheet(tiles, 2));
     nlohmann::json doc = {{"scene", scene.name},
                           {"width", w},
@@ -282,7 +503,9 @@ int run_frame(const FrameCommand& cmd) {
                           {"repeats", cmd.repeats},
                           {"table", table_file},
                           {"modes", modes}};
+    if (cmd.truth) doc["truth"] = truth_doc;
     std::ofstream(d + "frame.json") << doc.dump(2) << "\n";
+    if (cmd.truth) run_chart_script("plot_truth.py", {d + "frame.json", d + "truth-pareto.png"});
     std::printf(
         "wrote %s{final%s.png,frame-sheet.png,gbuffer.exr,depth-before.exr,"
         "depth-after.exr,frame.json}\n",

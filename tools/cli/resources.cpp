@@ -53,7 +53,11 @@ std::string default_data_dir() {
 }
 
 void progress_line(const std::string& line) {
-    std::fprintf(stderr, "\r\033[K%s", line.c_str());
+    // On a terminal one line rewritten in place; in a log plain lines, and no blank ones.
+    if (isatty(fileno(stderr)))
+        std::fprintf(stderr, "\r\033[K%s", line.c_str());
+    else if (!line.empty())
+        std::fprintf(stderr, "%s\n", line.c_str());
     std::fflush(stderr);
 }
 

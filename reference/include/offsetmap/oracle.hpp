@@ -1,5 +1,6 @@
 #pragma once
 #include <cstdint>
+#include <functional>
 
 #include "offsetmap/heightmap.hpp"
 #include "offsetmap/passes.hpp"
@@ -30,6 +31,18 @@ struct ExactHit {
 // generic bilinear sampler), used as the tests' oracle. V must be unit with V.z > 0.
 ExactHit exact_hit(const HeightMap& map, double u, double v, const double V[3],
                    const PassSettings& settings);
+
+// A height field moved by a constant in each bilinear cell (cell (i, j) spans the centres of
+// texels i, i + 1 and j, j + 1; unwrapped indices): the surfaces that bracket one known within a
+// bound per cell. `lowest` and `highest` bound every cell's lift.
+struct CellLift {
+    std::function<double(long long i, long long j)> at;
+    double lowest = 0.0, highest = 0.0;
+};
+
+// The exact first hit with H + lift instead of H (the same segments and fits as exact_hit).
+ExactHit exact_hit(const HeightMap& map, double u, double v, const double V[3],
+                   const PassSettings& settings, const CellLift& lift);
 
 // Bilinear height in double with the project's texel-centre convention.
 double bilinear_height(const HeightMap& map, double u, double v, AddressMode address);

@@ -46,6 +46,17 @@ struct FrameRun {
     std::vector<float> depth_after;  // window depth after the offset (GL convention)
 };
 
+// A scene drawn by the G-buffer raster alone (the truth's displaced meshes, a tessellation level),
+// rows top first.
+struct GeometryFrame {
+    std::vector<float> uv;        // 2 a pixel, NaN where nothing was drawn
+    std::vector<float> depth;     // GL window depth, 1 where nothing was drawn
+    std::vector<float> material;  // the id a pixel, 0 where nothing or no relief was drawn
+    std::vector<float> density;   // uv density (world units per uv unit)
+    std::vector<float> normal;    // 3 a pixel: the base mesh's interpolated world normal
+    double raster_ms = 0;         // the G-buffer draw, median of the timed ones
+};
+
 class FrameRenderer {
   public:
     // Creates the GL context (throws Error naming what is missing), uploads the scene and the
@@ -78,6 +89,9 @@ class FrameRenderer {
     std::string gl_renderer() const;
     // The table traced exactly over the deferred G-buffer: every method's reference.
     OffsetResult exact() const;
+    // `scene` (this frame's meshes displaced, renderer/truth.hpp) drawn from this frame's camera
+    // into the same G-buffer targets: one warm-up draw, then `repeats` timed ones.
+    GeometryFrame render_geometry(const Scene& scene, int repeats);
 
   private:
     struct Impl;
@@ -87,8 +101,8 @@ class FrameRenderer {
     std::string interop_;
 };
 
-// Methods the forward shader has (renderer/shaders/relief.glsl): none, parallax, pom, steep (lod 0),
-// relief. Empty when supported, else why not.
+// Methods the forward shader has (renderer/shaders/relief.glsl): none, parallax, pom, steep (lod
+// 0), relief. Empty when supported, else why not.
 std::string forward_method_unsupported(const MethodParams& params);
 // The same for one material of a table: "" or the one-line error naming the material.
 std::string forward_unsupported(const MaterialSpec& material, const MethodParams& params);

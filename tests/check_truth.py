@@ -1,0 +1,61 @@
+#!/usr/bin/python3
+"""check_truth.py FRAME_JSON: `offsetmap frame --truth --forward`'s truth section, by content.
+
+The keys the tools read, every frame mode measured, the tessellation rows from the coarsest lattice
+to the finest with their error falling toward the truth, the truth's bound finite and below the
+deferred frame's p95 error, and the per-pixel methods."""
+import json
+import math
+import sys
+
+
+def fail(why):
+    sys.exit("check_truth: " + why)
+
+
+def main():
+    doc = json.load(open(sys.argv[1]))
+    t = doc.get("truth") or fail("no truth section")
+    for key in ("bound_texels", "modes", "tessellation", "texels_per_quad", "triangles", "bytes"):
+        if key not in t:
+            fail("truth has no '%s'" % key)
+    if not (math.isfinite(t["bound_texels"]) and t["bound_texels"] >= 0):
+        fail("bound_texels is %r" % t["bound_texels"])
+    modes = {m["mode"]: m for m in t["modes"]}
+    for name in ("deferred", "forward"):
+        m = modes.get(name) or fail("no mode '%s' in %s" % (name, sorted(modes)))
+        if m["compared_pixels"] <= 0:
+            fail("%s compared no pixels" % name)
+        for key in ("mean", "p95", "max"):
+            if not math.isfinite(m["uv_err_texels"][key]) or not math.isfinite(m["depth_err"][key]):
+                fail("%s: %s is not finite" % (name, key))
+        c = m["coverage_mismatch"]
+        if c["pixels"] != c["silhouette_band"] + c["interior"]:
+            fail("%s: mismatch %d is not band %d + interior %d" % (
+                name, c["pixels"], c["silhouette_band"], c["interior"]))
+    rows = t["tessellation"]
+    lattices = [r["texels_per_quad"] for r in rows]
+    if lattices[:4] != [8, 4, 2, 1]:
+        fail("tessellation lattices %s" % lattices)
+    for r in rows:
+        for key in ("triangles", "raster_ms", "bytes", "uv_err_texels", "coverage_mismatch"):
+            if key not in r:
+                fail("tessellation row without '%s'" % key)
+    p95 = [r["uv_err_texels"]["p95"] for r in rows]
+    if not all(a >= b for a, b in zip(p95, p95[1:])):
+        fail("tessellation error does not fall with the lattice: %s" % p95)
+    tris = [r["triangles"] for r in rows]
+    if not all(a < b for a, b in zip(tris, tris[1:])):
+        fail("triangles do not grow with the lattice: %s" % tris)
+    if t["bound_texels"] >= modes["deferred"]["uv_err_texels"]["p95"]:
+        fail("the truth's bound %.3g is not below the deferred frame's p95 %.3g" % (
+            t["bound_texels"], modes["deferred"]["uv_err_texels"]["p95"]))
+    methods = [m["method"] for m in t["pixel_methods"]]
+    if "exact" not in methods or "none" not in methods:
+        fail("pixel methods %s" % methods)
+    print("check_truth: %d modes, %d lattices, bound %.3g texels, deferred p95 %.3g" % (
+        len(modes), len(rows), t["bound_texels"], modes["deferred"]["uv_err_texels"]["p95"]))
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,234 @@
+// The truth: the relief meshes tessellated and displaced for real, drawn by the G-buffer raster.
+// On a flat quad it is the tangent-plane model itself, so the exact method's hit must agree with it
+// within the truth's own bound on every pixel.
+#include <cstring>
+#include <glm/glm.hpp>
+
+#include "support.hpp"
+#ifdef OFFSETMAP_HAVE_RENDERER
+#include "offsetmap/renderer/frame.hpp"
+#include "offsetmap/renderer/truth.hpp"
+#endif
+
+namespace omtest {
+namespace {
+
+#ifdef OFFSETMAP_HAVE_RENDERER
+using namespace offsetmap::renderer;
+
+struct FlatCase {
+    const char* name;  // its figure key's middle too: the first word
+    HeightMap map;
+    AddressMode address;
+    float scale, reference;
+    double elevation_deg;  // the camera's pitch down onto the quad
+    double eye_height = 0.35;
+    float tiles = 16.0f;  // across the quad (a clamped map past its one tile is flat)
+};
+
+LoadedMaterial material(const FlatCase& c) {
+    LoadedMaterial m;
+    m.spec.id = 1;
+    m.spec.name = c.name;
+    m.spec.method = "exact";
+    m.spec.settings.scale = c.scale;
+    m.spec.settings.reference_plane = c.reference;
+    m.spec.settings.address = c.address;
+    m.map = c.map;
+    return m;
+}
+
+// A floor quad 8 m a side of tiles x tiles tiles (isotropic uv density), seen from `eye` m up at
+// the case's pitch: the far rows reach the quad's far edge, low ones past the grazing minimum.
+Scene flat_scene(double pitch_deg, double eye = 0.35, float tiles = 16.0f) {
+    Scene s;
+    s.name = "flat";
+    s.meshes.push_back(make_quad("floor", 1, {-4.0f, 0.0f, 1.0f}, {8.0f, 0.0f, 0.0f},
+                                 {0.0f, 0.0f, -8.0f}, tiles, tiles));
+    const double pitch = pitch_deg * M_PI / 180.0;
+    s.camera.eye = {0.1f, static_cast<float>(eye), 0.0f};
+    s.camera.target = {0.1f, static_cast<float>(eye - std::sin(pitch)),
+                       static_cast<float>(-std::cos(pitch))};
+    s.camera.fov_y_deg = 40.0f;
+    s.camera.near_plane = 0.01f;
+    s.camera.far_plane = 20.0f;
+    s.light.kind = LightKind::None;
+    return s;
+}
+
+// The exact walk's float error and the raster's (its uv interpolated in float over a sub-texel
+// triangle, 2^-23 of a uv of at most 8 tiles, times 64 texels: 6e-5 texel) together stay below
+// this; the oracle bound the exact methods are held to is a few thousandths of a texel here.
+constexpr double kFloatTexels = 0.01;
+
+TEST(Renderer, TruthFlatQuadEqualsExactWithinItsBound) {
+    std::vector<FlatCase> cases;
+    cases.push_back({"sines, wrap",
+                     make_map(32, 32,
+                              [](int i, int j) {
+                                  return 0.5f + 0.35f * std::sin(0.6f * i) * std::cos(0.4f * j);
+                              }),
+                     AddressMode::Wrap, 0.05f, 1.0f, 40.0});
+    cases.push_back({"noise, clamp, r=0.5",
+                     make_map(24, 20,
+                              [](int i, int j) {
+                                  return 0.5f + 0.4f * std::sin(float(i * 7 + j * 13)) *
+                                                    std::cos(float(i * 3 - j * 5));
+                              }),
+                     AddressMode::Clamp, 0.004f, 0.5f, 25.0, 0.35, 1.0f});
+    cases.push_back(
+        {"blocks, wrap, to the horizon",
+         make_map(16, 16, [](int i, int j) { return (i / 4 + j / 4) % 2 ? 0.9f : 0.2f; }),
+         AddressMode::Wrap, 0.03f, 1.0f, 12.0, 0.04});
+    for (const FlatCase& c : cases) {
+        SCOPED_TRACE(c.name);
+        const Scene scene = flat_scene(c.elevation_deg, c.eye_height, c.tiles);
+        const std::vector<LoadedMaterial> table = {material(c)};
+        const int w = 160, h = 120;
+        FrameRenderer r(runtime(), scene, table, {resolve_params(find_method("exact"), {})}, w, h,
+                        ShadeSettings{});
+        const FrameRun run = r.render(FrameMode::Deferred, false, 1);
+        TessellationOptions options;
+        options.width = w;
+        options.height = h;
+        const Tessellation tess = displace_scene(scene, table, options);
+        ASSERT_EQ(tess.meshes.size(), 1u);
+        EXPECT_GT(tess.meshes[0].triangles, 400u);
+        const GeometryFrame truth = r.render_geometry(tess.scene, 1);
+        const EngineScene& base = r.gbuffer();
+        const std::vector<float> bound =
+            truth_bound_texels(r.explicit_gbuffer(), base.material, table, tess);
+        // Away from the quad's far edge (the tangent plane goes on, the quad does not) and where
+        // the pass traced the view as it is (the grazing rule raises views below its minimum).
+        const std::vector<std::uint8_t> band =
+            silhouette_band(base.material, base.depth, run.offset.flags, w, h);
+        size_t compared = 0, grazing = 0;
+        double worst = 0.0, worst_bound = 0.0;
+        for (size_t k = 0; k < static_cast<size_t>(w) * h; ++k) {
+            if (band[k] || base.depth[k] >= 1.0f || truth.depth[k] >= 1.0f) continue;
+            if (run.offset.flags[k] & OM_FLAG_GRAZING) {
+                ++grazing;
+                continue;
+            }
+            ASSERT_EQ(truth.material[k], 1.0f) << k;
+            ASSERT_TRUE(traced(run.offset.flags[k])) << k;
+            ASSERT_TRUE(std::isfinite(bound[k])) << k;
+            const double du = (run.offset.uv[k].s[0] - truth.uv[2 * k]) * c.map.width,
+                         dv = (run.offset.uv[k].s[1] - truth.uv[2 * k + 1]) * c.map.height;
+            const double e = std::hypot(du, dv);
+            ASSERT_LE(e, bound[k] + kFloatTexels)
+                << "pixel (" << k % w << ", " << k / w << "): truth (" << truth.uv[2 * k] << ", "
+                << truth.uv[2 * k + 1] << "), exact (" << run.offset.uv[k].s[0] << ", "
+                << run.offset.uv[k].s[1] << ")";
+            worst = std::max(worst, e);
+            worst_bound = std::max(worst_bound, double(bound[k]));
+            ++compared;
+        }
+        EXPECT_GT(compared, static_cast<size_t>(w) * h / 3);
+        std::printf(
+            "%s: %zu triangles, %zu pixels compared (%zu grazing skipped), worst |truth - exact| "
+            "%.4f texels, largest bound %.4f\n",
+            c.name, tess.triangles, compared, grazing, worst, worst_bound);
+        const std::string key(c.name, std::strcspn(c.name, ","));
+        record_figure("truth.flat." + key + ".worst_texels", worst);
+        record_figure("truth.flat." + key + ".bound_texels", worst_bound);
+    }
+}
+
+// A cylinder of N segments with a constant height: the base mesh's side has its points at
+// distance |P| in [R cos(pi / N), R] from the axis, and P's interpolated normal points straight
+// away from the axis (P and the normal are the same blend of the two vertices' radial
+// directions), so the displaced side lies at |P| + d, d = density s (H - r), exactly; a point of a
+// sub-triangle lies between its corners' radii, less the chord's sag over its angle.
+TEST(Renderer, TruthCylinderOfConstantHeightIsTheDisplacedCylinder) {
+    const float R = 0.45f, tall = 1.2f;
+    const int N = 64;
+    const float tiles_u = 1.0f;
+    const double density = 2 * M_PI * R / tiles_u;  // uniform: v tiles at the same world size
+    for (const float reference : {1.0f, 0.4f}) {
+        SCOPED_TRACE(reference);
+        FlatCase c{"constant",        make_map(16, 16, [](int, int) { return 0.6f; }),
+                   AddressMode::Wrap, 0.05f,
+                   reference,         0.0};
+        Scene scene;
+        scene.name = "cylinder";
+        scene.meshes.push_back(make_cylinder("cylinder", 1, {0.0f, 0.0f, -2.0f}, R, tall, N,
+                                             tiles_u, static_cast<float>(tall / density)));
+        scene.camera.eye = {0.3f, 0.9f, 0.0f};
+        scene.camera.target = {0.0f, 0.6f, -2.0f};
+        scene.camera.fov_y_deg = 40.0f;
+        scene.camera.near_plane = 0.05f;
+        scene.camera.far_plane = 20.0f;
+        scene.light.kind = LightKind::None;
+        const std::vector<LoadedMaterial> table = {material(c)};
+        const int w = 160, h = 120;
+        FrameRenderer r(runtime(), scene, table, {resolve_params(find_method("none"), {})}, w, h,
+                        ShadeSettings{});
+        r.render(FrameMode::Deferred, false, 1);
+        TessellationOptions options;
+        options.width = w;
+        options.height = h;
+        const Tessellation tess = displace_scene(scene, table, options);
+        const GeometryFrame truth = r.render_geometry(tess.scene, 1);
+        const double d = density * c.scale * (0.6 - reference);
+        const double cell_angle = 2 * M_PI / (tiles_u * c.map.width / options.texels_per_quad);
+        const double sag = (R + std::fabs(d)) * cell_angle * cell_angle / 8;
+        const double lo = R * std::cos(M_PI / N) + d - sag - 1e-4, hi = R + d + 1e-4;
+        size_t side = 0;
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w; ++x) {
+                const size_t k = static_cast<size_t>(y) * w + x;
+                if (truth.depth[k] >= 1.0f) continue;
+                glm::dmat4 inv;
+                for (int col = 0; col < 4; ++col)
+                    for (int row = 0; row < 4; ++row)
+                        inv[col][row] = r.gbuffer().camera.inverse_view_projection[4 * col + row];
+                const glm::dvec4 q =
+                    inv * glm::dvec4((2.0 * x + 1) / w - 1.0, 1.0 - (2.0 * y + 1) / h,
+                                     2.0 * truth.depth[k] - 1.0, 1.0);
+                const glm::dvec3 p = glm::dvec3(q) / q.w;
+                if (p.y < 0.05 || p.y > tall - 0.1) continue;  // the caps and their rims
+                const double radial = std::hypot(p.x, p.z + 2.0);
+                ASSERT_GE(radial, lo) << "pixel (" << x << ", " << y << ")";
+                ASSERT_LE(radial, hi) << "pixel (" << x << ", " << y << ")";
+                ++side;
+            }
+        EXPECT_GT(side, static_cast<size_t>(w) * h / 10);
+        std::printf("r=%.1f: d = %.4f m; %zu side pixels within [%.5f, %.5f] m of the axis\n",
+                    reference, d, side, lo, hi);
+    }
+}
+
+// Bad input: a lattice the tessellation cannot take, and a mesh past the triangle limit, named.
+TEST(Renderer, TruthRefusesWhatItCannotTessellate) {
+    FlatCase c{"ramp",
+               make_map(16, 16, [](int i, int) { return i / 16.0f; }),
+               AddressMode::Wrap,
+               0.05f,
+               1.0f,
+               30.0};
+    const Scene scene = flat_scene(30.0);
+    const std::vector<LoadedMaterial> table = {material(c)};
+    TessellationOptions o;
+    auto error = [&]() -> std::string {
+        try {
+            displace_scene(scene, table, o);
+        } catch (const Error& e) {
+            return e.what();
+        }
+        return "(no error)";
+    };
+    o.texels_per_quad = 0.3f;
+    EXPECT_NE(error().find("1 / texels per quad must be whole"), std::string::npos) << error();
+    o.texels_per_quad = 0.25f;
+    o.max_triangles = 1000;
+    EXPECT_NE(error().find("mesh 'floor' would need about"), std::string::npos) << error();
+    // Unculled, the 2.1 million triangles the estimate gives are all kept: a limit of half that
+    // passes the estimate (20 times the limit) and stops the tessellation on the way.
+    o.max_triangles = 1'050'000;
+    EXPECT_NE(error().find("mesh 'floor' needs more than"), std::string::npos) << error();
+}
+#endif
+
+}  // namespace
+}  // namespace omtest
