@@ -3,7 +3,8 @@
 # charts into docs/img/ (about 20 minutes on 2 cores; run it on a quiet machine, timings are in the
 # data). Then `/usr/bin/python3 tests/readme_figures.py --write` rewrites the pages' marked figures
 # and generated tables from these files, and `./run test` checks that they agree.
-#   docs/regenerate.sh [demo|sweep|failure|temporal|bench|materials|frame|rebuild ...]  (default: all)
+#   docs/regenerate.sh [demo|sweep|failure|temporal|bench|materials|frame|truth|rebuild ...]
+#   (default: all)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 ./run build >/dev/null
@@ -14,7 +15,7 @@ tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 
 parts=("$@")
-[ ${#parts[@]} -gt 0 ] || parts=(demo sweep failure temporal bench materials frame rebuild)
+[ ${#parts[@]} -gt 0 ] || parts=(demo sweep failure temporal bench materials frame truth rebuild)
 for part in "${parts[@]}"; do
     case $part in
     demo)  # the README's first table: every method on the demo scene
@@ -97,6 +98,17 @@ for part in "${parts[@]}"; do
         ./build/release/offsetmap_bench --glsl-peer --out "$tmp/peer"
         cp "$tmp/peer/bench-glsl-peer.json" "$DATA/bench-glsl-peer.json"
         cp "$tmp/peer/bench-glsl-peer.png" "$IMG/"
+        ;;
+    truth)  # the room and data/pillars.gltf against the displaced mesh (docs/renderer.md): about
+        # 40 s and 3.2 GB each
+        for scene in room pillars; do
+            file=$scene
+            [ $scene = room ] || file=data/$scene.gltf
+            $OM frame --scene $file --width 960 --height 540 --truth --forward -o "$tmp/truth-$scene"
+            cp "$tmp/truth-$scene/frame.json" "$DATA/truth-$scene.json"
+            cp "$tmp/truth-$scene/truth-sheet.png" "$IMG/truth-$scene.png"
+            cp "$tmp/truth-$scene/truth-pareto.png" "$IMG/truth-pareto-$scene.png"
+        done
         ;;
     rebuild)  # a field that changes every frame: its update and each precompute's rebuild, on
         # PoCL's AVX-512 and AVX2 targets (docs/integrating.md)

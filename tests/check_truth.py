@@ -16,7 +16,8 @@ def fail(why):
 def main():
     doc = json.load(open(sys.argv[1]))
     t = doc.get("truth") or fail("no truth section")
-    for key in ("bound_texels", "modes", "tessellation", "texels_per_quad", "triangles", "bytes"):
+    for key in ("bound_texels", "modes", "tessellation", "texels_per_quad", "triangles", "bytes",
+                "notes"):
         if key not in t:
             fail("truth has no '%s'" % key)
     if not (math.isfinite(t["bound_texels"]) and t["bound_texels"] >= 0):
@@ -29,6 +30,9 @@ def main():
         for key in ("mean", "p95", "max"):
             if not math.isfinite(m["uv_err_texels"][key]) or not math.isfinite(m["depth_err"][key]):
                 fail("%s: %s is not finite" % (name, key))
+        ids = [e["id"] for e in m.get("materials", [])]
+        if not ids or any(e["interior_pixels"] < 0 for e in m["materials"]):
+            fail("%s: per-material rows %s" % (name, ids))
         c = m["coverage_mismatch"]
         if c["pixels"] != c["silhouette_band"] + c["interior"]:
             fail("%s: mismatch %d is not band %d + interior %d" % (

@@ -1,7 +1,9 @@
 // The truth: the relief meshes tessellated and displaced for real, drawn by the G-buffer raster.
 // On a flat quad it is the tangent-plane model itself, so the exact method's hit must agree with it
 // within the truth's own bound on every pixel.
+#include <algorithm>
 #include <cstring>
+#include <functional>
 #include <glm/glm.hpp>
 
 #include "support.hpp"
@@ -135,6 +137,75 @@ TEST(Renderer, TruthFlatQuadEqualsExactWithinItsBound) {
     }
 }
 
+// The world point a pixel of a depth plane shows.
+glm::dvec3 world_point(const EngineScene& base, int x, int y, float depth, int w, int h) {
+    glm::dmat4 inv;
+    for (int col = 0; col < 4; ++col)
+        for (int row = 0; row < 4; ++row)
+            inv[col][row] = base.camera.inverse_view_projection[4 * col + row];
+    const glm::dvec4 q =
+        inv * glm::dvec4((2.0 * x + 1) / w - 1.0, 1.0 - (2.0 * y + 1) / h, 2.0 * depth - 1.0, 1.0);
+    return glm::dvec3(q) / q.w;
+}
+
+// One relief mesh of a constant height 0.6 with scale 0.05 and reference r, seen by a 160 x 120
+// view; `inside` says whether a point is on the part the test judges and gives its distance from
+// the axis or centre, which must lie in [lo(r), hi(r)].
+struct RadialCase {
+    const char* name;
+    Scene scene;
+    double density;  // of the judged part
+    std::function<bool(const glm::dvec3&, double&)> inside;
+    std::function<void(double d, double& lo, double& hi)> range;
+};
+
+void expect_displaced_radially(const RadialCase& rc) {
+    for (const float reference : {1.0f, 0.4f}) {
+        SCOPED_TRACE(reference);
+        FlatCase c{"constant",        make_map(16, 16, [](int, int) { return 0.6f; }),
+                   AddressMode::Wrap, 0.05f,
+                   reference,         0.0};
+        const std::vector<LoadedMaterial> table = {material(c)};
+        const int w = 160, h = 120;
+        FrameRenderer r(runtime(), rc.scene, table, {resolve_params(find_method("none"), {})}, w, h,
+                        ShadeSettings{});
+        r.render(FrameMode::Deferred, false, 1);
+        TessellationOptions options;
+        options.width = w;
+        options.height = h;
+        const Tessellation tess = displace_scene(rc.scene, table, options);
+        const GeometryFrame truth = r.render_geometry(tess.scene, 1);
+        const double d = rc.density * c.scale * (0.6 - reference);
+        double lo = 0.0, hi = 0.0;
+        rc.range(d, lo, hi);
+        size_t judged = 0;
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w; ++x) {
+                const size_t k = static_cast<size_t>(y) * w + x;
+                if (truth.depth[k] >= 1.0f) continue;
+                double radial = 0.0;
+                if (!rc.inside(world_point(r.gbuffer(), x, y, truth.depth[k], w, h), radial))
+                    continue;
+                ASSERT_GE(radial, lo) << "pixel (" << x << ", " << y << ")";
+                ASSERT_LE(radial, hi) << "pixel (" << x << ", " << y << ")";
+                ++judged;
+            }
+        EXPECT_GT(judged, static_cast<size_t>(w) * h / 10);
+        std::printf("%s, r=%.1f: d = %.4f m; %zu pixels within [%.5f, %.5f] m\n", rc.name,
+                    reference, d, judged, lo, hi);
+    }
+}
+
+Camera looking_at(Vec3 eye, Vec3 target) {
+    Camera c;
+    c.eye = eye;
+    c.target = target;
+    c.fov_y_deg = 40.0f;
+    c.near_plane = 0.05f;
+    c.far_plane = 20.0f;
+    return c;
+}
+
 // A cylinder of N segments with a constant height: the base mesh's side has its points at
 // distance |P| in [R cos(pi / N), R] from the axis, and P's interpolated normal points straight
 // away from the axis (P and the normal are the same blend of the two vertices' radial
@@ -145,57 +216,127 @@ TEST(Renderer, TruthCylinderOfConstantHeightIsTheDisplacedCylinder) {
     const int N = 64;
     const float tiles_u = 1.0f;
     const double density = 2 * M_PI * R / tiles_u;  // uniform: v tiles at the same world size
-    for (const float reference : {1.0f, 0.4f}) {
-        SCOPED_TRACE(reference);
-        FlatCase c{"constant",        make_map(16, 16, [](int, int) { return 0.6f; }),
-                   AddressMode::Wrap, 0.05f,
-                   reference,         0.0};
+    RadialCase rc{"cylinder", {}, density, nullptr, nullptr};
+    rc.scene.name = "cylinder";
+    rc.scene.meshes.push_back(make_cylinder("cylinder", 1, {0.0f, 0.0f, -2.0f}, R, tall, N, tiles_u,
+                                            static_cast<float>(tall / density)));
+    rc.scene.camera = looking_at({0.3f, 0.9f, 0.0f}, {0.0f, 0.6f, -2.0f});
+    rc.scene.light.kind = LightKind::None;
+    rc.inside = [&](const glm::dvec3& p, double& radial) {
+        radial = std::hypot(p.x, p.z + 2.0);
+        return p.y >= 0.05 && p.y <= tall - 0.1;  // not the caps and their rims
+    };
+    rc.range = [&](double d, double& lo, double& hi) {
+        const double cell_angle = 2 * M_PI / (tiles_u * 16 / 0.5);
+        const double sag = (R + std::fabs(d)) * cell_angle * cell_angle / 8;
+        lo = R * std::cos(M_PI / N) + d - sag - 1e-4;
+        hi = R + d + 1e-4;
+    };
+    expect_displaced_radially(rc);
+}
+
+// A uv sphere given one uv density everywhere (a uv sphere's own density falls toward the poles):
+// its vertex normals are P / R, so the interpolated normal is P / |P| and the displaced surface
+// lies at |P| + d from the centre, |P| at least R cos(psi) on a base triangle whose corners lie
+// within the angle psi of a point (half its cell's diagonal), and a lattice piece of the
+// displaced surface sags by at most cos(psi') of its own half-diagonal psi'.
+TEST(Renderer, TruthSphereOfConstantHeightAndDensityIsTheDisplacedSphere) {
+    const float R = 0.5f;
+    const int segments = 48, rings = 24;
+    const float tiles_u = 2.0f, tiles_v = 1.0f;
+    RadialCase rc{"sphere", {}, M_PI * R / tiles_v, nullptr, nullptr};
+    rc.scene.name = "sphere";
+    Mesh sphere =
+        make_sphere("sphere", 1, {0.0f, 0.0f, -2.0f}, R, segments, rings, tiles_u, tiles_v);
+    for (Vertex& v : sphere.vertices) v.uv_density = static_cast<float>(rc.density);
+    rc.scene.meshes.push_back(std::move(sphere));
+    rc.scene.camera = looking_at({0.4f, 0.7f, -0.3f}, {0.0f, 0.0f, -2.0f});
+    rc.scene.light.kind = LightKind::None;
+    rc.inside = [&](const glm::dvec3& p, double& radial) {
+        radial = glm::length(p - glm::dvec3(0.0, 0.0, -2.0));
+        return true;
+    };
+    rc.range = [&](double d, double& lo, double& hi) {
+        const double base_psi = 0.5 * std::hypot(2 * M_PI / segments, M_PI / rings);
+        const double piece_psi =
+            0.5 * std::hypot(2 * M_PI / (tiles_u * 16 / 0.5), M_PI / (tiles_v * 16 / 0.5));
+        lo = (R * std::cos(base_psi) + d) * std::cos(piece_psi) - 1e-4;
+        hi = R + d + 1e-4;
+    };
+    expect_displaced_radially(rc);
+}
+
+// Where the uv stretch differs between u and v the truth displaces by the geometric mean of the
+// two (the density) and moves along the surface in world units, while the pass moves |V.xy| / V.z
+// in uv units of that same density: from the base hit P0 to the displaced plane's hit P1 (D = P1 -
+// P0) the truth's uv moves (T.D / su, B.D / sv) and the pass's (T.D, B.D) / sqrt(su sv). A flat
+// quad of a constant height, stretched k times along u against v, checks both and says what the
+// difference costs in texels.
+TEST(Renderer, TruthOfAnUnevenlyStretchedQuadMovesInWorldUnits) {
+    const float side = 8.0f, H = 0.6f, scale = 0.05f;
+    const int texels = 16;
+    for (const float k : {1.0f, 2.0f, 4.0f}) {
+        SCOPED_TRACE(k);
+        const float tiles_u = 8.0f, tiles_v = 8.0f * k;  // su = k sv
+        const double su = side / tiles_u, sv = side / tiles_v, density = std::sqrt(su * sv);
+        FlatCase c{"constant",
+                   make_map(texels, texels, [&](int, int) { return H; }),
+                   AddressMode::Wrap,
+                   scale,
+                   1.0f,
+                   0.0};
         Scene scene;
-        scene.name = "cylinder";
-        scene.meshes.push_back(make_cylinder("cylinder", 1, {0.0f, 0.0f, -2.0f}, R, tall, N,
-                                             tiles_u, static_cast<float>(tall / density)));
-        scene.camera.eye = {0.3f, 0.9f, 0.0f};
-        scene.camera.target = {0.0f, 0.6f, -2.0f};
-        scene.camera.fov_y_deg = 40.0f;
-        scene.camera.near_plane = 0.05f;
-        scene.camera.far_plane = 20.0f;
+        scene.name = "stretched";
+        scene.meshes.push_back(make_quad("floor", 1, {-4.0f, 0.0f, 1.0f}, {side, 0.0f, 0.0f},
+                                         {0.0f, 0.0f, -side}, tiles_u, tiles_v));
+        // Looking down 35 degrees and to the side, so the ray leans along u and v.
+        scene.camera = looking_at({-1.0f, 1.4f, 0.0f}, {0.4f, 0.0f, -1.6f});
         scene.light.kind = LightKind::None;
         const std::vector<LoadedMaterial> table = {material(c)};
         const int w = 160, h = 120;
-        FrameRenderer r(runtime(), scene, table, {resolve_params(find_method("none"), {})}, w, h,
+        FrameRenderer r(runtime(), scene, table, {resolve_params(find_method("exact"), {})}, w, h,
                         ShadeSettings{});
-        r.render(FrameMode::Deferred, false, 1);
+        const FrameRun run = r.render(FrameMode::Deferred, false, 1);
         TessellationOptions options;
         options.width = w;
         options.height = h;
         const Tessellation tess = displace_scene(scene, table, options);
         const GeometryFrame truth = r.render_geometry(tess.scene, 1);
-        const double d = density * c.scale * (0.6 - reference);
-        const double cell_angle = 2 * M_PI / (tiles_u * c.map.width / options.texels_per_quad);
-        const double sag = (R + std::fabs(d)) * cell_angle * cell_angle / 8;
-        const double lo = R * std::cos(M_PI / N) + d - sag - 1e-4, hi = R + d + 1e-4;
-        size_t side = 0;
+        const EngineScene& base = r.gbuffer();
+        const double d = density * scale * (H - 1.0);
+        auto uv_of = [&](const glm::dvec3& p) {
+            return glm::dvec2((p.x + 4.0) / su, (1.0 - p.z) / sv);
+        };
+        std::vector<double> costs;
         for (int y = 0; y < h; ++y)
             for (int x = 0; x < w; ++x) {
-                const size_t k = static_cast<size_t>(y) * w + x;
-                if (truth.depth[k] >= 1.0f) continue;
-                glm::dmat4 inv;
-                for (int col = 0; col < 4; ++col)
-                    for (int row = 0; row < 4; ++row)
-                        inv[col][row] = r.gbuffer().camera.inverse_view_projection[4 * col + row];
-                const glm::dvec4 q =
-                    inv * glm::dvec4((2.0 * x + 1) / w - 1.0, 1.0 - (2.0 * y + 1) / h,
-                                     2.0 * truth.depth[k] - 1.0, 1.0);
-                const glm::dvec3 p = glm::dvec3(q) / q.w;
-                if (p.y < 0.05 || p.y > tall - 0.1) continue;  // the caps and their rims
-                const double radial = std::hypot(p.x, p.z + 2.0);
-                ASSERT_GE(radial, lo) << "pixel (" << x << ", " << y << ")";
-                ASSERT_LE(radial, hi) << "pixel (" << x << ", " << y << ")";
-                ++side;
+                const size_t i = static_cast<size_t>(y) * w + x;
+                if (base.depth[i] >= 1.0f || truth.depth[i] >= 1.0f) continue;
+                if (run.offset.flags[i] & OM_FLAG_GRAZING) continue;
+                const glm::dvec3 p0 = world_point(base, x, y, base.depth[i], w, h);
+                const glm::dvec3 eye(scene.camera.eye[0], scene.camera.eye[1], scene.camera.eye[2]);
+                const glm::dvec3 p1 = eye + (p0 - eye) * ((eye.y - d) / (eye.y - p0.y));
+                if (std::fabs(p1.x) > 3.5 || p1.z > 0.5 || p1.z < -6.5) continue;  // the edges
+                const glm::dvec3 D = p1 - p0;
+                const glm::dvec2 want_truth = uv_of(p1);
+                const glm::dvec2 want_pass = uv_of(p0) + glm::dvec2(D.x, -D.z) / density;
+                const glm::dvec2 got_truth(truth.uv[2 * i], truth.uv[2 * i + 1]);
+                const glm::dvec2 got_pass(run.offset.uv[i].s[0], run.offset.uv[i].s[1]);
+                ASSERT_LE(glm::length(got_truth - want_truth) * texels, kFloatTexels)
+                    << "pixel (" << x << ", " << y << ")";
+                ASSERT_LE(glm::length(got_pass - want_pass) * texels, kFloatTexels)
+                    << "pixel (" << x << ", " << y << ")";
+                costs.push_back(glm::length(got_pass - got_truth) * texels);
             }
-        EXPECT_GT(side, static_cast<size_t>(w) * h / 10);
-        std::printf("r=%.1f: d = %.4f m; %zu side pixels within [%.5f, %.5f] m of the axis\n",
-                    reference, d, side, lo, hi);
+        ASSERT_GT(costs.size(), static_cast<size_t>(w) * h / 4);
+        std::sort(costs.begin(), costs.end());
+        const double p95 = costs[costs.size() * 95 / 100], worst = costs.back();
+        if (k == 1.0f) {
+            EXPECT_LE(worst, 2 * kFloatTexels);
+        }
+        std::printf("stretch %.0f:1: pass against truth p95 %.4f, max %.4f texels (%zu pixels)\n",
+                    k, p95, worst, costs.size());
+        record_figure("truth.stretch" + std::to_string(int(k)) + ".p95_texels", p95);
     }
 }
 

@@ -336,7 +336,7 @@ Tessellation displace_scene(const Scene& scene, const std::vector<LoadedMaterial
         info.name = base.name;
         info.material = base.material;
         info.base_triangles = base.indices.size() / 3;
-        if (!material) {
+        if (!material || material->spec.settings.scale == 0.0f) {  // nothing to displace
             out.scene.meshes.push_back(base);
             info.triangles = info.base_triangles;
             info.height_bound = std::nan("");

@@ -12,6 +12,7 @@ Both costs are wall-clock on the machine that rendered the frame (named in the t
 Needs Debian's python3-matplotlib.
 """
 import json
+import math
 import sys
 
 import matplotlib
@@ -29,6 +30,24 @@ def pareto(points):
             front.append(p)
             best = p[1]
     return front
+
+
+def label_methods(fig, axes, points):
+    """Methods of about the same cost and error crowd each other: each label takes the first of a
+    few places beside its point where it overlaps no label placed before it."""
+    fig.canvas.draw()
+    renderer = fig.canvas.get_renderer()
+    taken = []
+    places = [(5, 4), (5, -11), (5, 12), (5, -20), (-5, 4), (-5, -11)]
+    for x, y, name, _ in sorted(points, key=lambda p: (p[1], p[0])):
+        for dx, dy in places:
+            label = axes.annotate(name, (x, y), textcoords="offset points", xytext=(dx, dy),
+                                  fontsize=8, ha="left" if dx > 0 else "right")
+            box = label.get_window_extent(renderer).expanded(1.05, 1.1)
+            if not any(box.overlaps(t) for t in taken) or (dx, dy) == places[-1]:
+                taken.append(box)
+                break
+            label.remove()
 
 
 def main():
@@ -49,7 +68,7 @@ def main():
                  label="per-pixel method (base G-buffer + offset pass)")
     left.plot([p[0] for p in tess], [p[1] for p in tess], "-s", color="tab:orange", zorder=3,
               label="tessellated displacement (G-buffer of the displaced mesh)")
-    for x, y, name, _ in pixel + tess:
+    for x, y, name, _ in tess:
         left.annotate(name, (x, y), textcoords="offset points", xytext=(5, 4), fontsize=8)
     front = pareto([(p[0], p[1]) for p in pixel + tess if "(the truth)" not in p[2]])
     left.step([p[0] for p in front], [p[1] for p in front], where="post", color="black",
@@ -72,6 +91,7 @@ def main():
     right.set_xlabel("pixels whose coverage differs from the truth")
     right.set_title("Coverage mismatch (silhouettes, tile edges)", fontsize=9)
     fig.tight_layout()
+    label_methods(fig, left, pixel)
     fig.savefig(sys.argv[2], dpi=110)
 
 

@@ -120,6 +120,12 @@ Rgb8 mismatch_overlay(int w, int h, const std::vector<cl_float4>& color,
 }
 
 // The displaced mesh drawn as the truth, and each frame against it.
+std::string texels_text(double texels_per_quad) {
+    char text[32];
+    std::snprintf(text, sizeof text, "%g", texels_per_quad);
+    return text;
+}
+
 nlohmann::json truth_section(const FrameCommand& cmd, const Scene& scene,
                              const std::vector<LoadedMaterial>& table,
                              const std::shared_ptr<Runtime>& rt, FrameRenderer& renderer,
@@ -132,16 +138,27 @@ nlohmann::json truth_section(const FrameCommand& cmd, const Scene& scene,
     options.texels_per_quad = cmd.truth_level;
     options.width = w;
     options.height = h;
-    progress_line("truth: tessellating the relief meshes at " + std::to_string(cmd.truth_level) +
+    progress_line("truth: tessellating the relief meshes at " + texels_text(cmd.truth_level) +
                   " texels per quad");
     const Tessellation tess = displace_scene(scene, table, options);
     size_t relief_meshes = 0;
     for (const TessellatedMesh& m : tess.meshes) relief_meshes += m.texels_per_quad > 0.0f;
     if (relief_meshes == 0) {
-        const std::string note = "the scene has no mesh with relief: nothing to measure";
+        const std::string note =
+            "the scene has no mesh with relief (no material or a scale of 0): nothing to measure";
         std::printf("truth: %s\n", note.c_str());
-        return {{"note", note}};
+        return {{"notes", {note}}};
     }
+    // `auto` chose its method on this frame's G-buffer before the truth was drawn: the frame is
+    // judged as it was shaded, and the sweep below sets each method on every material alike.
+    nlohmann::json notes = nlohmann::json::array();
+    if (cmd.method.empty())
+        for (const LoadedMaterial& m : table)
+            if (m.spec.method == "auto")
+                notes.push_back("material " + std::to_string(m.spec.id) + " (" + m.spec.name +
+                                ") is auto: its rows below measure the method auto chose for this "
+                                "frame; the sweep of pixel methods sets each method in its place");
+    for (const auto& note : notes) std::printf("truth: %s\n", note.get<std::string>().c_str());
     const GeometryFrame truth = renderer.render_geometry(tess.scene, 1);
     const std::vector<float> bound = truth_bound_texels(gb, engine.material, table, tess);
     const std::vector<std::uint8_t> band =
@@ -215,7 +232,7 @@ nlohmann::json truth_section(const FrameCommand& cmd, const Scene& scene,
     std::vector<float> lattice = {8.0f, 4.0f, 2.0f, 1.0f};
     if (cmd.truth_level < 1.0f) lattice.push_back(cmd.truth_level);
     for (float level : lattice) {
-        progress_line("truth: tessellation at " + std::to_string(level) + " texels per quad");
+        progress_line("truth: tessellation at " + texels_text(level) + " texels per quad");
         TessellationOptions lo = options;
         lo.texels_per_quad = level;
         const bool own = level == cmd.truth_level;
@@ -231,7 +248,7 @@ nlohmann::json truth_section(const FrameCommand& cmd, const Scene& scene,
         const size_t bytes = own ? tess.bytes : t.bytes;
         progress_line("");
         std::printf("%-20s %12zu %10.1f %10.2f %9.3g %9.3g %9.3g %10zu\n",
-                    ("  " + std::to_string(level).substr(0, 5) + " texels/quad").c_str(), triangles,
+                    ("  " + texels_text(level) + " texels/quad").c_str(), triangles,
                     bytes / 1048576.0, g.raster_ms, c.uv_err_texels.mean, c.uv_err_texels.p95,
                     c.uv_err_texels.max, c.mismatch);
         levels.push_back({{"texels_per_quad", level},
@@ -294,7 +311,8 @@ nlohmann::json truth_section(const FrameCommand& cmd, const Scene& scene,
             {"tessellation", levels},
             {"pixel_methods", pixel_methods},
             {"raster_on", renderer.gl_renderer()},
-            {"passes_on", rt->device_name()}};
+            {"passes_on", rt->device_name()},
+            {"notes", notes}};
 }
 
 }  // namespace
@@ -493,6 +511,7 @@ int run_frame(const FrameCommand& cmd) {
     }
     tiles.insert(tiles.end(), truth_tiles.begin(), truth_tiles.end());
     write_image(d + "frame-sheet.png", contact_sheet(tiles, 2));
+    if (!truth_tiles.empty()) write_image(d + "truth-sheet.png", contact_sheet(truth_tiles, 2));
     nlohmann::json doc = {{"scene", scene.name},
                           {"width", w},
                           {"height", h},
@@ -505,11 +524,13 @@ int run_frame(const FrameCommand& cmd) {
                           {"modes", modes}};
     if (cmd.truth) doc["truth"] = truth_doc;
     std::ofstream(d + "frame.json") << doc.dump(2) << "\n";
-    if (cmd.truth) run_chart_script("plot_truth.py", {d + "frame.json", d + "truth-pareto.png"});
+    const bool measured = cmd.truth && truth_doc.contains("modes");
+    if (measured) run_chart_script("plot_truth.py", {d + "frame.json", d + "truth-pareto.png"});
     std::printf(
-        "wrote %s{final%s.png,frame-sheet.png,gbuffer.exr,depth-before.exr,"
-        "depth-after.exr,frame.json}\n",
-        d.c_str(), cmd.forward ? ",final-forward" : "");
+        "wrote %s{final.png,%sframe-sheet.png,gbuffer.exr,depth-before.exr,"
+        "depth-after.exr,frame.json%s}\n",
+        d.c_str(), cmd.forward ? "final-forward.png," : "",
+        measured ? ",truth-sheet.png,truth-pareto.png" : "");
     return 0;
 }
 
