@@ -179,6 +179,7 @@ void expect_displaced_radially(const RadialCase& rc) {
         double lo = 0.0, hi = 0.0;
         rc.range(d, lo, hi);
         size_t judged = 0;
+        double seen_lo = INFINITY, seen_hi = -INFINITY;
         for (int y = 0; y < h; ++y)
             for (int x = 0; x < w; ++x) {
                 const size_t k = static_cast<size_t>(y) * w + x;
@@ -188,11 +189,13 @@ void expect_displaced_radially(const RadialCase& rc) {
                     continue;
                 ASSERT_GE(radial, lo) << "pixel (" << x << ", " << y << ")";
                 ASSERT_LE(radial, hi) << "pixel (" << x << ", " << y << ")";
+                seen_lo = std::min(seen_lo, radial);
+                seen_hi = std::max(seen_hi, radial);
                 ++judged;
             }
         EXPECT_GT(judged, static_cast<size_t>(w) * h / 10);
-        std::printf("%s, r=%.1f: d = %.4f m; %zu pixels within [%.5f, %.5f] m\n", rc.name,
-                    reference, d, judged, lo, hi);
+        std::printf("%s, r=%.1f: d = %.4f m; %zu pixels at [%.5f, %.5f] m, within [%.5f, %.5f]\n",
+                    rc.name, reference, d, judged, seen_lo, seen_hi, lo, hi);
     }
 }
 
