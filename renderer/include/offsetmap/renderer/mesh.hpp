@@ -17,6 +17,10 @@ struct Vertex {
     std::array<float, 4> tangent{};
     std::array<float, 2> uv{};
     float uv_density = 1.0f;
+    // The base surface's second fundamental form in the vertex's tangent frame (T, B = w N x T),
+    // world units (1 / m): k_TT, k_TB, k_BB of dN = K dP, positive where the surface bends away
+    // from its normal (a sphere seen from outside: 1 / R, 0, 1 / R). Zero on a flat mesh.
+    std::array<float, 3> curvature{};
 };
 
 struct Mesh {
@@ -31,7 +35,15 @@ struct Mesh {
 // w = -1 where (N x T) points against dP/dv (mirrored uv), the density sqrt(world area / uv area).
 // Vertices on a uv seam are separate vertices, so each side keeps its own frame. A vertex whose
 // triangles give no usable dP/du (degenerate uv) gets any unit tangent orthogonal to its normal.
+// Ends with derive_curvature.
 void derive_tangents(Mesh& mesh);
+// Each vertex's curvature from its normals' change across the triangles around it
+// (Rusinkiewicz's per-face estimate: the 2 x 2 tensor that maps each edge to its normals'
+// difference, fitted to the three edges, each face's rotated into the vertex's frame and averaged
+// by area). Vertices at one place with one normal (a uv seam's two sides) are averaged together;
+// a split normal (a hard edge) keeps its sides apart. Exact where the normals are a linear function
+// of the position (a sphere's and a cylinder's vertex normals); first order elsewhere.
+void derive_curvature(Mesh& mesh);
 
 // A parallelogram from `origin` spanning `edge_u` (uv u from 0 to tiles_u) and `edge_v` (v from 0
 // to tiles_v), facing cross(edge_u, edge_v); mirror_u runs u the other way (a mirrored frame).
@@ -48,5 +60,10 @@ Mesh make_cylinder(const std::string& name, int material, Vec3 base, float radiu
 // the south, as image rows run (so its frames are mirrored, w = -1).
 Mesh make_sphere(const std::string& name, int material, Vec3 center, float radius, int segments,
                  int rings, float tiles_u, float tiles_v);
+// A torus about the y axis: `radius` from the axis to the tube's centre, `tube` the tube's radius;
+// u tiles_u times around the axis (a seam at angle 0), v tiles_v times around the tube from its
+// outer equator, upward first.
+Mesh make_torus(const std::string& name, int material, Vec3 center, float radius, float tube,
+                int segments, int rings, float tiles_u, float tiles_v);
 
 }  // namespace offsetmap::renderer

@@ -1,0 +1,171 @@
+// The base surface's curvature per vertex (derive_curvature) against the primitives' analytic
+// second fundamental form: exact on a sphere and a cylinder (their vertex normals are a linear
+// function of the position, so every face's fit is the surface's own tensor), first order with a
+// second-order rate on a torus, and k_TB's sign on a cylinder whose uv runs diagonally.
+#include <algorithm>
+#include <glm/glm.hpp>
+#include <vector>
+
+#include "support.hpp"
+#ifdef OFFSETMAP_HAVE_RENDERER
+#include "offsetmap/renderer/mesh.hpp"
+#endif
+
+namespace omtest {
+namespace {
+
+#ifdef OFFSETMAP_HAVE_RENDERER
+using namespace offsetmap::renderer;
+
+glm::dvec3 g(const Vec3& v) { return {v[0], v[1], v[2]}; }
+
+// The shortest and longest edge of a mesh, leaving out the edges of a pole's degenerate
+// triangles (copies of one point, apart by float rounding alone).
+std::pair<double, double> edge_range(const Mesh& m) {
+    std::vector<double> edges;
+    for (size_t t = 0; t + 2 < m.indices.size(); t += 3)
+        for (int i = 0; i < 3; ++i)
+            edges.push_back(glm::length(g(m.vertices[m.indices[t + i]].position) -
+                                        g(m.vertices[m.indices[t + (i + 1) % 3]].position)));
+    const double hi = *std::max_element(edges.begin(), edges.end());
+    double lo = hi;
+    for (double e : edges)
+        if (e > 1e-4 * hi) lo = std::min(lo, e);
+    return {lo, hi};
+}
+
+// The vertex's (T, B) frame as the G-buffer stores it.
+std::pair<glm::dvec3, glm::dvec3> frame(const Vertex& v) {
+    const glm::dvec3 n = glm::normalize(g(v.normal));
+    const glm::dvec3 t = glm::normalize(glm::dvec3(v.tangent[0], v.tangent[1], v.tangent[2]));
+    return {t, (v.tangent[3] < 0.0f ? -1.0 : 1.0) * glm::cross(n, t)};
+}
+
+// The largest difference between a vertex's curvature and the world tensor K seen in its own
+// frame (so the frame's own derivation, a chord's angle off the analytic tangent, is not counted).
+double error_against(const Vertex& v, const glm::dmat3& K) {
+    const auto [t, b] = frame(v);
+    return std::max({std::fabs(v.curvature[0] - glm::dot(t, K * t)),
+                     std::fabs(v.curvature[1] - glm::dot(t, K * b)),
+                     std::fabs(v.curvature[2] - glm::dot(b, K * b))});
+}
+
+// Float rounding alone: positions and normals each within half an ulp of |p| (and of 1), so a
+// normal's difference over an edge of h is off by about 2^-23 (1 + |p|) in 2^-23-scaled units,
+// relative to its size h k: 16 ulps over the shortest edge, as a curvature.
+double float_tolerance(const Mesh& m, double reach) {
+    return 16.0 * std::ldexp(1.0, -23) * (1.0 + reach) / edge_range(m).first;
+}
+
+TEST(Curvature, SphereIsOneOverItsRadiusEverywhere) {
+    const float R = 0.55f;
+    const Mesh s = make_sphere("sphere", 1, {0.25f, 0.55f, -1.0f}, R, 64, 32, 4.0f, 2.0f);
+    const double tol = float_tolerance(s, 1.5);
+    double worst = 0.0;
+    for (const Vertex& v : s.vertices) {
+        worst = std::max({worst, std::fabs(v.curvature[0] - 1.0 / R),
+                          std::fabs(double(v.curvature[1])), std::fabs(v.curvature[2] - 1.0 / R)});
+        ASSERT_NEAR(v.curvature[0], 1.0 / R, tol);
+        ASSERT_NEAR(v.curvature[1], 0.0, tol);
+        ASSERT_NEAR(v.curvature[2], 1.0 / R, tol);
+    }
+    std::printf("sphere R = %.2f: worst |k - 1/R| %.2e (tolerance %.2e) 1/m\n", R, worst, tol);
+    record_figure("curvature.sphere.worst", worst);
+}
+
+TEST(Curvature, CylinderBendsAroundAndNotAlong) {
+    const float R = 0.45f;
+    const Mesh c = make_cylinder("cylinder", 1, {1.45f, 0.0f, -2.3f}, R, 1.4f, 64, 3.0f, 1.5f);
+    const double tol = float_tolerance(c, 4.0);
+    size_t side = 0;
+    for (const Vertex& v : c.vertices) {
+        if (std::fabs(v.normal[1]) > 0.5f) {  // the caps: flat
+            ASSERT_EQ(v.curvature, (std::array<float, 3>{0.0f, 0.0f, 0.0f}));
+            continue;
+        }
+        ASSERT_NEAR(v.curvature[0], 1.0 / R, tol);  // T around the axis
+        ASSERT_NEAR(v.curvature[1], 0.0, tol);
+        ASSERT_NEAR(v.curvature[2], 0.0, tol);  // B along it
+        ++side;
+    }
+    EXPECT_EQ(side, 2u * 65u);
+}
+
+// The side's uv turned 45 degrees: T = (s + y) / sqrt 2, B = (y - s) / sqrt 2 over the principal
+// directions s (around, 1 / R) and y (along, 0), so k_TT = k_BB = 1 / 2R and k_TB = -1 / 2R; with
+// u mirrored the frame's handedness flips B and k_TB's sign with it.
+TEST(Curvature, DiagonalUvGivesTheCrossTermWithItsSign) {
+    const float R = 0.5f;
+    for (const float mirror : {1.0f, -1.0f}) {
+        SCOPED_TRACE(mirror);
+        Mesh c = make_cylinder("cylinder", 1, {0.0f, 0.0f, 0.0f}, R, 1.0f, 96, 1.0f, 1.0f);
+        for (Vertex& v : c.vertices) {
+            if (std::fabs(v.normal[1]) > 0.5f) continue;
+            const double arc = R * (double(v.uv[0]) * 2.0 * M_PI);  // uv u from 0 to 1 around
+            const double y = v.position[1];
+            v.uv = {float(mirror * (arc + y) / std::sqrt(2.0)), float((y - arc) / std::sqrt(2.0))};
+        }
+        derive_tangents(c);
+        const double tol = float_tolerance(c, 2.0);
+        for (const Vertex& v : c.vertices) {
+            if (std::fabs(v.normal[1]) > 0.5f) continue;
+            // About 1 / 2R each, the frame a chord's angle off the diagonal.
+            ASSERT_NEAR(v.curvature[0], 0.5 / R, 0.01 / R);
+            ASSERT_NEAR(v.curvature[1], -0.5 * mirror / R, 0.01 / R);
+            ASSERT_NEAR(v.curvature[2], 0.5 / R, 0.01 / R);
+            const glm::dvec3 n = glm::normalize(g(v.normal));
+            const glm::dvec3 around = glm::cross(glm::dvec3(0.0, 1.0, 0.0), n);
+            ASSERT_LE(error_against(v, glm::outerProduct(around, around) / double(R)), tol);
+        }
+    }
+}
+
+// A torus (R from the axis to the tube's centre, r the tube): at the tube angle theta the
+// principal curvatures are cos(theta) / (R + r cos(theta)) around the axis (T) and 1 / r around
+// the tube (B), k_TB = 0. The fit is first order: each face gives the tensor at a point of the
+// face, so a vertex is within h max|dK/ds| of the truth, h the longest edge, |dK/ds| at most
+// R / (r (R - r)^2) (k_TT's change along the tube). On a regular grid the faces around a vertex
+// are symmetric and the first-order terms cancel: twice the resolution must take the error down
+// at least 3 times.
+TEST(Curvature, TorusIsItsPrincipalCurvaturesToSecondOrder) {
+    const double R = 1.0, r = 0.3;
+    double previous = 0.0;
+    for (const int n : {32, 64}) {
+        SCOPED_TRACE(n);
+        const Mesh t =
+            make_torus("torus", 1, {0.0f, 0.0f, 0.0f}, float(R), float(r), 2 * n, n, 4.0f, 1.0f);
+        const double bound = edge_range(t).second * R / (r * (R - r) * (R - r));
+        double worst = 0.0;
+        for (const Vertex& v : t.vertices) {
+            const glm::dvec3 n = glm::normalize(g(v.normal));
+            const glm::dvec3 out = glm::normalize(glm::dvec3(v.position[0], 0.0, v.position[2]));
+            const double cos_theta = glm::dot(n, out);
+            const glm::dvec3 around = glm::cross(glm::dvec3(0.0, 1.0, 0.0), out);
+            const glm::dvec3 tube = glm::cross(n, around);
+            const glm::dmat3 K =
+                cos_theta / (R + r * cos_theta) * glm::outerProduct(around, around) +
+                glm::outerProduct(tube, tube) / r;
+            const double e = error_against(v, K);
+            const double theta = std::atan2(n.y, cos_theta);
+            ASSERT_LE(e, bound) << "theta " << theta;
+            worst = std::max(worst, e);
+        }
+        if (previous > 0.0) {
+            EXPECT_LE(worst, previous / 3.0);
+        }
+        std::printf("torus %d x %d: worst error %.2e 1/m (first-order bound %.2e)\n", 2 * n, n,
+                    worst, bound);
+        record_figure("curvature.torus" + std::to_string(n) + ".worst", worst);
+        previous = worst;
+    }
+}
+
+TEST(Curvature, FlatAndHardEdgedMeshesHaveNone) {
+    const Mesh box = make_box("box", 1, {0, 0, 0}, {0.5f, 0.5f, 0.5f}, 1.0f);
+    for (const Vertex& v : box.vertices)
+        ASSERT_EQ(v.curvature, (std::array<float, 3>{0.0f, 0.0f, 0.0f}));
+}
+#endif
+
+}  // namespace
+}  // namespace omtest
