@@ -6,8 +6,10 @@
 #include <glm/glm.hpp>
 #include <vector>
 
+#include "offsetmap/image_io.hpp"
 #include "support.hpp"
 #ifdef OFFSETMAP_HAVE_RENDERER
+#include "offsetmap/renderer/frame.hpp"
 #include "offsetmap/renderer/mesh.hpp"
 #endif
 
@@ -158,6 +160,64 @@ TEST(Curvature, TorusIsItsPrincipalCurvaturesToSecondOrder) {
         record_figure("curvature.torus" + std::to_string(n) + ".worst", worst);
         previous = worst;
     }
+}
+
+// The G-buffer's curvature plane: the raster interpolates the vertices' tensors and scales them by
+// the uv density into uv units. With one density per mesh, the sphere's pixels hold (d / R, 0,
+// d / R) and the cylinder's side (d / R, 0, 0) up to the interpolation's float rounding; its caps
+// and the sky hold zero. The engine G-buffer file keeps the plane bit for bit.
+TEST(Renderer, GBufferCurvatureIsTheSurfaces) {
+    const float Rs = 0.5f, Rc = 0.35f, ds = 0.8f, dc = 0.6f;
+    Scene scene;
+    scene.name = "curved";
+    Mesh sphere = make_sphere("sphere", 1, {-0.45f, 0.5f, -2.0f}, Rs, 48, 24, 2.0f, 1.0f);
+    Mesh cylinder = make_cylinder("cylinder", 2, {0.55f, 0.0f, -2.2f}, Rc, 1.0f, 48, 1.0f, 1.0f);
+    for (Vertex& v : sphere.vertices) v.uv_density = ds;
+    for (Vertex& v : cylinder.vertices) v.uv_density = dc;
+    scene.meshes = {sphere, cylinder};
+    scene.camera.eye = {0.0f, 1.2f, 0.4f};
+    scene.camera.target = {0.0f, 0.4f, -2.0f};
+    scene.light.kind = LightKind::None;
+    std::vector<LoadedMaterial> table(2);
+    for (int i = 0; i < 2; ++i) {
+        table[i].spec.id = i + 1;
+        table[i].spec.name = i ? "cylinder" : "sphere";
+        table[i].map = make_map(8, 8, [](int, int) { return 0.5f; });
+    }
+    const int w = 160, h = 120;
+    FrameRenderer r(runtime(), scene, table,
+                    std::vector<MethodParams>(2, resolve_params(find_method("none"), {})), w, h,
+                    ShadeSettings{});
+    r.render(FrameMode::Deferred, false, 1);
+    const EngineScene& e = r.gbuffer();
+    ASSERT_EQ(e.curvature.size(), 3 * e.pixels());
+    const double eps = 1e-5;  // a few float roundings of the barycentric blend, relative
+    size_t on_sphere = 0, on_side = 0;
+    for (size_t k = 0; k < e.pixels(); ++k) {
+        const float* c = &e.curvature[3 * k];
+        if (e.depth[k] >= 1.0f) {
+            ASSERT_EQ(c[0], 0.0f);
+            ASSERT_EQ(c[1], 0.0f);
+            ASSERT_EQ(c[2], 0.0f);
+        } else if (e.material[k] == 1.0f) {
+            ASSERT_NEAR(c[0], ds / Rs, eps * ds / Rs) << k;
+            ASSERT_NEAR(c[1], 0.0, eps * ds / Rs) << k;
+            ASSERT_NEAR(c[2], ds / Rs, eps * ds / Rs) << k;
+            ++on_sphere;
+        } else if (std::fabs(e.normal[4 * k + 1]) < 0.5f) {
+            ASSERT_NEAR(c[0], dc / Rc, eps * dc / Rc) << k;
+            ASSERT_NEAR(c[1], 0.0, eps * dc / Rc) << k;
+            ASSERT_NEAR(c[2], 0.0, eps * dc / Rc) << k;
+            ++on_side;
+        } else {
+            ASSERT_EQ(c[0], 0.0f) << "a cap, pixel " << k;
+        }
+    }
+    EXPECT_GT(on_sphere, 1000u);
+    EXPECT_GT(on_side, 1000u);
+    const std::string path = ::testing::TempDir() + "/curved_gbuffer.exr";
+    save_engine_gbuffer(path, e);
+    EXPECT_EQ(load_engine_gbuffer(path).curvature, e.curvature);
 }
 
 TEST(Curvature, FlatAndHardEdgedMeshesHaveNone) {

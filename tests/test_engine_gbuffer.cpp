@@ -528,5 +528,43 @@ TEST(EngineGBuffer, EngineFormFileErrorsNameTheAttribute) {
                          "attribute offsetmap:light must start with directional or point"));
 }
 
+// The curvature channels: all three or none, and finite; each error names the file.
+TEST(EngineGBuffer, CurvatureChannelsAreAllOrNoneAndFinite) {
+    EngineScene e = make_engine_scene(small_plane(), DepthConvention::ZeroToOne);
+    e.curvature.assign(3 * e.pixels(), 0.25f);
+    const std::string path = ::testing::TempDir() + "/engine_curvature.exr";
+    save_engine_gbuffer(path, e);
+    EXPECT_EQ(load_engine_gbuffer(path).curvature, e.curvature);
+    e.curvature[3 * 5 + 1] = std::nanf("");
+    save_engine_gbuffer(path, e);
+    EXPECT_TRUE(contains(error_of([&] { load_engine_gbuffer(path); }),
+                         "engine_curvature.exr': channel kuv is not finite at pixel (5, 0)"));
+    // The same file less its last channel (kvv).
+    e.curvature.assign(3 * e.pixels(), 0.25f);
+    save_engine_gbuffer(path, e);
+    auto in = OIIO::ImageInput::open(path);
+    OIIO::ImageSpec spec = in->spec();
+    std::vector<float> data(spec.image_pixels() * spec.nchannels);
+    in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, data.data());
+    in->close();
+    const auto drop = std::find(spec.channelnames.begin(), spec.channelnames.end(), "kvv");
+    ASSERT_NE(drop, spec.channelnames.end());
+    const int c = static_cast<int>(drop - spec.channelnames.begin());
+    OIIO::ImageSpec less = spec;
+    less.nchannels = spec.nchannels - 1;
+    less.channelnames.erase(less.channelnames.begin() + c);
+    less.channelformats.clear();
+    std::vector<float> kept;
+    for (size_t k = 0; k < data.size(); ++k)
+        if (static_cast<int>(k % spec.nchannels) != c) kept.push_back(data[k]);
+    const std::string bad = ::testing::TempDir() + "/engine_curvature_two.exr";
+    auto out = OIIO::ImageOutput::create(bad);
+    out->open(bad, less);
+    out->write_image(OIIO::TypeDesc::FLOAT, kept.data());
+    out->close();
+    EXPECT_TRUE(contains(error_of([&] { load_engine_gbuffer(bad); }),
+                         "engine_curvature_two.exr': the curvature needs all three channels"));
+}
+
 }  // namespace
 }  // namespace omtest

@@ -59,6 +59,8 @@ void save_engine_gbuffer(const std::string& path, const EngineScene& e) {
     if (ids) names.push_back("material");
     const bool derivatives = !e.uv_derivatives.empty();
     if (derivatives) names.insert(names.end(), {"dudx", "dvdx", "dudy", "dvdy"});
+    const bool curvature = !e.curvature.empty();
+    if (curvature) names.insert(names.end(), {"kuu", "kuv", "kvv"});
     const int nc = static_cast<int>(names.size());
     std::vector<float> data(e.pixels() * nc);
     for (size_t k = 0; k < e.pixels(); ++k) {
@@ -73,6 +75,8 @@ void save_engine_gbuffer(const std::string& path, const EngineScene& e) {
         if (ids) px[c++] = e.material[k];
         if (derivatives)
             for (int a = 0; a < 4; ++a) px[c++] = e.uv_derivatives[4 * k + a];
+        if (curvature)
+            for (int a = 0; a < 3; ++a) px[c++] = e.curvature[3 * k + a];
     }
     std::map<std::string, std::string> attributes = {
         {"offsetmap:inverseViewProjection", numbers(e.camera.inverse_view_projection.data(), 16)},
@@ -202,6 +206,12 @@ EngineScene read_engine_form(GBufferFile& g, size_t max_bytes) {
     const bool derivatives = std::all_of(std::begin(derivative), std::end(derivative),
                                          [&](const char* d) { return index.count(d) != 0; });
     if (derivatives) e.uv_derivatives.resize(4 * n);
+    const char* const curvature[] = {"kuu", "kuv", "kvv"};
+    const int curvature_channels = static_cast<int>(std::count_if(
+        std::begin(curvature), std::end(curvature), [&](const char* c) { return index.count(c); }));
+    if (curvature_channels != 0 && curvature_channels != 3)
+        throw Error(file + ": the curvature needs all three channels kuu kuv kvv, or none");
+    if (curvature_channels) e.curvature.resize(3 * n);
     for (size_t k = 0; k < n; ++k) {
         e.depth[k] = ch(k, "depth");
         e.uv[2 * k] = ch(k, "u");
@@ -216,6 +226,13 @@ EngineScene read_engine_form(GBufferFile& g, size_t max_bytes) {
         }
         if (derivatives)
             for (int a = 0; a < 4; ++a) e.uv_derivatives[4 * k + a] = ch(k, derivative[a]);
+        for (int a = 0; a < (curvature_channels ? 3 : 0); ++a) {
+            const float c = ch(k, curvature[a]);
+            if (!std::isfinite(c))
+                throw Error(file + ": channel " + curvature[a] + " is not finite at pixel (" +
+                            std::to_string(k % e.width) + ", " + std::to_string(k / e.width) + ")");
+            e.curvature[3 * k + a] = c;
+        }
     }
     return e;
 }

@@ -5,6 +5,7 @@ layout(location = 1) in vec3 a_normal;
 layout(location = 2) in vec4 a_tangent;
 layout(location = 3) in vec2 a_uv;
 layout(location = 4) in float a_uv_density;
+layout(location = 5) in vec3 a_curvature;  // k_TT, k_TB, k_BB in world units (1 / m)
 
 uniform mat4 u_view_projection;
 
@@ -15,6 +16,7 @@ out vec3 v_normal;
 out vec4 v_tangent;
 out vec2 v_uv;
 out float v_uv_density;
+out vec3 v_curvature;
 
 void main() {
     v_position = a_position;
@@ -22,5 +24,6 @@ void main() {
     v_tangent = a_tangent;
     v_uv = a_uv;
     v_uv_density = a_uv_density;
+    v_curvature = a_curvature;
     gl_Position = u_view_projection * vec4(a_position, 1.0);
 }

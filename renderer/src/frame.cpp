@@ -305,8 +305,8 @@ FrameRun FrameRenderer::render(FrameMode mode, bool prepass, int repeats) {
     }
 
     // The last frame's outputs, rows top first: read again outside the timed frames, after the
-    // same draw with the uv derivatives kept (the G-buffer file's).
-    m.raster->draw(m.view, forward ? &m.forward : nullptr, prepass, true);
+    // same draw with the uv derivatives and the curvature kept (the G-buffer file's).
+    m.raster->draw(m.view, forward ? &m.forward : nullptr, prepass, true, true);
     planes = m.raster->read(false);
     for (size_t k = 0; k < n; ++k) ids[k] = planes.material[2 * k];
     run.color.resize(n);
@@ -354,6 +354,7 @@ FrameRun FrameRenderer::render(FrameMode mode, bool prepass, int repeats) {
         engine_.uv_derivatives[4 * k + 2] *= -1.0f;
         engine_.uv_derivatives[4 * k + 3] *= -1.0f;
     }
+    engine_.curvature = flip_rows(m.raster->read_curvature(), w, h, 3);
     auto med = [&](double PassTimes::*field) {
         std::vector<double> v;
         for (const PassTimes& t : times) v.push_back(t.*field);

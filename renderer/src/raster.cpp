@@ -20,7 +20,9 @@ std::array<float, 16> to_array(const glm::mat4& m) {
 }
 
 const GLenum kTargets[] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1, GL_COLOR_ATTACHMENT2,
-                           GL_COLOR_ATTACHMENT3, GL_COLOR_ATTACHMENT4, GL_COLOR_ATTACHMENT5};
+                           GL_COLOR_ATTACHMENT3, GL_COLOR_ATTACHMENT4, GL_COLOR_ATTACHMENT5,
+                           GL_COLOR_ATTACHMENT6};
+constexpr int kTargetCount = 7;
 
 }  // namespace
 
@@ -107,12 +109,10 @@ Raster::Raster(const Scene& scene, int width, int height) : width_(width), heigh
         const struct {
             GLint size;
             size_t offset;
-        } attributes[] = {{3, offsetof(Vertex, position)},
-                          {3, offsetof(Vertex, normal)},
-                          {4, offsetof(Vertex, tangent)},
-                          {2, offsetof(Vertex, uv)},
-                          {1, offsetof(Vertex, uv_density)}};
-        for (GLuint a = 0; a < 5; ++a) {
+        } attributes[] = {{3, offsetof(Vertex, position)},   {3, offsetof(Vertex, normal)},
+                          {4, offsetof(Vertex, tangent)},    {2, offsetof(Vertex, uv)},
+                          {1, offsetof(Vertex, uv_density)}, {3, offsetof(Vertex, curvature)}};
+        for (GLuint a = 0; a < 6; ++a) {
             glEnableVertexArrayAttrib(ids[0], a);
             glVertexArrayAttribFormat(ids[0], a, attributes[a].size, GL_FLOAT, GL_FALSE,
                                       static_cast<GLuint>(attributes[a].offset));
@@ -138,20 +138,22 @@ Raster::Raster(const Scene& scene, int width, int height) : width_(width), heigh
     derivatives_ = make_texture(GL_RGBA32F, width, height);
     material_ = make_texture(GL_RG32F, width, height);
     offset_ = make_texture(GL_RGBA32F, width, height);
+    curvature_ = make_texture(GL_RGBA32F, width, height);
     color_ = make_texture(GL_RGBA32F, width, height);
     depth_after_ = make_texture(GL_DEPTH_COMPONENT32F, width, height);
     GLuint f[2];
     glCreateFramebuffers(2, f);
     fbo_ = Framebuffer(f[0]);
     depth_fbo_ = Framebuffer(f[1]);
-    const GLuint colour[] = {normal_.get(),      tangent_.get(),  uv_.get(),
-                             derivatives_.get(), material_.get(), offset_.get()};
-    for (int i = 0; i < 6; ++i) glNamedFramebufferTexture(f[0], kTargets[i], colour[i], 0);
+    const GLuint colour[] = {normal_.get(),   tangent_.get(), uv_.get(),       derivatives_.get(),
+                             material_.get(), offset_.get(),  curvature_.get()};
+    for (int i = 0; i < kTargetCount; ++i)
+        glNamedFramebufferTexture(f[0], kTargets[i], colour[i], 0);
     glNamedFramebufferTexture(f[0], GL_DEPTH_ATTACHMENT, depth_.get(), 0);
     glNamedFramebufferTexture(f[1], GL_DEPTH_ATTACHMENT, depth_after_.get(), 0);
     glNamedFramebufferDrawBuffer(f[1], GL_NONE);
     glNamedFramebufferReadBuffer(f[1], GL_NONE);
-    glNamedFramebufferDrawBuffers(f[0], 6, kTargets);
+    glNamedFramebufferDrawBuffers(f[0], kTargetCount, kTargets);
     for (GLuint fb : f)
         if (glCheckNamedFramebufferStatus(fb, GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
             throw Error("OpenGL: the G-buffer's render targets are not complete at " +
@@ -165,17 +167,18 @@ Raster::Raster(const Scene& scene, int width, int height) : width_(width), heigh
 }
 
 void Raster::draw(const View& view, const std::vector<ForwardMaterial>* forward, bool prepass,
-                  bool derivatives) {
-    // The targets this draw keeps: the uv derivatives only when asked (the file keeps them, the
-    // passes do not read them), the offset plane only forward. A target set to GL_NONE is neither
-    // cleared nor written: a fifth less to fill than all six.
-    GLenum targets[6];
+                  bool derivatives, bool curvature) {
+    // The targets this draw keeps: the uv derivatives and the curvature only when asked (the
+    // file keeps them), the offset plane only forward. A target set to GL_NONE is neither
+    // cleared nor written.
+    GLenum targets[kTargetCount];
     std::copy(std::begin(kTargets), std::end(kTargets), targets);
     if (!derivatives) targets[3] = GL_NONE;
     if (!forward) targets[5] = GL_NONE;
-    glNamedFramebufferDrawBuffers(fbo_.get(), 6, targets);
+    if (!curvature) targets[6] = GL_NONE;
+    glNamedFramebufferDrawBuffers(fbo_.get(), kTargetCount, targets);
     draw_with(view, forward, prepass, forward ? forward_ : deferred_);
-    glNamedFramebufferDrawBuffers(fbo_.get(), 6, kTargets);
+    glNamedFramebufferDrawBuffers(fbo_.get(), kTargetCount, kTargets);
 }
 
 std::int64_t Raster::count_fragments(const View& view, const std::vector<ForwardMaterial>* forward,
@@ -196,7 +199,7 @@ void Raster::draw_with(const View& view, const std::vector<ForwardMaterial>* for
     glBindFramebuffer(GL_DRAW_FRAMEBUFFER, fbo_.get());
     const float nan = std::numeric_limits<float>::quiet_NaN();
     const float sky_uv[4] = {nan, nan, 0.0f, 0.0f}, zero[4] = {0, 0, 0, 0};
-    for (int i = 0; i < 6; ++i)
+    for (int i = 0; i < kTargetCount; ++i)
         glClearNamedFramebufferfv(fbo_.get(), GL_COLOR, i, i == 2 || i == 5 ? sky_uv : zero);
     glClearNamedFramebufferfi(fbo_.get(), GL_DEPTH_STENCIL, 0, 1.0f, 0);
     glEnable(GL_DEPTH_TEST);
@@ -270,6 +273,10 @@ void Raster::read_into(const PlanePointers& p) const {
 
 std::vector<float> Raster::read_uv_derivatives() const {
     return read_pixels(fbo_.get(), GL_COLOR_ATTACHMENT3, GL_RGBA, 4, width_, height_);
+}
+
+std::vector<float> Raster::read_curvature() const {
+    return read_pixels(fbo_.get(), GL_COLOR_ATTACHMENT6, GL_RGB, 3, width_, height_);
 }
 
 void Raster::write_results(const float* color, const float* depth_after) {

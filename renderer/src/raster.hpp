@@ -73,9 +73,10 @@ class Raster {
     // Draws the G-buffer (forward: with `materials` traced per fragment; a material missing from
     // the list is drawn without relief). With `prepass`, depth first and then the G-buffer at
     // GL_EQUAL. Blocks until GL is done.
-    // The uv derivatives' target is filled only with `derivatives` (read_uv_derivatives).
+    // The uv derivatives' target is filled only with `derivatives` (read_uv_derivatives), the
+    // curvature's only with `curvature` (read_curvature).
     void draw(const View& view, const std::vector<ForwardMaterial>* forward, bool prepass,
-              bool derivatives = false);
+              bool derivatives = false, bool curvature = false);
     // The same draw with the fragments that pass the depth test counted (an atomic counter in a
     // variant of the shader, so the timed draws carry no counter): the fragments the G-buffer
     // shader, and forward the method, runs on.
@@ -88,9 +89,12 @@ class Raster {
     // The same planes straight into the caller's memory (mapped OpenCL buffers: one copy), the
     // material target's id and uv density as a plane each.
     void read_into(const PlanePointers& planes) const;
-    // The uv derivatives of the last draw with `derivatives`, 4 per pixel: du/dx, dv/dx, du/dy, dv/dy (rows bottom first);
-    // the G-buffer file keeps them, the passes do not read them.
+    // The uv derivatives of the last draw with `derivatives`, 4 per pixel: du/dx, dv/dx, du/dy,
+    // dv/dy (rows bottom first); the G-buffer file keeps them, the passes do not read them.
     std::vector<float> read_uv_derivatives() const;
+    // The curvature of the last draw with `curvature`, 3 per pixel (rows bottom first): the base
+    // surface's k_uu, k_uv, k_vv in the pixel's tangent frame, uv units; 0 where nothing was drawn.
+    std::vector<float> read_curvature() const;
     // The frame's results into GL (rows bottom first): the colour (4 floats a pixel) into the
     // colour texture, the depth after the pixel depth offset into the second depth target, which
     // depth_after() reads. Blocks until GL has them.
@@ -109,7 +113,8 @@ class Raster {
     void draw_with(const View& view, const std::vector<ForwardMaterial>* forward, bool prepass,
                    const Program& program);
     Program deferred_, forward_, deferred_count_, forward_count_, depth_only_;
-    Texture depth_, normal_, tangent_, uv_, derivatives_, material_, offset_, color_, depth_after_;
+    Texture depth_, normal_, tangent_, uv_, derivatives_, material_, offset_, curvature_, color_,
+        depth_after_;
     Framebuffer fbo_, depth_fbo_;
     BufferObject counter_;
 };

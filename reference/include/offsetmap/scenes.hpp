@@ -71,6 +71,10 @@ struct EngineScene {
     // empty, or 4 per pixel: du/dx, dv/dx per pixel step right, du/dy, dv/dy per row step in file
     // order (a rasterizer's uv derivatives; files keep them)
     std::vector<float> uv_derivatives;
+    // empty, or 3 per pixel: the base surface's second fundamental form k_uu, k_uv, k_vv in the
+    // pixel's tangent frame (T, B = w N x T) in uv units (world curvature times the uv density),
+    // positive where the surface bends away from its normal (files keep it)
+    std::vector<float> curvature;
 
     size_t pixels() const { return static_cast<size_t>(width) * height; }
 };
