@@ -44,6 +44,30 @@ struct CellLift {
 ExactHit exact_hit(const HeightMap& map, double u, double v, const double V[3],
                    const PassSettings& settings, const CellLift& lift);
 
+// The base surface's second fundamental form at the pixel in its tangent frame, uv units
+// (EngineScene::curvature): positive where the surface bends away from its normal.
+struct Curvature {
+    double uu = 0.0, uv = 0.0, vv = 0.0;
+};
+
+struct CurvedHit {
+    double u, v;  // uv' (the relief's texture coordinate at the hit, or where the ray left)
+    double t;     // ray parameter
+    bool miss;    // the ray left the relief's slab over the curved base before meeting it
+};
+
+// The first hit of the same ray with the relief over a curved base (docs/design.md, "Curved
+// surfaces"): in the ray's vertical plane the base is the circle of its normal curvature
+// k_n = e.K.e (e the direction the ray travels over the surface), the relief stands along the
+// circle's normals, its texture runs along the circle by arc length, and the cross term
+// k_c = e_perp.K.e moves it sideways by -h k_c (arc) to first order. This agrees with the
+// quadric z = -(k_uu x^2 + 2 k_uv x y + k_vv y^2) / 2 to second order and is exact on a sphere
+// (geodesic polar coordinates). A double-precision march in steps of 1/32 texel and s/256 of
+// depth, each sign change bisected: the tests' oracle for the curved trace. Zero curvature gives
+// exact_hit's hit up to the bisection's tolerance.
+CurvedHit curved_hit(const HeightMap& map, double u, double v, const double V[3],
+                     const PassSettings& settings, const Curvature& k);
+
 // Bilinear height in double with the project's texel-centre convention.
 double bilinear_height(const HeightMap& map, double u, double v, AddressMode address);
 
