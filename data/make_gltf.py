@@ -1,6 +1,7 @@
 #!/usr/bin/python3
-"""Writes pillars.gltf, the small glTF 2.0 scene of the demo and tests (one file, its buffer
-embedded), and nothing else: its height maps are named by pillars.json, the material table beside it.
+"""Writes pillars.gltf and curved.gltf, the small glTF 2.0 scenes of the demo and tests (one file
+each, its buffer embedded), and nothing else: their height maps are named by pillars.json and
+curved.json, the material tables beside them.
 
     /usr/bin/python3 data/make_gltf.py [output folder, default: this script's folder]
 
@@ -11,6 +12,9 @@ Standard library only. The scene exercises what a loader must get right:
     transpose);
   - a box ("text") under a node with a negative x scale (a mirroring transform: winding flips);
   - a perspective camera node aimed at the scene.
+curved.gltf is the curved surfaces' test scene: a sphere, a cylinder and a torus standing on
+its rim, in bricks at s of 0.06 and 0.1, on a bumpy floor: silhouettes against the background
+and against each other.
 uv follow glTF: u to the right, v down an image's rows (so every frame is mirrored, w = -1).
 """
 import base64
@@ -115,6 +119,84 @@ def column(radius, height, segments, tiles_u, tiles_v):
     return pos, nrm, uv, idx
 
 
+def revolution(rings, segments, tiles_u, tiles_v, place):
+    """A surface of revolution about y: ring j of segments + 1 vertices (a seam at angle 0), u
+    around, v = tiles_v j / rings; place(j, a) gives ring j's point and normal at angle a."""
+    pos, nrm, uv, idx = [], [], [], []
+    for j in range(rings + 1):
+        for s in range(segments + 1):
+            p, n = place(j, 2 * math.pi * s / segments)
+            pos.append(p)
+            nrm.append(n)
+            uv.append([tiles_u * s / segments, tiles_v * j / rings])
+    row = segments + 1
+    for j in range(rings):
+        for s in range(segments):
+            k = j * row + s
+            idx += [k, k + row, k + row + 1, k, k + row + 1, k + 1]
+    return pos, nrm, uv, idx
+
+
+def sphere(radius, segments, rings, tiles_u, tiles_v):
+    """v from the north pole down."""
+    def place(j, a):
+        theta = math.pi * j / rings
+        n = [math.sin(theta) * math.cos(a), math.cos(theta), -math.sin(theta) * math.sin(a)]
+        return [radius * c for c in n], n
+    return revolution(rings, segments, tiles_u, tiles_v, place)
+
+
+def torus(radius, tube, segments, rings, tiles_u, tiles_v):
+    """About y through the origin; v around the tube from its top, outward first."""
+    def place(j, a):
+        phi = 2 * math.pi * j / rings
+        out = [math.cos(a), 0.0, -math.sin(a)]
+        n = [math.sin(phi) * out[0], math.cos(phi), math.sin(phi) * out[2]]
+        return [radius * out[i] + tube * n[i] for i in range(3)], n
+    return revolution(rings, segments, tiles_u, tiles_v, place)
+
+
+def gltf(b, name, nodes, roots, materials, eye_target):
+    eye, target = eye_target
+    nodes = nodes + [{"name": "camera", "camera": 0, "translation": eye,
+                      "rotation": look_rotation(eye, target)}]
+    return {
+        "asset": {"version": "2.0", "generator": "offsetmap data/make_gltf.py"},
+        "scene": 0,
+        "scenes": [{"name": name, "nodes": roots + [len(nodes) - 1]}],
+        "nodes": nodes,
+        "meshes": b.meshes,
+        "materials": [{"name": m} for m in materials],
+        "cameras": [{"type": "perspective", "perspective": {
+            "yfov": math.radians(55), "znear": 0.05, "zfar": 40, "aspectRatio": 16 / 9}}],
+        "accessors": b.accessors,
+        "bufferViews": b.views,
+        "buffers": [{"byteLength": len(b.blob), "uri": "data:application/octet-stream;base64,"
+                     + base64.b64encode(bytes(b.blob)).decode()}],
+    }
+
+
+def curved(out):
+    b = Builder()
+    materials = ["floor", "bricks", "bricks deep"]
+    floor = b.mesh("floor", 0, *quad([-4, 0, -4], [8, 0, 0], [0, 0, 8], 8 / 1.5, 8 / 1.5))
+    ball = b.mesh("sphere", 1, *sphere(0.6, 64, 32, 4, 2))
+    can = b.mesh("cylinder", 1, *column(0.4, 1.4, 64, 3, 2))
+    ring = b.mesh("torus", 2, *torus(0.55, 0.22, 96, 48, 6, 2))
+    quarter = math.sin(math.radians(45)), math.cos(math.radians(45))
+    nodes = [
+        {"name": "floor", "mesh": floor},
+        {"name": "sphere", "mesh": ball, "translation": [-1.3, 0.6, -1.2]},
+        {"name": "cylinder", "mesh": can, "translation": [1.4, 0, -1.8]},
+        {"name": "torus", "mesh": ring, "translation": [0.1, 0.77, -0.2],
+         "rotation": [quarter[0], 0, 0, quarter[1]]},
+    ]
+    doc = gltf(b, "curved", nodes, [0, 1, 2, 3], materials, ([0.1, 1.35, 2.3], [-0.05, 0.6, -1.0]))
+    with open(os.path.join(out, "curved.gltf"), "w") as f:
+        json.dump(doc, f, indent=1)
+        f.write("\n")
+
+
 def look_rotation(eye, target):
     """The quaternion (x, y, z, w) turning a glTF camera (looking down -z, up +y) toward target."""
     f = [target[i] - eye[i] for i in range(3)]
@@ -170,6 +252,7 @@ def main():
     with open(os.path.join(out, "pillars.gltf"), "w") as f:
         json.dump(doc, f, indent=1)
         f.write("\n")
+    curved(out)
 
 
 if __name__ == "__main__":

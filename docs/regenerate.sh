@@ -99,9 +99,9 @@ for part in "${parts[@]}"; do
         cp "$tmp/peer/bench-glsl-peer.json" "$DATA/bench-glsl-peer.json"
         cp "$tmp/peer/bench-glsl-peer.png" "$IMG/"
         ;;
-    truth)  # the room and data/pillars.gltf against the displaced mesh (docs/renderer.md): about
-        # 40 s and 3.2 GB each
-        for scene in room pillars; do
+    truth)  # the room, data/pillars.gltf and data/curved.gltf against the displaced mesh
+        # (docs/renderer.md): about 40 s and 3.2 GB each
+        for scene in room pillars curved; do
             file=$scene
             [ $scene = room ] || file=data/$scene.gltf
             $OM frame --scene $file --width 960 --height 540 --truth --forward -o "$tmp/truth-$scene"
