@@ -233,22 +233,8 @@ def main():
         {"name": "column", "mesh": col, "translation": [1.5, 0, -2.0], "scale": [1.3, 2.2, 0.8]},
         {"name": "mirrored", "mesh": text_box, "translation": [0.6, 0.4, 0.2],
          "scale": [-1, 1, 1]},
-        {"name": "camera", "camera": 0, "translation": eye, "rotation": look_rotation(eye, target)},
     ]
-    doc = {
-        "asset": {"version": "2.0", "generator": "offsetmap data/make_gltf.py"},
-        "scene": 0,
-        "scenes": [{"name": "pillars", "nodes": [0, 1, 2, 5, 6, 7]}],
-        "nodes": nodes,
-        "meshes": b.meshes,
-        "materials": [{"name": m} for m in materials],
-        "cameras": [{"type": "perspective", "perspective": {
-            "yfov": math.radians(55), "znear": 0.05, "zfar": 40, "aspectRatio": 16 / 9}}],
-        "accessors": b.accessors,
-        "bufferViews": b.views,
-        "buffers": [{"byteLength": len(b.blob), "uri": "data:application/octet-stream;base64,"
-                     + base64.b64encode(bytes(b.blob)).decode()}],
-    }
+    doc = gltf(b, "pillars", nodes, [0, 1, 2, 5, 6], materials, (eye, target))
     with open(os.path.join(out, "pillars.gltf"), "w") as f:
         json.dump(doc, f, indent=1)
         f.write("\n")
