@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <fstream>
 #include <functional>
+#include <glm/glm.hpp>
 #include <map>
 #include <memory>
 #include <random>
@@ -19,6 +20,18 @@
 
 namespace omtest {
 using namespace offsetmap;
+
+// A world point from a pixel's window depth (GL's convention, rows top first), as the reconstruct
+// pass places it (double).
+inline glm::dvec3 unproject(const EngineScene& e, int x, int y, double d) {
+    glm::dmat4 m;
+    for (int c = 0; c < 4; ++c)
+        for (int r = 0; r < 4; ++r) m[c][r] = e.camera.inverse_view_projection[4 * c + r];
+    const glm::dvec4 ndc((2.0 * x + 1.0) / e.width - 1.0, 1.0 - (2.0 * y + 1.0) / e.height,
+                         2.0 * d - 1.0, 1.0);
+    const glm::dvec4 w = m * ndc;
+    return glm::dvec3(w) / w.w;
+}
 
 // The message of the Error `f` throws ("" when it throws none).
 template <typename F>

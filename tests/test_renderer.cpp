@@ -146,17 +146,6 @@ std::vector<MethodParams> methods_for(const std::vector<LoadedMaterial>& table,
     return m;
 }
 
-// A world point from a pixel's window depth, as the reconstruct pass places it (double).
-glm::dvec3 unproject(const EngineScene& e, int x, int y, double d) {
-    glm::dmat4 m;
-    for (int c = 0; c < 4; ++c)
-        for (int r = 0; r < 4; ++r) m[c][r] = e.camera.inverse_view_projection[4 * c + r];
-    const glm::dvec4 ndc((2.0 * x + 1.0) / e.width - 1.0, 1.0 - (2.0 * y + 1.0) / e.height,
-                         2.0 * d - 1.0, 1.0);
-    const glm::dvec4 w = m * ndc;
-    return glm::dvec3(w) / w.w;
-}
-
 TEST(Renderer, GBufferMatchesTheScene) {
     const Scene scene = builtin_room(std::string(OFFSETMAP_SOURCE_DIR) + "/data");
     const auto table = room_table();

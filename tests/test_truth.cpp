@@ -58,6 +58,22 @@ Scene flat_scene(double pitch_deg, double eye = 0.35, float tiles = 16.0f) {
     return s;
 }
 
+// The scene's truth at the default lattice, tessellated for r's w x h view and drawn by its raster.
+struct Truth {
+    Tessellation tess;
+    GeometryFrame frame;
+};
+Truth draw_truth(FrameRenderer& r, const Scene& scene, const std::vector<LoadedMaterial>& table,
+                 int w, int h) {
+    TessellationOptions options;
+    options.width = w;
+    options.height = h;
+    Truth t;
+    t.tess = displace_scene(scene, table, options);
+    t.frame = r.render_geometry(t.tess.scene, 1);
+    return t;
+}
+
 // The exact walk's float error and the raster's (its uv interpolated in float over a sub-texel
 // triangle, 2^-23 of a uv of at most 8 tiles, times 64 texels: 6e-5 texel) together stay below
 // this; the oracle bound the exact methods are held to is a few thousandths of a texel here.
@@ -90,13 +106,9 @@ TEST(Renderer, TruthFlatQuadEqualsExactWithinItsBound) {
         FrameRenderer r(runtime(), scene, table, {resolve_params(find_method("exact"), {})}, w, h,
                         ShadeSettings{});
         const FrameRun run = r.render(FrameMode::Deferred, false, 1);
-        TessellationOptions options;
-        options.width = w;
-        options.height = h;
-        const Tessellation tess = displace_scene(scene, table, options);
+        const auto [tess, truth] = draw_truth(r, scene, table, w, h);
         ASSERT_EQ(tess.meshes.size(), 1u);
         EXPECT_GT(tess.meshes[0].triangles, 400u);
-        const GeometryFrame truth = r.render_geometry(tess.scene, 1);
         const EngineScene& base = r.gbuffer();
         const std::vector<float> bound =
             truth_bound_texels(r.explicit_gbuffer(), base.material, table, tess);
@@ -137,17 +149,6 @@ TEST(Renderer, TruthFlatQuadEqualsExactWithinItsBound) {
     }
 }
 
-// The world point a pixel of a depth plane shows.
-glm::dvec3 world_point(const EngineScene& base, int x, int y, float depth, int w, int h) {
-    glm::dmat4 inv;
-    for (int col = 0; col < 4; ++col)
-        for (int row = 0; row < 4; ++row)
-            inv[col][row] = base.camera.inverse_view_projection[4 * col + row];
-    const glm::dvec4 q =
-        inv * glm::dvec4((2.0 * x + 1) / w - 1.0, 1.0 - (2.0 * y + 1) / h, 2.0 * depth - 1.0, 1.0);
-    return glm::dvec3(q) / q.w;
-}
-
 // One relief mesh of a constant height 0.6 with scale 0.05 and reference r, seen by a 160 x 120
 // view; `inside` says whether a point is on the part the test judges and gives its distance from
 // the axis or centre, which must lie in [lo(r), hi(r)].
@@ -170,11 +171,7 @@ void expect_displaced_radially(const RadialCase& rc) {
         FrameRenderer r(runtime(), rc.scene, table, {resolve_params(find_method("none"), {})}, w, h,
                         ShadeSettings{});
         r.render(FrameMode::Deferred, false, 1);
-        TessellationOptions options;
-        options.width = w;
-        options.height = h;
-        const Tessellation tess = displace_scene(rc.scene, table, options);
-        const GeometryFrame truth = r.render_geometry(tess.scene, 1);
+        const GeometryFrame truth = draw_truth(r, rc.scene, table, w, h).frame;
         const double d = rc.density * c.scale * (0.6 - reference);
         double lo = 0.0, hi = 0.0;
         rc.range(d, lo, hi);
@@ -185,8 +182,7 @@ void expect_displaced_radially(const RadialCase& rc) {
                 const size_t k = static_cast<size_t>(y) * w + x;
                 if (truth.depth[k] >= 1.0f) continue;
                 double radial = 0.0;
-                if (!rc.inside(world_point(r.gbuffer(), x, y, truth.depth[k], w, h), radial))
-                    continue;
+                if (!rc.inside(unproject(r.gbuffer(), x, y, truth.depth[k]), radial)) continue;
                 ASSERT_GE(radial, lo) << "pixel (" << x << ", " << y << ")";
                 ASSERT_LE(radial, hi) << "pixel (" << x << ", " << y << ")";
                 seen_lo = std::min(seen_lo, radial);
@@ -300,11 +296,7 @@ TEST(Renderer, TruthOfAnUnevenlyStretchedQuadMovesInWorldUnits) {
         FrameRenderer r(runtime(), scene, table, {resolve_params(find_method("exact"), {})}, w, h,
                         ShadeSettings{});
         const FrameRun run = r.render(FrameMode::Deferred, false, 1);
-        TessellationOptions options;
-        options.width = w;
-        options.height = h;
-        const Tessellation tess = displace_scene(scene, table, options);
-        const GeometryFrame truth = r.render_geometry(tess.scene, 1);
+        const GeometryFrame truth = draw_truth(r, scene, table, w, h).frame;
         const EngineScene& base = r.gbuffer();
         const double d = density * scale * (H - 1.0);
         auto uv_of = [&](const glm::dvec3& p) {
@@ -316,7 +308,7 @@ TEST(Renderer, TruthOfAnUnevenlyStretchedQuadMovesInWorldUnits) {
                 const size_t i = static_cast<size_t>(y) * w + x;
                 if (base.depth[i] >= 1.0f || truth.depth[i] >= 1.0f) continue;
                 if (run.offset.flags[i] & OM_FLAG_GRAZING) continue;
-                const glm::dvec3 p0 = world_point(base, x, y, base.depth[i], w, h);
+                const glm::dvec3 p0 = unproject(base, x, y, base.depth[i]);
                 const glm::dvec3 eye(scene.camera.eye[0], scene.camera.eye[1], scene.camera.eye[2]);
                 const glm::dvec3 p1 = eye + (p0 - eye) * ((eye.y - d) / (eye.y - p0.y));
                 if (std::fabs(p1.x) > 3.5 || p1.z > 0.5 || p1.z < -6.5) continue;  // the edges

@@ -1,7 +1,6 @@
 #include "offsetmap/renderer/mesh.hpp"
 
 #include <algorithm>
-#include <climits>
 #include <cmath>
 #include <cstdint>
 #include <glm/glm.hpp>
