@@ -14,9 +14,30 @@
 // crosses, plus one, and fades by that count over [fade_lo, fade_hi] texels: a ray that crosses
 // less than a texel at the pixel's level cannot show parallax.
 //
+// Curvature (optional, OM_CURVED): the base's second fundamental form per pixel in uv units
+// (float4: k_uu, k_uv, k_vv, unused); lanes over a curved base trace the ray against the relief over
+// that base (ray.cl, curved.cl), the rest the tangent plane, bit for bit as without it.
+//
 // Specialised at build time (the host sets these from the pass, one program each): OM_LANES,
-// OM_LANE_PAIRS, OM_IMAGES, OM_LOD when the LOD system is on, OM_OUT_DEPTH / OM_OUT_FETCHES /
-// OM_OUT_FLAGS for the optional outputs bound.
+// OM_LANE_PAIRS, OM_IMAGES, OM_LOD when the LOD system is on, OM_CURVED when a curvature plane is
+// bound, OM_OUT_DEPTH / OM_OUT_FETCHES / OM_OUT_FLAGS for the optional outputs bound.
+
+// The base's second fundamental form at each lane's pixel, in uv units (zero: the tangent plane).
+typedef struct {
+    OmF uu, uv, vv;
+} OmCurvature;
+
+// The curvature plane (float4 a pixel: k_uu, k_uv, k_vv, unused) as lanes; zero, and nothing read,
+// in a program without OM_CURVED.
+OM_INLINE OmCurvature om_load_curvature(__global const float4* curvature, OmBlock b) {
+    OmCurvature k;
+#ifdef OM_CURVED
+    om_load_block3((__global const float*)curvature, b, &k.uu, &k.uv, &k.vv);
+#else
+    k.uu = k.uv = k.vv = 0.0f;
+#endif
+    return k;
+}
 
 // One group of lanes before and after its trace: the ray, the field at each lane's level, and
 // what the entry needs to finish the pixels.
@@ -33,7 +54,7 @@ typedef struct {
 // Ray setup and LOD for one group. Lanes in `skip` are rejected as empty pixels are (no fetches;
 // the caller does not store them). `m` is the lanes' mip level (read under OM_LOD only).
 OM_INLINE void om_lanes_begin(const OmOffsetParams* P, OmF u, OmF v, OmF vx, OmF vy, OmF vz,
-                              OmI skip, OmF m, __global const float* heights,
+                              const OmCurvature* k, OmI skip, OmF m, __global const float* heights,
                               __global const float* aux, OmLaneGroup* g) {
     g->flags = om_ray_setup(u, v, vx, vy, vz, P, &g->ray, &g->base_u, &g->base_v);
     g->blend = 1.0f;
@@ -59,6 +80,9 @@ OM_INLINE void om_lanes_begin(const OmOffsetParams* P, OmF u, OmF v, OmF vx, OmF
     g->rejected =
         (g->flags & (int)(OM_FLAG_EMPTY | OM_FLAG_INVALID | OM_FLAG_BACKFACING)) != 0 || skip != 0;
     g->traced = !g->rejected && g->blend > 0.0f;
+#ifdef OM_CURVED
+    om_ray_curve(&g->ray, k->uu, k->uv, k->vv, g->traced);
+#endif
 }
 
 // The group's outputs from the trace's t, fetches and flags. Every method returns the hit's ray
@@ -67,7 +91,8 @@ OM_INLINE void om_lanes_end(const OmOffsetParams* P, const OmLaneGroup* g, OmF u
                             OmI fetches, OmI trace_flags, OmF* ou_out, OmF* ov_out, OmF* t_out,
                             OmI* fetches_out, OmI* flags_out) {
     const OmRay* ray = &g->ray;
-    OmF hu = ray->u - t * ray->vx, hv = ray->v - t * ray->vy;
+    OmF hu, hv;
+    om_ray_footprint(ray, t, &hu, &hv);
     hu = ray->u + g->blend * (hu - ray->u);
     hv = ray->v + g->blend * (hv - ray->v);
     OmF ou = hu + g->base_u, ov = hv + g->base_v;
@@ -84,18 +109,46 @@ OM_INLINE void om_lanes_end(const OmOffsetParams* P, const OmLaneGroup* g, OmF u
     *fetches_out = OM_SEL((OmI)0, fetches, traced);
 }
 
+// The lanes a method that walks cells (OM_CURVED_WALK) leaves to the curved walk: those over a
+// curved base; none without curvature or for the marching methods, which bend their samples.
+OM_INLINE OmI om_curved_lanes(const OmLaneGroup* g) {
+#if defined(OM_CURVED) && defined(OM_CURVED_WALK)
+    return g->traced & g->ray.curved;
+#else
+    return (OmI)0;
+#endif
+}
+
+// The curved walk over those lanes, its answers merged into the method's.
+OM_INLINE void om_curved_rest(const OmOffsetParams* P, const OmLaneGroup* g, OmI walked, OmF* t,
+                              OmI* fetches, OmI* flags OM_IMG_PARAM) {
+#if defined(OM_CURVED) && defined(OM_CURVED_WALK)
+    if (OM_ANY(walked)) {
+        OmI walk_fetches = 0, walk_flags = 0;
+        const OmF tc = om_curved_walk(&g->ray, &g->f, P, walked, &walk_fetches,
+                                      &walk_flags OM_IMG_ARG);
+        *t = OM_SEL(*t, tc, walked);
+        *fetches = OM_SEL(*fetches, walk_fetches, walked);
+        *flags = OM_SEL(*flags, walk_flags, walked);
+    }
+#endif
+}
+
 // One work-item's lanes: ray setup, LOD, the method, the LOD fade. Shared by om_offset and the
 // material frame's tile entry, so a pixel gets the same bits through either.
 OM_INLINE void om_offset_lanes(const OmOffsetParams* P, OmF u, OmF v, OmF vx, OmF vy, OmF vz,
-                               OmI skip, OmF m, __global const float* heights,
-                               __global const float* aux, OmF* ou_out, OmF* ov_out, OmF* t_out,
-                               OmI* fetches_out, OmI* flags_out OM_IMG_PARAM) {
+                               const OmCurvature* k, OmI skip, OmF m,
+                               __global const float* heights, __global const float* aux,
+                               OmF* ou_out, OmF* ov_out, OmF* t_out, OmI* fetches_out,
+                               OmI* flags_out OM_IMG_PARAM) {
     OmLaneGroup g;
-    om_lanes_begin(P, u, v, vx, vy, vz, skip, m, heights, aux, &g);
+    om_lanes_begin(P, u, v, vx, vy, vz, k, skip, m, heights, aux, &g);
     OmF t = 0.0f;
     OmI fetches = 0, trace_flags = 0;
-    if (OM_ANY(g.traced))
-        t = om_trace(&g.ray, &g.f, P, g.traced, &fetches, &trace_flags OM_IMG_ARG);
+    const OmI walked = om_curved_lanes(&g);
+    if (OM_ANY(g.traced & !walked))
+        t = om_trace(&g.ray, &g.f, P, g.traced & !walked, &fetches, &trace_flags OM_IMG_ARG);
+    om_curved_rest(P, &g, walked, &t, &fetches, &trace_flags OM_IMG_ARG);
     om_lanes_end(P, &g, u, v, t, fetches, trace_flags, ou_out, ov_out, t_out, fetches_out,
                  flags_out);
 }
@@ -105,6 +158,7 @@ OM_INLINE void om_offset_lanes(const OmOffsetParams* P, OmF u, OmF v, OmF vx, Om
 typedef struct {
     OmF u, v, vx, vy, vz, m;
     OmI skip;
+    OmCurvature k;
 } OmLaneIn;
 typedef struct {
     OmF ou, ov, t;
@@ -118,15 +172,19 @@ OM_INLINE void om_offset_lane_pair(const OmOffsetParams* P, const OmLaneIn* in_a
                                    __global const float* aux, OmLaneOut* out_a,
                                    OmLaneOut* out_b OM_IMG_PARAM) {
     OmLaneGroup a, b;
-    om_lanes_begin(P, in_a->u, in_a->v, in_a->vx, in_a->vy, in_a->vz, in_a->skip, in_a->m, heights,
-                   aux, &a);
-    om_lanes_begin(P, in_b->u, in_b->v, in_b->vx, in_b->vy, in_b->vz, in_b->skip, in_b->m, heights,
-                   aux, &b);
+    om_lanes_begin(P, in_a->u, in_a->v, in_a->vx, in_a->vy, in_a->vz, &in_a->k, in_a->skip,
+                   in_a->m, heights, aux, &a);
+    om_lanes_begin(P, in_b->u, in_b->v, in_b->vx, in_b->vy, in_b->vz, &in_b->k, in_b->skip,
+                   in_b->m, heights, aux, &b);
     OmF t_a = 0.0f, t_b = 0.0f;
     OmI fetches_a = 0, fetches_b = 0, trace_a = 0, trace_b = 0;
-    if (OM_ANY(a.traced) || OM_ANY(b.traced))
-        om_trace_pair(&a.ray, &a.f, a.traced, &b.ray, &b.f, b.traced, P, &t_a, &fetches_a,
-                      &trace_a, &t_b, &fetches_b, &trace_b OM_IMG_ARG);
+    const OmI walked_a = om_curved_lanes(&a), walked_b = om_curved_lanes(&b);
+    const OmI plane_a = a.traced & !walked_a, plane_b = b.traced & !walked_b;
+    if (OM_ANY(plane_a) || OM_ANY(plane_b))
+        om_trace_pair(&a.ray, &a.f, plane_a, &b.ray, &b.f, plane_b, P, &t_a, &fetches_a, &trace_a,
+                      &t_b, &fetches_b, &trace_b OM_IMG_ARG);
+    om_curved_rest(P, &a, walked_a, &t_a, &fetches_a, &trace_a OM_IMG_ARG);
+    om_curved_rest(P, &b, walked_b, &t_b, &fetches_b, &trace_b OM_IMG_ARG);
     om_lanes_end(P, &a, in_a->u, in_a->v, t_a, fetches_a, trace_a, &out_a->ou, &out_a->ov,
                  &out_a->t, &out_a->fetches, &out_a->flags);
     om_lanes_end(P, &b, in_b->u, in_b->v, t_b, fetches_b, trace_b, &out_b->ou, &out_b->ov,
@@ -201,7 +259,8 @@ __kernel void om_offset(const OmOffsetParams P, __global const float2* gb_uv2,
                         __global const float4* gb_view4, __global const float* heights,
                         __global const float* aux, __global const float* lod,
                         __global float2* out_uv2, __global float* out_depth,
-                        __global uint* out_fetches, __global uint* out_flags OM_IMG_PARAM) {
+                        __global uint* out_fetches, __global uint* out_flags,
+                        __global const float4* curvature OM_IMG_PARAM) {
 #ifdef OM_LANE_PAIRS
     const int group = (int)get_global_id(0) * 2;
 #else
@@ -220,6 +279,7 @@ __kernel void om_offset(const OmOffsetParams P, __global const float2* gb_uv2,
 #ifdef OM_LOD
     m = om_load_block_f(lod, blk);
 #endif
+    OmCurvature k = om_load_curvature(curvature, blk);
 #ifdef OM_LANE_PAIRS
     // The method's two-group walk (om_trace_pair) over this work-item's two blocks; past the last
     // block the second repeats the first and stores nothing.
@@ -233,8 +293,10 @@ __kernel void om_offset(const OmOffsetParams P, __global const float2* gb_uv2,
     in_a.vz = vz;
     in_a.m = m;
     in_a.skip = in_b.skip = 0;
+    in_a.k = k;
     in_b.m = 0.0f;
     om_load_block(gb_uv, gb_view, blk_b, &in_b.u, &in_b.v, &in_b.vx, &in_b.vy, &in_b.vz);
+    in_b.k = om_load_curvature(curvature, blk_b);
 #ifdef OM_LOD
     in_b.m = om_load_block_f(lod, blk_b);
 #endif
@@ -248,7 +310,7 @@ __kernel void om_offset(const OmOffsetParams P, __global const float2* gb_uv2,
 #else
     OmF ou, ov, t;
     OmI fetches, flags;
-    om_offset_lanes(&P, u, v, vx, vy, vz, (OmI)0, m, heights, aux, &ou, &ov, &t, &fetches,
+    om_offset_lanes(&P, u, v, vx, vy, vz, &k, (OmI)0, m, heights, aux, &ou, &ov, &t, &fetches,
                     &flags OM_IMG_ARG);
     om_store_block(out_uv, out_depth, out_fetches, out_flags, blk, (OmI)1, ou, ov, t, fetches,
                    flags);

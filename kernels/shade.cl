@@ -149,7 +149,7 @@ OM_INLINE void om_shade_lanes(const OmShadeParams* P, OmI active, OmF u, OmF v, 
                               OmF vy, OmF vz, OmF lx, OmF ly, OmF lz,
                               __global const float4* normals, __global const float* heights,
                               __global const float4* albedo, OmF* r, OmF* g, OmF* b, OmF* a) {
-    const OmI surface = active && (flags & (int)(OM_FLAG_EMPTY | OM_FLAG_OUT_OF_TILE)) == 0 &&
+    const OmI surface = active && (flags & (int)OM_FLAGS_NOT_SHOWN) == 0 &&
                         isfinite(u) && isfinite(v);
     u = OM_SEL((OmF)0.0f, u, surface);
     v = OM_SEL((OmF)0.0f, v, surface);

@@ -41,7 +41,8 @@ DeviceGBuffer upload(Runtime& rt, const GBuffer& gb) {
     if (gb.width <= 0 || gb.height <= 0 || gb.uv.size() != gb.pixels() ||
         gb.view.size() != gb.pixels() || (gb.has_light() && gb.light.size() != gb.pixels()) ||
         (gb.has_lod() && gb.lod.size() != gb.pixels()) ||
-        (gb.has_material() && gb.material.size() != gb.pixels()))
+        (gb.has_material() && gb.material.size() != gb.pixels()) ||
+        (gb.has_curvature() && gb.curvature.size() != gb.pixels()))
         throw Error("G-buffer arrays do not match its size " + std::to_string(gb.width) + "x" +
                     std::to_string(gb.height));
     auto buffer = [&](const void* data, size_t bytes) {
@@ -58,6 +59,8 @@ DeviceGBuffer upload(Runtime& rt, const GBuffer& gb) {
     if (gb.has_light()) d.light = buffer(gb.light.data(), gb.pixels() * sizeof(cl_float4));
     if (gb.has_lod()) d.lod = buffer(gb.lod.data(), gb.pixels() * sizeof(float));
     if (gb.has_material()) d.material = buffer(gb.material.data(), gb.pixels() * sizeof(float));
+    if (gb.has_curvature())
+        d.curvature = buffer(gb.curvature.data(), gb.pixels() * sizeof(cl_float4));
     return d;
 }
 

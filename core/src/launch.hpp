@@ -181,6 +181,8 @@ inline void check_gbuffer(const cl::Context& context, const DeviceGBuffer& g) {
                  {"the G-buffer's lod buffer", "float", sizeof(float), n, false, true});
     check_buffer(context, g.material,
                  {"the G-buffer's material buffer", "float", sizeof(float), n, false, true});
+    check_buffer(context, g.curvature,
+                 {"the G-buffer's curvature buffer", "float4", sizeof(cl_float4), n, false, true});
 }
 
 }  // namespace offsetmap

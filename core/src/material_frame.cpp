@@ -374,13 +374,16 @@ cl::Event MaterialFrame::enqueue(const DeviceGBuffer& g, const OffsetTargets& t,
             d.work_items = d.entries * per_entry;
             T.entry_base = static_cast<om_int>(bases_[k]);
             T.entry_count = static_cast<om_int>(counts[k]);
-            cl::Kernel& kernel = tile_kernel(methods_[k], variant_writing(t));
+            OffsetVariant variant = variant_writing(t);
+            variant.curved = g.curvature() != nullptr;
+            cl::Kernel& kernel = tile_kernel(methods_[k], variant);
             set_args(kernel, T, slot_table_, entries_, g.material, g.uv, g.view, heights_);
             set_optional(kernel, 7, methods_[k].aux);
             kernel.setArg(8, t.uv);
             set_optional(kernel, 9, t.depth);
             set_optional(kernel, 10, t.fetches);
             set_optional(kernel, 11, t.flags);
+            set_optional(kernel, 12, g.curvature);
             queue.enqueueNDRangeKernel(kernel, cl::NullRange, padded(d.work_items),
                                        cl::NDRange(kLocalSize), &classified, &d.event);
             done.push_back(d.event);

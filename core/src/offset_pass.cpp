@@ -169,6 +169,7 @@ cl::Event OffsetPass::launch(const DeviceGBuffer& g, const DeviceHeightField& f,
     OffsetVariant variant = variant_writing(t);
     variant.images = images;
     variant.lod = settings.lod.enabled;
+    variant.curved = g.curvature() != nullptr;
     cl::Kernel& k = kernel(variant);
     k.setArg(0, p);
     k.setArg(1, g.uv);
@@ -179,7 +180,8 @@ cl::Event OffsetPass::launch(const DeviceGBuffer& g, const DeviceHeightField& f,
     set_optional(k, 7, t.depth);
     set_optional(k, 8, t.fetches);
     set_optional(k, 9, t.flags);
-    if (images) k.setArg(10, heights_image(f));
+    set_optional(k, 10, g.curvature);
+    if (images) k.setArg(11, heights_image(f));
     cl::Event event;
     try {
         // The caller's events, the field's upload and the precomputed data's build.

@@ -342,7 +342,8 @@ std::vector<std::string> classify_program_files() { return {"frame/slots.h", "fr
 int lane_groups(const MethodInfo& m, int lanes) { return lanes > 1 && m.lane_pairs ? 2 : 1; }
 
 std::vector<std::string> offset_program_files(const MethodInfo& m) {
-    std::vector<std::string> files = {"common/sampling.cl", "common/ray.cl", "common/patch.cl"};
+    std::vector<std::string> files = {"common/sampling.cl", "common/ray.cl", "common/patch.cl",
+                                      "common/curved.cl"};
     if (m.precompute && m.precompute->layout_file) files.push_back(m.precompute->layout_file);
     files.insert(files.end(), {"methods/" + m.kernel_file, "common/blocks.cl", "offset.cl"});
     return files;
@@ -357,6 +358,7 @@ std::string offset_program_defines(const MethodInfo& method, const OffsetVariant
     if (lane_groups(method, v.lanes) == 2) defines += "#define OM_LANE_PAIRS\n";
     if (v.images && !tiles) defines += "#define OM_IMAGES\n";
     if (v.lod && !tiles) defines += "#define OM_LOD\n";
+    if (v.curved) defines += "#define OM_CURVED\n";
     if (v.depth) defines += "#define OM_OUT_DEPTH\n";
     if (v.fetches) defines += "#define OM_OUT_FETCHES\n";
     if (v.flags) defines += "#define OM_OUT_FLAGS\n";

@@ -12,6 +12,15 @@ typedef struct {
     OmF t_enter, t_exit;
     OmF detail;    // LOD step-count factor in (0, 1]
     OmI step_cap;  // LOD footprint mode: no more steps than the texels the ray crosses
+#ifdef OM_CURVED
+    // The base's curvature (docs/design.md, "Curved surfaces"): in the ray's vertical plane the
+    // circle of normal curvature kn = e.K.e, and the cross term kc = e_perp.K.e, with e = -V.xy /
+    // |V.xy| the direction the footprint runs ((1, 0) for a vertical view); in uv units.
+    OmF kn, kc, ex, ey, lxy;
+    OmI curved;     // lanes over a curved base; the rest trace the plane, bit for bit
+    OmI exits_top;  // curved lanes that leave the slab through its top again (a convex base)
+    int any_curved;
+#endif
 } OmRay;
 
 OM_INLINE OmI om_step_count(const OmRay* r, OmF n) {
@@ -83,28 +92,160 @@ OM_INLINE OmI om_ray_setup(OmF u, OmF v, OmF vx, OmF vy, OmF vz, const OmOffsetP
     r->t_exit = P->scale * P->ref_plane * inv_vz;
     r->detail = 1.0f;
     r->step_cap = 0x7fffffff;
+#ifdef OM_CURVED
+    r->curved = 0;
+    r->exits_top = 0;
+    r->any_curved = 0;
+#endif
     flags =
         OM_SEL(flags, (flags & (int)OM_FLAG_RENORMALIZED) | (int)OM_FLAG_BACKFACING, backfacing);
     flags = OM_SEL(flags, (OmI)OM_FLAG_INVALID, invalid);
     return OM_SEL(flags, (OmI)OM_FLAG_EMPTY, empty);
 }
 
+#ifdef OM_CURVED
+// The ray over a curved base: K = [[kuu, kuv], [kuv, kvv]] in uv units per lane (positive bends
+// away from N). Lanes with K = 0, a non-finite K or no depth scale stay on the plane. On the rest,
+// the slab between h = s (1 - r) and h = -s r over the circle of curvature kn is met where
+//   kn t^2 - 2 V.z t - H0 (2 + kn H0) = 0    (h(t) = H0, |V| = 1),
+// entered at the root through t < 0 and left at the bottom's first root t >= 0, or, where a
+// convex base turns the ray away before the bottom (no real root), through the top's second.
+// kn is held within 1 / (2 s) in magnitude: a base bent tighter than twice the relief's depth
+// leaves the circles of the slab degenerate (the model's stated limit).
+OM_INLINE void om_ray_curve(OmRay* r, OmF kuu, OmF kuv, OmF kvv, OmI lanes) {
+    const OmI finite = isfinite(kuu) && isfinite(kuv) && isfinite(kvv);
+    const OmI curved = lanes & finite & (kuu != 0.0f || kuv != 0.0f || kvv != 0.0f);
+    r->curved = r->scale > 0.0f ? curved : (OmI)0;
+    r->any_curved = OM_ANY(r->curved);
+    if (!r->any_curved) return;
+    const OmF lxy = sqrt(r->vx * r->vx + r->vy * r->vy);
+    const OmI plumb = !(lxy > 0.0f);
+    const OmF ex = OM_SEL(-r->vx / lxy, 1.0f, plumb), ey = OM_SEL(-r->vy / lxy, 0.0f, plumb);
+    const OmF kx = OM_SEL((OmF)0.0f, kuu * ex + kuv * ey, curved);
+    const OmF ky = OM_SEL((OmF)0.0f, kuv * ex + kvv * ey, curved);
+    const float k_max = 0.5f / r->scale;
+    r->kn = clamp(ex * kx + ey * ky, -k_max, k_max);
+    r->kc = ex * ky - ey * kx;
+    r->ex = ex;
+    r->ey = ey;
+    r->lxy = OM_SEL(lxy, (OmF)0.0f, plumb);
+    const float top = r->scale * (1.0f - r->ref), bottom = -r->scale * r->ref;
+    const OmF vz = r->vz, kn = r->kn;
+    const OmF c_top = top * (2.0f + kn * top), c_bottom = bottom * (2.0f + kn * bottom);
+    const OmF q_top = vz + sqrt(fmax(vz * vz + kn * c_top, 0.0f));
+    const OmF d_bottom = vz * vz + kn * c_bottom;
+    const OmI away = curved & (d_bottom < 0.0f);  // only where kn > 0
+    const OmF t_bottom = -c_bottom / (vz + sqrt(fmax(d_bottom, 0.0f)));
+    r->exits_top = away;
+    r->t_enter = OM_SEL(r->t_enter, -c_top / q_top, curved);
+    r->t_exit = OM_SEL(r->t_exit, OM_SEL(t_bottom, q_top / kn, away), curved);
+}
+
+// The curved lanes' ray at t: the footprint's offset (dx, dy) from the pixel in uv and the height h
+// above the base along its normal (uv units), from the ray's point (a, z) = (t |V.xy|, -t V.z) in
+// its vertical plane (docs/design.md): with c = 1 + kn z and q = sqrt(c^2 + (kn a)^2),
+//   h = (2 z + kn t^2) / (q + 1),   arc = atan2(kn a, c) / kn,   sideways -h kc arc.
+// Both are exact for kn = 0 (h = z, arc = a).
+OM_INLINE void om_curve_at(const OmRay* r, OmF t, OmF* dx, OmF* dy, OmF* h) {
+    const OmF a = t * r->lxy, z = -t * r->vz;
+    const OmF c = 1.0f + r->kn * z, ka = r->kn * a;
+    const OmF q = sqrt(c * c + ka * ka);
+    *h = (2.0f * z + r->kn * (t * t)) / (q + 1.0f);
+    const OmF arc = OM_SEL(a * (atan2(ka, c) / ka), a, ka == 0.0f);
+    const OmF side = -*h * r->kc * arc;
+    *dx = arc * r->ex - side * r->ey;
+    *dy = arc * r->ey + side * r->ex;
+}
+
+// The curve's rates at t, d/dt of om_curve_at's (dx, dy) and h: the ray's direction against the
+// circle's normal and tangent at the foot's angle phi (cos phi = c / q, sin phi = kn a / q),
+//   h' = |V.xy| sin phi - V.z cos phi,   arc' = (|V.xy| c + V.z kn a) / q^2.
+OM_INLINE void om_curve_rate(const OmRay* r, OmF t, OmF* ddx, OmF* ddy, OmF* dh) {
+    const OmF a = t * r->lxy, z = -t * r->vz;
+    const OmF c = 1.0f + r->kn * z, ka = r->kn * a;
+    const OmF q2 = c * c + ka * ka, q = sqrt(q2);
+    const OmF h = (2.0f * z + r->kn * (t * t)) / (q + 1.0f);
+    const OmF arc = OM_SEL(a * (atan2(ka, c) / ka), a, ka == 0.0f);
+    *dh = (r->lxy * ka - r->vz * c) / q;
+    const OmF darc = (r->lxy * c + r->vz * ka) / q2;
+    const OmF dside = -r->kc * (*dh * arc + h * darc);
+    *ddx = darc * r->ex - dside * r->ey;
+    *ddy = darc * r->ey + dside * r->ex;
+}
+#endif
+
+// The ray's footprint at t: uv' of a hit there (flat: (u, v) - t V.xy).
+OM_INLINE void om_ray_footprint(const OmRay* r, OmF t, OmF* x, OmF* y) {
+    *x = r->u - t * r->vx;
+    *y = r->v - t * r->vy;
+#ifdef OM_CURVED
+    if (r->any_curved) {
+        OmF dx, dy, h;
+        om_curve_at(r, t, &dx, &dy, &h);
+        *x = OM_SEL(*x, r->u + dx, r->curved);
+        *y = OM_SEL(*y, r->v + dy, r->curved);
+    }
+#endif
+}
+
+// The ray's height above the base at t in uv units (flat: -t V.z).
+OM_INLINE OmF om_ray_height(const OmRay* r, OmF t) {
+    OmF h = -t * r->vz;
+#ifdef OM_CURVED
+    if (r->any_curved) {
+        OmF dx, dy, hc;
+        om_curve_at(r, t, &dx, &dy, &hc);
+        h = OM_SEL(h, hc, r->curved);
+    }
+#endif
+    return h;
+}
+
+// The ray's sample at lambda in [0, 1] from entry to exit: its footprint and its height in the
+// heights' units (eta = h / s + r: H >= eta is at or below the relief; flat, eta = 1 - lambda).
+OM_INLINE void om_ray_sample(const OmRay* r, OmF lambda, OmF* x, OmF* y, OmF* eta) {
+    const OmF t = om_ray_t(r, lambda);
+    *x = r->u - t * r->vx;
+    *y = r->v - t * r->vy;
+    *eta = 1.0f - lambda;
+#ifdef OM_CURVED
+    if (r->any_curved) {
+        OmF dx, dy, h;
+        om_curve_at(r, t, &dx, &dy, &h);
+        *x = OM_SEL(*x, r->u + dx, r->curved);
+        *y = OM_SEL(*y, r->v + dy, r->curved);
+        *eta = OM_SEL(*eta, h / r->scale + r->ref, r->curved);
+    }
+#endif
+}
+
 typedef struct {
-    OmI index;   // first sample i in 0..n with H(lambda_i) >= 1 - lambda_i
+    OmI index;   // first sample i in 0..n with H(lambda_i) >= eta_i
     OmF h_prev;  // height at sample index - 1 (1 when index is 0)
     OmF h_cur;   // height at sample index
+#ifdef OM_CURVED
+    OmF eta_prev, eta_cur;  // the ray's heights there (eta_prev 1 when index is 0)
+#endif
+    OmI miss;  // curved lanes: no sample met the relief before the ray left through the top
 } OmSearchHit;
 
 // n + 1 samples at lambda_i = i / n from the top plane down, each lane with its own n, stopping at
 // the first sample at or below the relief (lambda_n = 1 is the bottom plane where every H >= 0, so
-// each lane stops by i = n); the loop ends when every lane has.
+// each lane stops by i = n; a curved lane that leaves through the top again stops there too, a
+// miss); the loop ends when every lane has.
 OM_INLINE OmSearchHit om_linear_search(const OmRay* r, const OmField* f, OmI n, OmI active,
                                        OmI* fetches OM_IMG_PARAM) {
     OmSearchHit hit;
     hit.index = n;
     hit.h_prev = 1.0f;
     hit.h_cur = 0.0f;
+    hit.miss = 0;
     OmF h_prev = 1.0f, inv_n = 1.0f / OM_TO_FLOAT(n);
+#ifdef OM_CURVED
+    hit.eta_prev = 1.0f;
+    hit.eta_cur = 0.0f;
+    OmF eta_prev = 1.0f;
+#endif
     // Sample i at cell coordinates c0 + i dc: the top plane's point, then one step of
     // (t_exit - t_enter) / n along -V.xy.
     OmF dt = (r->t_exit - r->t_enter) * inv_n;
@@ -114,16 +255,53 @@ OM_INLINE OmSearchHit om_linear_search(const OmRay* r, const OmField* f, OmI n, 
     OmI searching = active;
     for (int i = 0; OM_ANY(searching); ++i) {
         OmF fi = (OmF)(float)i, lambda = fi * inv_n;
-        OmF h = om_height_cell(f, fma(fi, dcx, cx0), fma(fi, dcy, cy0), searching,
-                               fetches OM_IMG_ARG);
-        OmI found = searching & (h >= 1.0f - lambda || (OmI)i >= n);
+        OmF cx = fma(fi, dcx, cx0), cy = fma(fi, dcy, cy0), eta = 1.0f - lambda;
+#ifdef OM_CURVED
+        if (r->any_curved) {
+            OmF x, y, eta_c;
+            om_ray_sample(r, lambda, &x, &y, &eta_c);
+            cx = OM_SEL(cx, OM_CELL(x, f->fw), r->curved);
+            cy = OM_SEL(cy, OM_CELL(y, f->fh), r->curved);
+            eta = OM_SEL(eta, eta_c, r->curved);
+        }
+#endif
+        OmF h = om_height_cell(f, cx, cy, searching, fetches OM_IMG_ARG);
+        OmI below = h >= eta;
+        OmI found = searching & (below || (OmI)i >= n);
         hit.index = OM_SEL(hit.index, (OmI)i, found);
         hit.h_prev = OM_SEL(hit.h_prev, h_prev, found);
         hit.h_cur = OM_SEL(hit.h_cur, h, found);
+#ifdef OM_CURVED
+        hit.miss |= found & !below & r->curved;
+        hit.eta_prev = OM_SEL(hit.eta_prev, eta_prev, found);
+        hit.eta_cur = OM_SEL(hit.eta_cur, eta, found);
+        eta_prev = eta;
+#endif
         searching &= !found;
         h_prev = h;
     }
     return hit;
+}
+
+// The ray's heights at the search's bracket [l0, l1] = [(index - 1) / n, index / n], as the
+// methods' gaps take them (flat: 1 - l).
+OM_INLINE void om_search_etas(const OmRay* r, const OmSearchHit* hit, OmF l0, OmF l1, OmF* eta0,
+                              OmF* eta1) {
+    *eta0 = 1.0f - l0;
+    *eta1 = 1.0f - l1;
+#ifdef OM_CURVED
+    *eta0 = OM_SEL(*eta0, hit->eta_prev, r->curved);
+    *eta1 = OM_SEL(*eta1, hit->eta_cur, r->curved);
+#endif
+}
+
+// Curved lanes whose answer t is the slab's exit through the top: the ray left without a hit.
+OM_INLINE OmI om_left_through_top(const OmRay* r, OmF t) {
+#ifdef OM_CURVED
+    return r->exits_top & (t >= r->t_exit);
+#else
+    return (OmI)0;
+#endif
 }
 
 // The ray cut with the straight segment between two samples lambda_a < lambda_b whose gaps
@@ -141,15 +319,24 @@ OM_INLINE OmF om_segment_cut(OmF la, OmF lb, OmF ga, OmF gb) {
 // exact form: N.z / (N.V) = 1 / (n.V) for n = (-s dH/du, -s dH/dv, 1). Guard: n.V below 1e-4
 //   (plane parallel to or facing away from the ray) is taken as 1e-4, so the step runs to the slab.
 // safe form (Premecz's "safer" variant): the division dropped, t' = t - gap N.z with N unit.
-// Either way t' is clamped to the slab [t_enter, t_exit].
+// Either way t' is clamped to the slab [t_enter, t_exit]. Over a curved base the same Newton step
+// on gap(t) = s (H - r) - h(t), with the curve's rates for -V.
 OM_INLINE OmF om_slope_step(const OmRay* r, const OmField* f, OmF t, int safe, OmI active,
                             OmI* fetches OM_IMG_PARAM) {
-    OmF gu, gv;
-    OmF h =
-        om_height_grad(f, r->u - t * r->vx, r->v - t * r->vy, active, fetches, &gu, &gv OM_IMG_ARG);
+    OmF gu, gv, x, y;
+    om_ray_footprint(r, t, &x, &y);
+    OmF h = om_height_grad(f, x, y, active, fetches, &gu, &gv OM_IMG_ARG);
     OmF gap = r->scale * (h - r->ref) + t * r->vz;
     OmF su = r->scale * gu, sv = r->scale * gv;
-    OmF dt = safe ? gap * rsqrt(1.0f + su * su + sv * sv)
-                  : gap / fmax(r->vz - (su * r->vx + sv * r->vy), 1.0e-4f);
+    OmF rate = r->vz - (su * r->vx + sv * r->vy);
+#ifdef OM_CURVED
+    if (r->any_curved) {
+        OmF ddx, ddy, dh;
+        om_curve_rate(r, t, &ddx, &ddy, &dh);
+        gap = OM_SEL(gap, r->scale * (h - r->ref) - om_ray_height(r, t), r->curved);
+        rate = OM_SEL(rate, su * ddx + sv * ddy - dh, r->curved);
+    }
+#endif
+    OmF dt = safe ? gap * rsqrt(1.0f + su * su + sv * sv) : gap / fmax(rate, 1.0e-4f);
     return clamp(t - dt, r->t_enter, r->t_exit);
 }

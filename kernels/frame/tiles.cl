@@ -12,11 +12,13 @@ typedef struct {
     OmBlock b;
     OmI mine;
     OmF u, v, vx, vy, vz;
+    OmCurvature k;
 } OmTileBlock;
 
 OM_INLINE OmTileBlock om_tile_block(const OmTileParams* T, int tile, int q, float id,
                                     __global const float* material, __global const float* gb_uv,
-                                    __global const float* gb_view) {
+                                    __global const float* gb_view,
+                                    __global const float4* curvature) {
     OmTileBlock w;
     const int bh = om_tile_block_h(OM_LANES, T->tile_h), bw = OM_LANES / bh;
     const int per_row = OM_TILE_W / bw;
@@ -26,10 +28,13 @@ OM_INLINE OmTileBlock om_tile_block(const OmTileParams* T, int tile, int q, floa
     const int inside = q < om_tile_blocks(OM_LANES, T->tile_h) && x0 < T->width && y0 < y1;
     w.b = om_block_at(inside ? x0 : 0, inside ? y0 : 0, T->width, y1, bw, T->width);
     w.mine = inside ? om_load_block_f(material, w.b) == id : (OmI)0;
-    if (OM_ANY(w.mine))
+    w.k.uu = w.k.uv = w.k.vv = 0.0f;
+    if (OM_ANY(w.mine)) {
         om_load_block(gb_uv, gb_view, w.b, &w.u, &w.v, &w.vx, &w.vy, &w.vz);
-    else
+        w.k = om_load_curvature(curvature, w.b);
+    } else {
         w.u = w.v = w.vx = w.vy = w.vz = 0.0f;
+    }
     return w;
 }
 
@@ -38,7 +43,8 @@ __kernel void om_offset_tiles(const OmTileParams T, __global const OmMaterialSlo
                               __global const float2* gb_uv2, __global const float4* gb_view4,
                               __global const float* heights, __global const float* aux,
                               __global float2* out_uv2, __global float* out_depth,
-                              __global uint* out_fetches, __global uint* out_flags) {
+                              __global uint* out_fetches, __global uint* out_flags,
+                              __global const float4* curvature) {
 #ifdef OM_LANE_PAIRS
     const int groups = 2;  // a work-item's blocks: two groups for the method's om_trace_pair
 #else
@@ -59,12 +65,12 @@ __kernel void om_offset_tiles(const OmTileParams T, __global const OmMaterialSlo
     __global const float* field = heights + S->heights_offset;
     __global const float* data = aux ? aux + S->aux_offset : aux;
     const float id = (float)S->id;
-    const OmTileBlock a = om_tile_block(&T, tile, q, id, material, gb_uv, gb_view);
+    const OmTileBlock a = om_tile_block(&T, tile, q, id, material, gb_uv, gb_view, curvature);
 #ifdef OM_LANE_PAIRS
-    const OmTileBlock b = om_tile_block(&T, tile, q + 1, id, material, gb_uv, gb_view);
+    const OmTileBlock b = om_tile_block(&T, tile, q + 1, id, material, gb_uv, gb_view, curvature);
     if (!OM_ANY(a.mine) && !OM_ANY(b.mine)) return;
-    const OmLaneIn in_a = {a.u, a.v, a.vx, a.vy, a.vz, 0.0f, !a.mine};
-    const OmLaneIn in_b = {b.u, b.v, b.vx, b.vy, b.vz, 0.0f, !b.mine};
+    const OmLaneIn in_a = {a.u, a.v, a.vx, a.vy, a.vz, 0.0f, !a.mine, a.k};
+    const OmLaneIn in_b = {b.u, b.v, b.vx, b.vy, b.vz, 0.0f, !b.mine, b.k};
     OmLaneOut out_a, out_b;
     om_offset_lane_pair(&P, &in_a, &in_b, field, data, &out_a, &out_b);
     om_store_block(out_uv, out_depth, out_fetches, out_flags, a.b, a.mine, out_a.ou, out_a.ov,
@@ -75,8 +81,8 @@ __kernel void om_offset_tiles(const OmTileParams T, __global const OmMaterialSlo
     if (!OM_ANY(a.mine)) return;
     OmF ou, ov, t;
     OmI fetches, flags;
-    om_offset_lanes(&P, a.u, a.v, a.vx, a.vy, a.vz, !a.mine, 0.0f, field, data, &ou, &ov, &t,
-                    &fetches, &flags);
+    om_offset_lanes(&P, a.u, a.v, a.vx, a.vy, a.vz, &a.k, !a.mine, 0.0f, field, data, &ou, &ov,
+                    &t, &fetches, &flags);
     om_store_block(out_uv, out_depth, out_fetches, out_flags, a.b, a.mine, ou, ov, t, fetches,
                    flags);
 #endif

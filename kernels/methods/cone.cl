@@ -17,6 +17,9 @@
 // unit t: it stays in the cone while |d| dt < c (Hr - V.z/s dt - Hc), i.e. dt = c (Hr - Hc) / (|d|
 // + c V.z/s). Clamp addressing: cells off the map have no cone (c = 0: walked cell by cell). Cost:
 // one cone fetch per step plus one patch per cell the ray dips below its cell maximum.
+// Over a curved base (OM_CURVED) the entry hands this method the tangent plane's lanes only (the
+// walks' bounds hold for the straight ray): the curved lanes walk every cell (common/curved.cl).
+#define OM_CURVED_WALK
 
 // Each lane's cell maximum and cone ratio (clamp: cells off the map have no cone, their maximum
 // from the patch itself): its word of the packed, tiled cone map, decoded by the same macros as

@@ -4,6 +4,9 @@
 // common/patch.cl). Cost: one patch (4 texels, counted as one fetch) per cell crossed, at most
 // ~ (s / V.z)(W + H). Each lane walks its own cells; the loop ends when every lane has its
 // answer.
+// Over a curved base (OM_CURVED) the entry hands this method the tangent plane's lanes only (the
+// walks' bounds hold for the straight ray): the curved lanes walk every cell (common/curved.cl).
+#define OM_CURVED_WALK
 
 // One group of lanes' walk, a cell at a time, so that two groups can share a loop.
 typedef struct {

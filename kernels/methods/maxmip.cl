@@ -12,6 +12,9 @@
 // superset), and the walk's unbounded cell grid is cut at tile edges, so a block never straddles
 // one. Under clamp addressing the relief outside the tile is the edge texels extruded: a block
 // there takes its maximum from the tile's edge block on that side, which covers the edge texels.
+// Over a curved base (OM_CURVED) the entry hands this method the tangent plane's lanes only (the
+// walks' bounds hold for the straight ray): the curved lanes walk every cell (common/curved.cl).
+#define OM_CURVED_WALK
 
 // Each lane walks its own levels and blocks; the loop ends when every lane has its answer.
 

@@ -8,5 +8,6 @@ OM_INLINE OmF om_trace(const OmRay* r, const OmField* f, const OmOffsetParams* P
     int safe = OM_PARAM(P, safe) != 0.0f;
     OmF t = 0.0f;
     for (int i = 0; i < k; ++i) t = om_slope_step(r, f, t, safe, active, fetches OM_IMG_ARG);
+    *flags |= OM_SEL((OmI)0, (OmI)OM_FLAG_SILHOUETTE, om_left_through_top(r, t));
     return t;
 }

@@ -4,5 +4,8 @@
 // ray.cl.
 OM_INLINE OmF om_trace(const OmRay* r, const OmField* f, const OmOffsetParams* P, OmI active,
                        OmI* fetches, OmI* flags OM_IMG_PARAM) {
-    return om_slope_step(r, f, (OmF)0.0f, OM_PARAM(P, safe) != 0.0f, active, fetches OM_IMG_ARG);
+    const OmF t =
+        om_slope_step(r, f, (OmF)0.0f, OM_PARAM(P, safe) != 0.0f, active, fetches OM_IMG_ARG);
+    *flags |= OM_SEL((OmI)0, (OmI)OM_FLAG_SILHOUETTE, om_left_through_top(r, t));
+    return t;
 }

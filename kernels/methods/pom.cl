@@ -24,8 +24,13 @@ OM_INLINE OmF om_trace(const OmRay* r, const OmField* f, const OmOffsetParams* P
     // Along the segment, height minus ray height goes from d0 < 0 (above) to d1 >= 0.
     OmF fn = OM_TO_FLOAT(n);
     OmF l0 = OM_TO_FLOAT(hit.index - 1) / fn, l1 = OM_TO_FLOAT(hit.index) / fn;
-    OmF d0 = hit.h_prev - (1.0f - l0);
-    OmF d1 = hit.h_cur - (1.0f - l1);
+    OmF eta0, eta1;
+    om_search_etas(r, &hit, l0, l1, &eta0, &eta1);
+    OmF d0 = hit.h_prev - eta0;
+    OmF d1 = hit.h_cur - eta1;
     OmF lambda = OM_SEL((OmF)0.0f, om_segment_cut(l0, l1, d0, d1), hit.index > 0);
+    // Over a curved base: no hit before the ray left through the top (a silhouette).
+    lambda = OM_SEL(lambda, (OmF)1.0f, hit.miss);
+    *flags |= OM_SEL((OmI)0, (OmI)OM_FLAG_SILHOUETTE, hit.miss);
     return om_ray_t(r, lambda);
 }

@@ -10,12 +10,14 @@ OM_INLINE OmF om_trace(const OmRay* r, const OmField* f, const OmOffsetParams* P
     OmF fn = OM_TO_FLOAT(n);
     OmF hi = OM_TO_FLOAT(hit.index) / fn;
     OmF lo = OM_SEL((OmF)0.0f, OM_TO_FLOAT(hit.index - 1) / fn, hit.index > 0);
-    OmI refine = active & (hit.index > 0);
+    OmI refine = active & (hit.index > 0) & !hit.miss;
+    *flags |= OM_SEL((OmI)0, (OmI)OM_FLAG_SILHOUETTE, hit.miss);  // left through the top
     for (int k = 0; k < m && OM_ANY(refine); ++k) {
         OmF mid = 0.5f * (lo + hi);
-        OmF tm = om_ray_t(r, mid);
-        OmF h = om_height(f, r->u - tm * r->vx, r->v - tm * r->vy, refine, fetches OM_IMG_ARG);
-        OmI below = h >= 1.0f - mid;
+        OmF x, y, eta;
+        om_ray_sample(r, mid, &x, &y, &eta);
+        OmF h = om_height(f, x, y, refine, fetches OM_IMG_ARG);
+        OmI below = h >= eta;
         hi = OM_SEL(hi, mid, refine & below);
         lo = OM_SEL(lo, mid, refine & !below);
     }

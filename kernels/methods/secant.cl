@@ -20,20 +20,23 @@ OM_INLINE OmF om_trace(const OmRay* r, const OmField* f, const OmOffsetParams* P
     OmSearchHit hit = om_linear_search(r, f, n, active, fetches OM_IMG_ARG);
     OmF fn = OM_TO_FLOAT(n);
     OmF la = OM_TO_FLOAT(hit.index - 1) / fn, lb = OM_TO_FLOAT(hit.index) / fn;
-    OmF ga = hit.h_prev - (1.0f - la);  // < 0: above the relief
-    OmF gb = hit.h_cur - (1.0f - lb);   // >= 0: on or below
+    OmF eta_a, eta_b;
+    om_search_etas(r, &hit, la, lb, &eta_a, &eta_b);
+    OmF ga = hit.h_prev - eta_a;  // < 0: above the relief
+    OmF gb = hit.h_cur - eta_b;   // >= 0: on or below (unless the ray left through the top)
     OmF wa = ga, wb = gb;               // Illinois-weighted gaps that steer the next point
     OmI kept = 0;                       // +1: the a end survived the last step, -1: b
-    OmI run = active & (hit.index > 0);
+    OmI run = active & (hit.index > 0) & !hit.miss;
+    *flags |= OM_SEL((OmI)0, (OmI)OM_FLAG_SILHOUETTE, hit.miss);
     OmI done = !run || gb <= tol;
     OmI found = 0;  // a refinement point within tol: the answer
     OmF lambda = 0.0f;
     for (int k = 0; k < m && OM_ANY(!done); ++k) {
         OmI live = !done;
         OmF x = om_segment_cut(la, lb, wa, wb);
-        OmF tx = om_ray_t(r, x);
-        OmF g = om_height(f, r->u - tx * r->vx, r->v - tx * r->vy, live, fetches OM_IMG_ARG) -
-                (1.0f - x);
+        OmF px, py, eta;
+        om_ray_sample(r, x, &px, &py, &eta);
+        OmF g = om_height(f, px, py, live, fetches OM_IMG_ARG) - eta;
         OmI conv = live & (fabs(g) <= tol);
         OmI pos = live & !conv & (g > 0.0f);
         OmI neg = live & !conv & !(g > 0.0f);
@@ -52,5 +55,6 @@ OM_INLINE OmF om_trace(const OmRay* r, const OmField* f, const OmOffsetParams* P
     }
     // Otherwise the secant of the final bracket with its true gaps (refine = 0: pom's step).
     lambda = OM_SEL(OM_SEL((OmF)0.0f, om_segment_cut(la, lb, ga, gb), run), lambda, found);
+    lambda = OM_SEL(lambda, (OmF)1.0f, hit.miss);
     return om_ray_t(r, lambda);
 }

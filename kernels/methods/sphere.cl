@@ -16,6 +16,9 @@
 // Cost: one fetch per sphere step, at most `steps` (a lane out of them walks the rest of its ray
 // in cells; without cells it keeps its last point, above the relief), and one per cell solved (at
 // most exact's cap on cells). Lanes that stop early wait for the others.
+// Over a curved base (OM_CURVED) the entry hands this method the tangent plane's lanes only (the
+// walks' bounds hold for the straight ray): the curved lanes walk every cell (common/curved.cl).
+#define OM_CURVED_WALK
 OM_INLINE OmF om_sphere_distance(const OmField* f, const OmOffsetParams* P, int res, int layers,
                                  OmF u, OmF v, OmF z) {
     OmF x = clamp(u * (float)res, -1.0e7f, 1.0e7f), y = clamp(v * (float)res, -1.0e7f, 1.0e7f);

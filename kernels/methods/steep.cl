@@ -9,5 +9,6 @@ OM_INLINE OmF om_trace(const OmRay* r, const OmField* f, const OmOffsetParams* P
     OmI n = om_step_count(r, (OmF)OM_PARAM(P, layers));
     OmField level = om_field(f->heights, P, max(f->level, (OmI)(int)OM_PARAM(P, lod)));
     OmSearchHit hit = om_linear_search(r, &level, n, active, fetches OM_IMG_ARG);
+    *flags |= OM_SEL((OmI)0, (OmI)OM_FLAG_SILHOUETTE, hit.miss);  // left through the top
     return om_ray_t(r, OM_TO_FLOAT(hit.index) / OM_TO_FLOAT(n));
 }

@@ -26,23 +26,29 @@ CircleCoords circle_coords(double k, double a, double z) {
 
 }  // namespace
 
-CurvedHit curved_hit(const HeightMap& map, double u, double v, const double V[3],
-                     const PassSettings& s, const Curvature& K) {
-    const double scale = s.scale, ref = s.reference_plane;
-    const double top = scale * (1.0 - ref), bottom = -scale * ref;
+CurvedPoint curved_point(const double V[3], const Curvature& K, double t) {
     const double lxy = std::hypot(V[0], V[1]);
     // The direction the footprint runs (p(t) = -t V) and the one across it.
     const double ex = lxy > 0.0 ? -V[0] / lxy : 1.0, ey = lxy > 0.0 ? -V[1] / lxy : 0.0;
     const double px = -ey, py = ex;
     const double kn = ex * (K.uu * ex + K.uv * ey) + ey * (K.uv * ex + K.vv * ey);
     const double kc = px * (K.uu * ex + K.uv * ey) + py * (K.uv * ex + K.vv * ey);
+    const CircleCoords c = circle_coords(kn, t * lxy, -t * V[2]);
+    const double side = -c.h * kc * c.arc;
+    return CurvedPoint{c.arc * ex + side * px, c.arc * ey + side * py, c.h};
+}
+
+CurvedHit curved_hit(const HeightMap& map, double u, double v, const double V[3],
+                     const PassSettings& s, const Curvature& K) {
+    const double scale = s.scale, ref = s.reference_plane;
+    const double top = scale * (1.0 - ref), bottom = -scale * ref;
+    const double lxy = std::hypot(V[0], V[1]);
     struct Sample {
         double h, x, y;
     };
     auto at = [&](double t) {
-        const CircleCoords c = circle_coords(kn, t * lxy, -t * V[2]);
-        const double side = -c.h * kc * c.arc;
-        return Sample{c.h, c.arc * ex + side * px, c.arc * ey + side * py};
+        const CurvedPoint p = curved_point(V, K, t);
+        return Sample{p.h, p.dx, p.dy};
     };
     auto gap = [&](double t) {
         const Sample p = at(t);

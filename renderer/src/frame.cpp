@@ -92,7 +92,8 @@ struct FrameRenderer::Impl {
     // outputs. The ones GL writes or reads are in host memory the host maps
     // (CL_MEM_ALLOC_HOST_PTR): GL reads its planes into them, and takes the colour and depth from
     // them, one copy each way.
-    cl::Buffer depth, normal, tangent, uv, ids, density;
+    cl::Buffer depth, normal, tangent, uv, ids, density, curvature;
+    bool curved = false;
     DeviceGBuffer dg;
     OffsetTargets targets;
     cl::Buffer rgba, depth_after;
@@ -132,6 +133,7 @@ FrameRenderer::FrameRenderer(std::shared_ptr<Runtime> runtime, const Scene& scen
     m.uv = buffer(2 * n * sizeof(float), in);
     m.ids = buffer(n * sizeof(float), in);
     m.density = buffer(n * sizeof(float), in);
+    m.curvature = buffer(4 * n * sizeof(float), in);
     m.dg = allocate_gbuffer(rt, width, height, scene.light.kind != LightKind::None, false);
     m.dg.material = m.ids;
     m.targets.uv = buffer(n * sizeof(cl_float2), CL_MEM_READ_WRITE);
@@ -167,6 +169,11 @@ std::pair<double, double> FrameRenderer::rerun_kernels(int repeats) {
 
 void FrameRenderer::set_shading(const ShadeSettings& shading) { impl_->shading = shading; }
 
+void FrameRenderer::set_curvature(bool on) {
+    impl_->curved = on;
+    impl_->dg.curvature = on ? impl_->curvature : cl::Buffer();
+}
+
 std::string FrameRenderer::gl_renderer() const {
     impl_->gl->make_current();  // another renderer's context may be current, or none
     return impl_->gl->renderer();
@@ -200,6 +207,7 @@ FrameRun FrameRenderer::render(FrameMode mode, bool prepass, int repeats) {
     FrameRun run;
     run.mode = mode;
     run.prepass = prepass;
+    run.curved = m.curved && !forward;
     RasterPlanes planes;
     std::vector<float> ids(n), t_gl(n);
     std::vector<cl_float2> forward_uv;
@@ -210,7 +218,8 @@ FrameRun FrameRenderer::render(FrameMode mode, bool prepass, int repeats) {
         PassTimes t;
         const auto start = Clock::now();
         auto t0 = start;
-        m.raster->draw(m.view, forward ? &m.forward : nullptr, prepass);
+        const bool curved = m.curved && !forward;
+        m.raster->draw(m.view, forward ? &m.forward : nullptr, prepass, false, curved);
         t.gbuffer = ms_since(t0);
 
         t0 = Clock::now();
@@ -227,7 +236,9 @@ FrameRun FrameRenderer::render(FrameMode mode, bool prepass, int repeats) {
             p.uv = map(m.uv, 2 * n);
             p.material = map(m.ids, n);
             p.density = map(m.density, n);
+            if (curved) p.curvature = map(m.curvature, 4 * n);
             m.raster->read_into(p);
+            if (curved) q.enqueueUnmapMemObject(m.curvature, p.curvature);
             q.enqueueUnmapMemObject(m.depth, p.depth);
             q.enqueueUnmapMemObject(m.normal, p.normal);
             q.enqueueUnmapMemObject(m.tangent, p.tangent);
@@ -365,9 +376,10 @@ FrameRun FrameRenderer::render(FrameMode mode, bool prepass, int repeats) {
           &PassTimes::shade, &PassTimes::to_gl, &PassTimes::depth_offset, &PassTimes::total})
         run.ms.*f = med(f);
     run.offset_kernel_ms = median(kernel);
-    // Depth, normal, tangent, uv, material id and uv density (forward: and the offset plane); the
-    // colour and the depth after the offset.
-    run.to_device_bytes = n * sizeof(float) * (1 + 4 + 4 + 2 + 1 + 1 + (forward ? 4 : 0));
+    // Depth, normal, tangent, uv, material id and uv density (forward: and the offset plane;
+    // deferred with curvature: and the curvature); the colour and the depth after the offset.
+    run.to_device_bytes =
+        n * sizeof(float) * (1 + 4 + 4 + 2 + 1 + 1 + (forward || m.curved ? 4 : 0));
     run.to_gl_bytes = n * sizeof(float) * (4 + 1);
     run.shade_kernel_ms = median(shade_kernel);
     if (!forward) run.offset.kernel_ms = kernel;

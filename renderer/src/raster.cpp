@@ -269,6 +269,8 @@ void Raster::read_into(const PlanePointers& p) const {
     read_pixels_into(f, GL_COLOR_ATTACHMENT2, GL_RG, width_, height_, p.uv);
     read_pixels_into(f, GL_COLOR_ATTACHMENT4, GL_RED, width_, height_, p.material);
     read_pixels_into(f, GL_COLOR_ATTACHMENT4, GL_GREEN, width_, height_, p.density);
+    if (p.curvature)
+        read_pixels_into(f, GL_COLOR_ATTACHMENT6, GL_RGBA, width_, height_, p.curvature);
 }
 
 std::vector<float> Raster::read_uv_derivatives() const {

@@ -49,7 +49,8 @@ struct RasterPlanes {
 };
 
 // Where read_into puts each plane (GL's rows, bottom first): depth 1, normal 4, tangent 4, uv 2,
-// material id 1 and uv density 1 floats a pixel.
+// material id 1 and uv density 1 floats a pixel; the curvature 4 (k_uu, k_uv, k_vv, 0), read only
+// where given (after a draw with `curvature`).
 struct PlanePointers {
     float* depth = nullptr;
     float* normal = nullptr;
@@ -57,6 +58,7 @@ struct PlanePointers {
     float* uv = nullptr;
     float* material = nullptr;
     float* density = nullptr;
+    float* curvature = nullptr;
 };
 
 struct View {

@@ -42,7 +42,8 @@ std::vector<std::uint8_t> silhouette_band(const std::vector<float>& material,
         const bool sky_a = depth[a] >= 1.0f, sky_b = depth[b] >= 1.0f;
         if (sky_a || sky_b) return sky_a != sky_b;
         if (material[a] != material[b]) return true;
-        if (!flags.empty() && ((flags[a] ^ flags[b]) & OM_FLAG_OUT_OF_TILE)) return true;
+        if (!flags.empty() && ((flags[a] ^ flags[b]) & (OM_FLAGS_NOT_SHOWN & ~OM_FLAG_EMPTY)))
+            return true;
         double beside = 0.0;
         if (before >= 0 && depth[before] < 1.0f) beside = std::max(beside, step(before, a));
         if (after >= 0 && depth[after] < 1.0f) beside = std::max(beside, step(b, after));
@@ -118,8 +119,7 @@ TruthComparison compare_to_truth(const GeometryFrame& truth, const ShownFrame& f
     for (size_t k = 0; k < n; ++k) {
         const LoadedMaterial* t =
             truth.depth[k] < 1.0f ? material_of(table, truth.material[k]) : nullptr;
-        const bool shown = (*f.depth)[k] < 1.0f &&
-                           !((*f.flags)[k] & (OM_FLAG_EMPTY | OM_FLAG_OUT_OF_TILE)) &&
+        const bool shown = (*f.depth)[k] < 1.0f && !((*f.flags)[k] & OM_FLAGS_NOT_SHOWN) &&
                            std::isfinite((*f.uv)[k].s[0]);
         const LoadedMaterial* m = shown ? material_of(table, (*f.material)[k]) : nullptr;
         if (!t && !m) continue;

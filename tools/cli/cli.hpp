@@ -139,6 +139,7 @@ struct FrameCommand {
     std::string method;
     std::vector<std::string> sets;
     bool forward = false;
+    bool curvature = false;    // also the deferred frame over the curved base (its final.png)
     bool truth = false;        // the displaced mesh as the truth, every frame against it
     float truth_level = 0.5f;  // its lattice, texels per quad
     std::string out_dir = "out/frame";

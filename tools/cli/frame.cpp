@@ -39,6 +39,11 @@ void FrameCommand::add_to(CLI::App& app) {
     app.add_flag("--forward", forward,
                  "also render the forward peer: each material's method in the G-buffer "
                  "fragment shader (GLSL), with and without a depth pre-pass");
+    app.add_flag("--curvature", curvature,
+                 "also render the deferred frame over the curved base: the raster's curvature "
+                 "plane to the offset pass, which bends each ray with the surface and leaves "
+                 "the pixels whose ray leaves the relief to the background (final.png is this "
+                 "frame's)");
     app.add_flag("--truth", truth,
                  "also draw the truth: each relief mesh tessellated and displaced for real, and "
                  "measure every frame against it (frame.json's truth, truth-*.png)");
@@ -73,6 +78,13 @@ int run_frame(const FrameCommand&) {
 namespace {
 
 using namespace offsetmap::renderer;
+
+// A run's name in frame.json: `deferred` (the tangent plane), `deferred-curved`, `forward`,
+// `forward-prepass` (the modes table spells the last `forward + pre-pass`).
+std::string run_name(const FrameRun& r) {
+    if (r.mode == FrameMode::Deferred) return r.curved ? "deferred-curved" : "deferred";
+    return r.prepass ? "forward-prepass" : "forward";
+}
 
 nlohmann::json pass_json(const FrameRun& r) {
     return {{"gbuffer_ms", r.ms.gbuffer},
@@ -110,8 +122,7 @@ Rgb8 mismatch_overlay(int w, int h, const std::vector<cl_float4>& color,
         for (int i = 0; i < 3; ++i) c[k].s[i] *= 0.35f;
         if (!mismatched[k]) continue;
         const bool truth_relief = truth.depth[k] < 1.0f && truth.material[k] > 0.0f;
-        const bool frame_relief =
-            frame_ids[k] > 0.0f && !(flags[k] & (OM_FLAG_EMPTY | OM_FLAG_OUT_OF_TILE));
+        const bool frame_relief = frame_ids[k] > 0.0f && !(flags[k] & OM_FLAGS_NOT_SHOWN);
         c[k] = truth_relief && frame_relief ? cl_float4{{1.0f, 0.2f, 1.0f, 1.0f}}
                : truth_relief               ? cl_float4{{1.0f, 0.1f, 0.05f, 1.0f}}
                                             : cl_float4{{0.1f, 0.35f, 1.0f, 1.0f}};
@@ -171,9 +182,7 @@ nlohmann::json truth_section(const FrameCommand& cmd, const Scene& scene,
     std::vector<double> bounds;
     for (size_t r = 0; r < runs.size(); ++r) {
         const FrameRun& run = runs[r];
-        const std::string name = run.mode == FrameMode::Deferred
-                                     ? "deferred"
-                                     : (run.prepass ? "forward-prepass" : "forward");
+        const std::string name = run_name(run);
         const ShownFrame shown{name, &shown_ids[r], &run.offset.uv, &run.depth_after,
                                &run.offset.flags};
         const TruthComparison c =
@@ -211,16 +220,17 @@ nlohmann::json truth_section(const FrameCommand& cmd, const Scene& scene,
                           {{"pixels", c.mismatch},
                            {"silhouette_band", c.mismatch_band},
                            {"interior", c.mismatch_interior}}}});
-        if (r == 0) {
+        if (r == 0)
             for (size_t k = 0; k < bound.size(); ++k)
                 if (std::isfinite(c.uv_error[k]) && std::isfinite(bound[k]))
                     bounds.push_back(bound[k]);
-            tiles.push_back({"deferred uv error vs the displaced mesh (log, white = 16 texels)",
+        if (run.mode == FrameMode::Deferred) {
+            tiles.push_back({name + " uv error vs the displaced mesh (log, white = 16 texels)",
                              heat_map(w, h, c.uv_error, 16.0f)});
-            tiles.push_back(
-                {"coverage vs the truth: red truth only, blue deferred only, magenta other surface",
-                 mismatch_overlay(w, h, run.color, c.mismatched, truth, shown_ids[r],
-                                  run.offset.flags)});
+            tiles.push_back({name + " coverage vs the truth: red truth only, blue frame only, "
+                                    "magenta other surface",
+                             mismatch_overlay(w, h, run.color, c.mismatched, truth, shown_ids[r],
+                                              run.offset.flags)});
         }
     }
     // Tessellation as the competitor: coarser lattices of the same displaced mesh, each drawn and
@@ -421,6 +431,14 @@ int run_frame(const FrameCommand& cmd) {
 
     std::vector<FrameRun> runs = {deferred};
     std::vector<std::vector<float> > shown_ids = {engine.material};  // each run's G-buffer ids
+    if (cmd.curvature) {
+        renderer.set_curvature(true);
+        runs.push_back(renderer.render(FrameMode::Deferred, false, cmd.repeats));
+        renderer.set_curvature(false);
+        shown_ids.push_back(renderer.gbuffer().material);
+    }
+    // final.png's run: the curved frame with --curvature; the forward runs follow.
+    const size_t shown_at = runs.size() - 1, forward_at = runs.size();
     if (cmd.forward) {
         for (bool prepass : {false, true}) {
             runs.push_back(renderer.render(FrameMode::Forward, prepass, cmd.repeats));
@@ -442,9 +460,8 @@ int run_frame(const FrameCommand& cmd) {
     nlohmann::json modes = nlohmann::json::array();
     std::vector<std::vector<float> > errors;
     for (const FrameRun& r : runs) {
-        const std::string name = r.mode == FrameMode::Deferred
-                                     ? "deferred"
-                                     : (r.prepass ? "forward + pre-pass" : "forward");
+        const std::string name =
+            r.mode == FrameMode::Forward && r.prepass ? "forward + pre-pass" : run_name(r);
         const double overdraw = covered ? double(r.shaded_fragments) / double(covered) : 0.0;
         std::printf("%-22s %9.2f %9.2f %9.2f %9.2f %9.2f %9.2f %9.2f %9.2f %10.2f\n", name.c_str(),
                     r.ms.gbuffer, r.ms.to_device, r.ms.reconstruct, r.ms.offset, r.ms.shade,
@@ -473,9 +490,10 @@ int run_frame(const FrameCommand& cmd) {
     }
     std::printf("%4s %-10s %-10s %8s", "id", "material", "method", "pixels");
     for (const FrameRun& r : runs)
-        std::printf("  %s", r.mode == FrameMode::Deferred ? "deferred mean/p95"
-                            : r.prepass                   ? "fwd+pre mean/p95"
-                                                          : "forward mean/p95");
+        std::printf("  %s", r.mode == FrameMode::Deferred
+                                ? (r.curved ? "curved mean/p95" : "deferred mean/p95")
+                            : r.prepass ? "fwd+pre mean/p95"
+                                        : "forward mean/p95");
     std::printf("  (texels vs exact)\n");
     for (size_t s = 0; s < table.size(); ++s) {
         std::printf("%4d %-10s %-10s %8zu", table[s].spec.id, table[s].spec.name.c_str(),
@@ -494,20 +512,26 @@ int run_frame(const FrameCommand& cmd) {
         truth_doc = truth_section(cmd, scene, table, rt, renderer, gb, engine, runs, shown_ids,
                                   truth_tiles);
     }
-    write_image(d + "final.png", to_srgb8(w, h, deferred.color));
+    const FrameRun& shown = runs[shown_at];
+    write_image(d + "final.png", to_srgb8(w, h, shown.color));
     save_engine_gbuffer(d + "gbuffer.exr", engine);
     write_depth_exr(d + "depth-before.exr", w, h, engine.depth);
-    write_depth_exr(d + "depth-after.exr", w, h, deferred.depth_after);
+    write_depth_exr(d + "depth-after.exr", w, h, shown.depth_after);
     std::vector<std::pair<std::string, Rgb8> > tiles = {
         {"deferred frame (offset pass on the OpenCL device)", to_srgb8(w, h, deferred.color)},
         {"uv error vs exact (log, white = 16 texels)", heat_map(w, h, errors[0], 16.0f)},
         {"depth offset written back (log, white = 16e-4)",
-         depth_change_image(w, h, engine.depth, deferred.depth_after)}};
-    if (cmd.forward) {
-        write_image(d + "final-forward.png", to_srgb8(w, h, runs[1].color));
+         depth_change_image(w, h, engine.depth, shown.depth_after)}};
+    if (cmd.curvature)
         tiles.push_back(
-            {"forward frame (the methods in the fragment shader)", to_srgb8(w, h, runs[1].color)});
-        tiles.push_back({"forward uv error vs exact", heat_map(w, h, errors[1], 16.0f)});
+            {"deferred over the curved base (--curvature; rays that leave the relief "
+             "show the background)",
+             to_srgb8(w, h, shown.color)});
+    if (cmd.forward) {
+        write_image(d + "final-forward.png", to_srgb8(w, h, runs[forward_at].color));
+        tiles.push_back({"forward frame (the methods in the fragment shader)",
+                         to_srgb8(w, h, runs[forward_at].color)});
+        tiles.push_back({"forward uv error vs exact", heat_map(w, h, errors[forward_at], 16.0f)});
     }
     tiles.insert(tiles.end(), truth_tiles.begin(), truth_tiles.end());
     write_image(d + "frame-sheet.png", contact_sheet(tiles, 2));

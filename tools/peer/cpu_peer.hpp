@@ -25,6 +25,7 @@ struct Args {
     float* out_depth;
     std::uint32_t* out_fetches;
     std::uint32_t* out_flags;
+    const void* curvature = nullptr;  // float4 per pixel (the peer builds without OM_CURVED)
 };
 
 // The shade kernel's arguments (om_shade); light, flags and albedo may be null.

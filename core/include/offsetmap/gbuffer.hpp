@@ -25,11 +25,16 @@ struct GBuffer {
     // empty, or width * height material ids: non-negative integers stored as floats, 0 for no
     // relief (the material frame, offsetmap/material_frame.hpp)
     std::vector<float> material;
+    // empty, or width * height: the base surface's second fundamental form in its tangent frame,
+    // in uv units (k_uu, k_uv, k_vv; w unused), positive where it bends away from its normal. The
+    // offset pass then traces the relief over the curved base (docs/design.md, "Curved surfaces").
+    std::vector<cl_float4> curvature;
 
     size_t pixels() const { return static_cast<size_t>(width) * height; }
     bool has_light() const { return !light.empty(); }
     bool has_lod() const { return !lod.empty(); }
     bool has_material() const { return !material.empty(); }
+    bool has_curvature() const { return !curvature.empty(); }
     // Throws Error for a size check_gbuffer_size rejects, or when memory runs out.
     void resize(int w, int h, bool with_light, bool with_lod);
 };
@@ -42,11 +47,12 @@ void check_gbuffer_size(int width, int height, const std::string& what);
 struct DeviceGBuffer {
     int width = 0;
     int height = 0;
-    cl::Buffer uv;        // float2 per pixel
-    cl::Buffer view;      // float4 per pixel
-    cl::Buffer light;     // float4 per pixel, or a null buffer
-    cl::Buffer lod;       // float per pixel, or a null buffer
-    cl::Buffer material;  // float per pixel (integer material ids), or a null buffer
+    cl::Buffer uv;         // float2 per pixel
+    cl::Buffer view;       // float4 per pixel
+    cl::Buffer light;      // float4 per pixel, or a null buffer
+    cl::Buffer lod;        // float per pixel, or a null buffer
+    cl::Buffer material;   // float per pixel (integer material ids), or a null buffer
+    cl::Buffer curvature;  // float4 per pixel (k_uu, k_uv, k_vv in uv units), or a null buffer
 
     size_t pixels() const { return static_cast<size_t>(width) * height; }
 };

@@ -129,6 +129,7 @@ struct OffsetVariant {
     int lanes = 1;        // OM_LANES (with OM_LANE_PAIRS where lane_groups says 2)
     bool images = false;  // OM_IMAGES: heights through an image1d_buffer view
     bool lod = false;     // OM_LOD
+    bool curved = false;  // OM_CURVED: a curvature plane bound
     bool depth = false, fetches = false, flags = false;  // OM_OUT_*: the optional outputs bound
 };
 // The defines of that build: the offset entry's (om_offset), or with `tiles` the material frame's

@@ -7,8 +7,8 @@
 #ifndef OFFSETMAP_SHARED_H
 #define OFFSETMAP_SHARED_H
 
-// OpenCL C defines __OPENCL_C_VERSION__ (1.2 and later); __OPENCL_VERSION__ is the platform's, which
-// an offline compiler (clang for SPIR-V) leaves undefined.
+// OpenCL C defines __OPENCL_C_VERSION__ (1.2 and later); __OPENCL_VERSION__ is the platform's,
+// which an offline compiler (clang for SPIR-V) leaves undefined.
 #if defined(__OPENCL_C_VERSION__) || defined(__OPENCL_VERSION__)
 #define OM_OPENCL_C 1
 #endif
@@ -39,6 +39,12 @@ typedef std::uint32_t om_uint;
 #define OM_FLAG_CAPPED 32u        // a marching loop reached its iteration cap
 #define OM_FLAG_LOD_FADED 64u     // past the LOD threshold: normal mapping only (uv' = uv)
 #define OM_FLAG_OUT_OF_TILE 128u  // tile mask on and uv' outside [0,1]^2: discard (a silhouette)
+// Over a curved base (the curvature plane), the ray left the relief's slab through its top before
+// meeting the relief: nothing of this surface is seen here (a silhouette); uv' is where it left.
+#define OM_FLAG_SILHOUETTE 256u
+// The flags under which the pixel shows nothing of its G-buffer surface: the shade pass gives it
+// the background, an engine fills it (or a second G-buffer layer does).
+#define OM_FLAGS_NOT_SHOWN (OM_FLAG_EMPTY | OM_FLAG_OUT_OF_TILE | OM_FLAG_SILHOUETTE)
 
 // Enums, one definition each for host and device: the kernels and the shared structs use the OM_*
 // constants (as om_int), the host's enum classes take their values from them.
@@ -60,7 +66,7 @@ static inline int om_image_blocks(int width, int height, int lanes) {
 }
 
 typedef struct {
-    om_int gb_width;          // G-buffer width and height in pixels (0 x 0 outside the offset pass)
+    om_int gb_width;  // G-buffer width and height in pixels (0 x 0 outside the offset pass)
     om_int gb_height;
     om_int hf_width;          // height-field texels along u
     om_int hf_height;         // height-field texels along v

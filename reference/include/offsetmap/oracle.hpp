@@ -56,6 +56,13 @@ struct CurvedHit {
     bool miss;    // the ray left the relief's slab over the curved base before meeting it
 };
 
+// The model's ray at t over the base K: the footprint's offset (dx, dy) from the pixel in uv and
+// the height h above the base along its normal (docs/design.md, "Curved surfaces").
+struct CurvedPoint {
+    double dx, dy, h;
+};
+CurvedPoint curved_point(const double V[3], const Curvature& K, double t);
+
 // The first hit of the same ray with the relief over a curved base (docs/design.md, "Curved
 // surfaces"): in the ray's vertical plane the base is the circle of its normal curvature
 // k_n = e.K.e (e the direction the ray travels over the surface), the relief stands along the

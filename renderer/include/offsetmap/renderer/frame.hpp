@@ -34,6 +34,7 @@ struct PassTimes {
 struct FrameRun {
     FrameMode mode = FrameMode::Deferred;
     bool prepass = false;
+    bool curved = false;  // deferred with the curvature plane (set_curvature)
     PassTimes ms;
     double offset_kernel_ms = 0;  // deferred: the material frame's kernel time (profiling)
     double shade_kernel_ms = 0;   // the shade kernel's time (profiling; 0 where not timed)
@@ -77,6 +78,10 @@ class FrameRenderer {
     std::pair<double, double> rerun_kernels(int repeats);
     // The shading of the frames rendered after this call.
     void set_shading(const ShadeSettings& shading);
+    // Deferred frames rendered after this call with `on` carry the base's curvature (the raster's
+    // seventh target, moved with the other planes) to the offset pass, which then traces the
+    // relief over the curved base and flags the rays that leave it SILHOUETTE (docs/design.md).
+    void set_curvature(bool on);
 
     // After a render: the G-buffer as the engine wrote it (depth GL, rows top first, with ids and
     // uv derivatives), its reconstruction, and the depth before the offset.

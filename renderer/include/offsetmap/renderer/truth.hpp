@@ -57,7 +57,7 @@ Tessellation displace_scene(const Scene& scene, const std::vector<LoadedMaterial
 
 // What a frame shows per pixel, rows top first: the G-buffer's material id, uv' (the offset
 // pass's, or the forward shader's), the window depth after the pixel depth offset (GL's
-// convention) and the pass's flags (EMPTY or OUT_OF_TILE: nothing of the relief shown there).
+// convention) and the pass's flags (OM_FLAGS_NOT_SHOWN: nothing of the relief shown there).
 struct ShownFrame {
     std::string mode;
     const std::vector<float>* material = nullptr;
@@ -85,7 +85,7 @@ struct TruthComparison {
 };
 
 // The pixels within 2 of a base-mesh silhouette (the material changes, sky begins, or the window
-// depth steps by 4 times the steps beside it) or of a tile-mask edge (`flags`' OUT_OF_TILE
+// depth steps by 4 times the steps beside it) or of a tile-mask or silhouette edge (`flags`
 // changes), rows top first.
 std::vector<std::uint8_t> silhouette_band(const std::vector<float>& base_material,
                                           const std::vector<float>& base_depth,
