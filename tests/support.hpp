@@ -215,6 +215,15 @@ inline HeightMap cliff_map(int n = 64, unsigned seed = 5) {
     return make_map(n, n, [&](int i, int j) { return block[(j / 4) * (n / 4) + i / 4]; });
 }
 
+// Pass settings of a relief `scale` deep with its reference plane at `ref`, tiling.
+inline PassSettings wrap_settings(float scale, float ref) {
+    PassSettings s;
+    s.scale = scale;
+    s.reference_plane = ref;
+    s.address = AddressMode::Wrap;
+    return s;
+}
+
 // A G-buffer of explicit (uv, V) pixels in one row.
 inline GBuffer row_gbuffer(const std::vector<std::array<float, 5>>& pixels) {
     GBuffer gb;

@@ -10,14 +10,6 @@
 namespace omtest {
 namespace {
 
-PassSettings settings(float scale, float ref) {
-    PassSettings s;
-    s.scale = scale;
-    s.reference_plane = ref;
-    s.address = AddressMode::Wrap;
-    return s;
-}
-
 // A unit view at elevation `deg` and azimuth `az` (radians).
 void view(double deg, double az, double V[3]) {
     const double e = deg * M_PI / 180.0;
@@ -32,7 +24,7 @@ TEST(CurvedOracle, ZeroCurvatureIsTheFlatOracle) {
     std::uniform_real_distribution<double> unit(0.0, 1.0);
     double worst = 0.0;
     for (const float ref : {1.0f, 0.6f}) {
-        const PassSettings s = settings(0.05f, ref);
+        const PassSettings s = wrap_settings(0.05f, ref);
         for (int i = 0; i < 400; ++i) {
             double V[3];
             view(10.0 + 80.0 * unit(rng), 2.0 * M_PI * unit(rng), V);
@@ -60,7 +52,7 @@ TEST(CurvedOracle, SphereIsHitOrLeftAtTheAnalyticPoint) {
     const Curvature K{1.0 / rho, 0.0, 1.0 / rho};
     int hits = 0, misses = 0;
     for (const float ref : {1.0f, 0.5f}) {
-        const PassSettings s = settings(0.04f, ref);
+        const PassSettings s = wrap_settings(0.04f, ref);
         for (double deg = 1.0; deg <= 90.0; deg += 1.0) {
             double V[3];
             view(deg, 0.7, V);
@@ -101,7 +93,7 @@ TEST(CurvedOracle, SphereIsHitOrLeftAtTheAnalyticPoint) {
 // A cylinder bends along u only: a ray whose footprint runs along v sees a flat base.
 TEST(CurvedOracle, CylinderAlongItsAxisIsFlat) {
     const HeightMap map = smooth_map(64);
-    const PassSettings s = settings(0.05f, 1.0f);
+    const PassSettings s = wrap_settings(0.05f, 1.0f);
     for (double deg = 10.0; deg <= 80.0; deg += 10.0) {
         double V[3];
         view(deg, M_PI / 2, V);

@@ -11,14 +11,6 @@
 namespace omtest {
 namespace {
 
-PassSettings settings(float scale, float ref) {
-    PassSettings s;
-    s.scale = scale;
-    s.reference_plane = ref;
-    s.address = AddressMode::Wrap;
-    return s;
-}
-
 struct CurvedRay {
     float u, v;
     std::array<float, 3> V;
@@ -61,7 +53,7 @@ double texels(const CurvedHit& c, const cl_float2& got, int n) {
 // the pixels curved (each block mixed), the flat half still does.
 TEST(CurvedTrace, ZeroCurvatureIsTodaysPassBitForBit) {
     const HeightMap map = noisy_map(64);
-    const PassSettings s = settings(0.06f, 0.8f);
+    const PassSettings s = wrap_settings(0.06f, 0.8f);
     std::vector<CurvedRay> rays = random_rays(256, {Curvature{}}, 7);
     GBuffer none = curved_gbuffer(rays);
     none.curvature.clear();
@@ -102,7 +94,7 @@ struct Curved {
     GBuffer gb, plane;
     std::vector<CurvedHit> want, want_plane;
 
-    Curved(HeightMap m, unsigned seed) : map(std::move(m)), s(settings(0.06f, 0.8f)) {
+    Curved(HeightMap m, unsigned seed) : map(std::move(m)), s(wrap_settings(0.06f, 0.8f)) {
         rays = random_rays(1500,
                            {{1.5, 0.0, 1.5},
                             {2.0, 0.0, 0.0},
@@ -207,7 +199,7 @@ TEST(CurvedTrace, SphereIsLeftWhereTheAnalyticRayLeaves) {
     };
     std::map<std::string, int> left;
     for (const float ref : {1.0f, 0.5f}) {
-        const PassSettings s = settings(0.04f, ref);
+        const PassSettings s = wrap_settings(0.04f, ref);
         std::vector<CurvedRay> rays;
         for (double deg = 1.0; deg <= 90.0; deg += 0.5)
             rays.push_back({0.25f, 0.5f, view_dir(deg, 40.0), K});
@@ -248,7 +240,7 @@ TEST(CurvedTrace, SphereIsLeftWhereTheAnalyticRayLeaves) {
 // A bowl (the inside of a sphere) is never left: its rays all reach the bottom.
 TEST(CurvedTrace, ConcaveBaseIsNeverLeft) {
     const HeightMap map = noisy_map(64);
-    const PassSettings s = settings(0.06f, 0.5f);
+    const PassSettings s = wrap_settings(0.06f, 0.5f);
     std::vector<CurvedRay> rays = random_rays(400, {{-1.5, 0.0, -1.5}, {-2.0, 0.0, 0.0}}, 4);
     for (size_t k = 0; k < rays.size(); k += 4) rays[k].V = view_dir(2.0, 37.0 * k);
     const GBuffer gb = curved_gbuffer(rays);

@@ -86,8 +86,8 @@ std::vector<ProgramVariant> program_variants() {
     out.push_back({"frame/classify", classify_program_files(), ""});
     out.push_back({"frame/depth_offset", {"frame/depth_offset.cl"}, ""});
     for (int lanes : {1, 8, 16})
-        out.push_back(
-            {"shade/lanes" + std::to_string(lanes), shade_program_files(), lanes_define(lanes)});
+        out.push_back({"shade/lanes" + std::to_string(lanes), shade_program_files(),
+                       lanes_define(lanes)});
     for (int lanes : {1, 8, 16})
         out.push_back({"bench/roofline/lanes" + std::to_string(lanes),
                        sampling_program_files("bench/roofline.cl"), lanes_define(lanes)});

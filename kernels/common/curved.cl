@@ -45,7 +45,8 @@ OM_INLINE void om_curved_step(const OmRay* r, const OmField* f, OmCurvedWalk* s,
                               OmI* fetches OM_IMG_PARAM) {
     const OmI live = !s->done;
     OmF ddx, ddy, dh;
-    om_curve_rate(r, s->t, &ddx, &ddy, &dh);
+    const OmCurvePoint here = om_curve_point(r, s->t);
+    om_curve_rate(r, &here, &ddx, &ddy, &dh);
     const OmF dcx = ddx * f->fw, dcy = ddy * f->fh;
     const OmI si = OM_SEL((OmI)-1, (OmI)1, dcx > 0.0f), sj = OM_SEL((OmI)-1, (OmI)1, dcy > 0.0f);
     const OmF bx = OM_TO_FLOAT(OM_SEL(s->i, s->i + 1, si > 0));

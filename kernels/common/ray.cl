@@ -145,32 +145,52 @@ OM_INLINE void om_ray_curve(OmRay* r, OmF kuu, OmF kuv, OmF kvv, OmI lanes) {
 // above the base along its normal (uv units), from the ray's point (a, z) = (t |V.xy|, -t V.z) in
 // its vertical plane (docs/design.md): with c = 1 + kn z and q = sqrt(c^2 + (kn a)^2),
 //   h = (2 z + kn t^2) / (q + 1),   arc = atan2(kn a, c) / kn,   sideways -h kc arc.
-// Both are exact for kn = 0 (h = z, arc = a).
-OM_INLINE void om_curve_at(const OmRay* r, OmF t, OmF* dx, OmF* dy, OmF* h) {
+// Both are exact for kn = 0 (h = z, arc = a). The point keeps what its rates reuse.
+typedef struct {
+    OmF c, ka, q, h, arc;
+} OmCurvePoint;
+
+OM_INLINE OmCurvePoint om_curve_point(const OmRay* r, OmF t) {
+    OmCurvePoint p;
     const OmF a = t * r->lxy, z = -t * r->vz;
-    const OmF c = 1.0f + r->kn * z, ka = r->kn * a;
-    const OmF q = sqrt(c * c + ka * ka);
-    *h = (2.0f * z + r->kn * (t * t)) / (q + 1.0f);
-    const OmF arc = OM_SEL(a * (atan2(ka, c) / ka), a, ka == 0.0f);
-    const OmF side = -*h * r->kc * arc;
-    *dx = arc * r->ex - side * r->ey;
-    *dy = arc * r->ey + side * r->ex;
+    p.c = 1.0f + r->kn * z;
+    p.ka = r->kn * a;
+    p.q = sqrt(p.c * p.c + p.ka * p.ka);
+    p.h = (2.0f * z + r->kn * (t * t)) / (p.q + 1.0f);
+    p.arc = OM_SEL(a * (atan2(p.ka, p.c) / p.ka), a, p.ka == 0.0f);
+    return p;
 }
 
-// The curve's rates at t, d/dt of om_curve_at's (dx, dy) and h: the ray's direction against the
-// circle's normal and tangent at the foot's angle phi (cos phi = c / q, sin phi = kn a / q),
+// The point's footprint offset: arc along e, -h kc arc across it.
+OM_INLINE void om_curve_offset(const OmRay* r, const OmCurvePoint* p, OmF* dx, OmF* dy) {
+    const OmF side = -p->h * r->kc * p->arc;
+    *dx = p->arc * r->ex - side * r->ey;
+    *dy = p->arc * r->ey + side * r->ex;
+}
+
+OM_INLINE void om_curve_at(const OmRay* r, OmF t, OmF* dx, OmF* dy, OmF* h) {
+    const OmCurvePoint p = om_curve_point(r, t);
+    om_curve_offset(r, &p, dx, dy);
+    *h = p.h;
+}
+
+// The curve's rates at a point, d/dt of its offset (dx, dy) and h: the ray's direction against
+// the circle's normal and tangent at the foot's angle phi (cos phi = c / q, sin phi = kn a / q),
 //   h' = |V.xy| sin phi - V.z cos phi,   arc' = (|V.xy| c + V.z kn a) / q^2.
-OM_INLINE void om_curve_rate(const OmRay* r, OmF t, OmF* ddx, OmF* ddy, OmF* dh) {
-    const OmF a = t * r->lxy, z = -t * r->vz;
-    const OmF c = 1.0f + r->kn * z, ka = r->kn * a;
-    const OmF q2 = c * c + ka * ka, q = sqrt(q2);
-    const OmF h = (2.0f * z + r->kn * (t * t)) / (q + 1.0f);
-    const OmF arc = OM_SEL(a * (atan2(ka, c) / ka), a, ka == 0.0f);
-    *dh = (r->lxy * ka - r->vz * c) / q;
-    const OmF darc = (r->lxy * c + r->vz * ka) / q2;
-    const OmF dside = -r->kc * (*dh * arc + h * darc);
+OM_INLINE void om_curve_rate(const OmRay* r, const OmCurvePoint* p, OmF* ddx, OmF* ddy, OmF* dh) {
+    *dh = (r->lxy * p->ka - r->vz * p->c) / p->q;
+    const OmF darc = (r->lxy * p->c + r->vz * p->ka) / (p->q * p->q);
+    const OmF dside = -r->kc * (*dh * p->arc + p->h * darc);
     *ddx = darc * r->ex - dside * r->ey;
     *ddy = darc * r->ey + dside * r->ex;
+}
+
+// The curved lanes' footprint at the point, over the plane's (x, y) from the same t.
+OM_INLINE void om_curve_select(const OmRay* r, const OmCurvePoint* p, OmF* x, OmF* y) {
+    OmF dx, dy;
+    om_curve_offset(r, p, &dx, &dy);
+    *x = OM_SEL(*x, r->u + dx, r->curved);
+    *y = OM_SEL(*y, r->v + dy, r->curved);
 }
 #endif
 
@@ -180,25 +200,10 @@ OM_INLINE void om_ray_footprint(const OmRay* r, OmF t, OmF* x, OmF* y) {
     *y = r->v - t * r->vy;
 #ifdef OM_CURVED
     if (r->any_curved) {
-        OmF dx, dy, h;
-        om_curve_at(r, t, &dx, &dy, &h);
-        *x = OM_SEL(*x, r->u + dx, r->curved);
-        *y = OM_SEL(*y, r->v + dy, r->curved);
+        const OmCurvePoint p = om_curve_point(r, t);
+        om_curve_select(r, &p, x, y);
     }
 #endif
-}
-
-// The ray's height above the base at t in uv units (flat: -t V.z).
-OM_INLINE OmF om_ray_height(const OmRay* r, OmF t) {
-    OmF h = -t * r->vz;
-#ifdef OM_CURVED
-    if (r->any_curved) {
-        OmF dx, dy, hc;
-        om_curve_at(r, t, &dx, &dy, &hc);
-        h = OM_SEL(h, hc, r->curved);
-    }
-#endif
-    return h;
 }
 
 // The ray's sample at lambda in [0, 1] from entry to exit: its footprint and its height in the
@@ -210,11 +215,9 @@ OM_INLINE void om_ray_sample(const OmRay* r, OmF lambda, OmF* x, OmF* y, OmF* et
     *eta = 1.0f - lambda;
 #ifdef OM_CURVED
     if (r->any_curved) {
-        OmF dx, dy, h;
-        om_curve_at(r, t, &dx, &dy, &h);
-        *x = OM_SEL(*x, r->u + dx, r->curved);
-        *y = OM_SEL(*y, r->v + dy, r->curved);
-        *eta = OM_SEL(*eta, h / r->scale + r->ref, r->curved);
+        const OmCurvePoint p = om_curve_point(r, t);
+        om_curve_select(r, &p, x, y);
+        *eta = OM_SEL(*eta, p.h / r->scale + r->ref, r->curved);
     }
 #endif
 }
@@ -323,8 +326,14 @@ OM_INLINE OmF om_segment_cut(OmF la, OmF lb, OmF ga, OmF gb) {
 // on gap(t) = s (H - r) - h(t), with the curve's rates for -V.
 OM_INLINE OmF om_slope_step(const OmRay* r, const OmField* f, OmF t, int safe, OmI active,
                             OmI* fetches OM_IMG_PARAM) {
-    OmF gu, gv, x, y;
-    om_ray_footprint(r, t, &x, &y);
+    OmF gu, gv, x = r->u - t * r->vx, y = r->v - t * r->vy;
+#ifdef OM_CURVED
+    OmCurvePoint p;
+    if (r->any_curved) {
+        p = om_curve_point(r, t);
+        om_curve_select(r, &p, &x, &y);
+    }
+#endif
     OmF h = om_height_grad(f, x, y, active, fetches, &gu, &gv OM_IMG_ARG);
     OmF gap = r->scale * (h - r->ref) + t * r->vz;
     OmF su = r->scale * gu, sv = r->scale * gv;
@@ -332,8 +341,8 @@ OM_INLINE OmF om_slope_step(const OmRay* r, const OmField* f, OmF t, int safe, O
 #ifdef OM_CURVED
     if (r->any_curved) {
         OmF ddx, ddy, dh;
-        om_curve_rate(r, t, &ddx, &ddy, &dh);
-        gap = OM_SEL(gap, r->scale * (h - r->ref) - om_ray_height(r, t), r->curved);
+        om_curve_rate(r, &p, &ddx, &ddy, &dh);
+        gap = OM_SEL(gap, r->scale * (h - r->ref) - p.h, r->curved);
         rate = OM_SEL(rate, su * ddx + sv * ddy - dh, r->curved);
     }
 #endif

@@ -24,8 +24,8 @@ OM_INLINE OmF om_trace(const OmRay* r, const OmField* f, const OmOffsetParams* P
     om_search_etas(r, &hit, la, lb, &eta_a, &eta_b);
     OmF ga = hit.h_prev - eta_a;  // < 0: above the relief
     OmF gb = hit.h_cur - eta_b;   // >= 0: on or below (unless the ray left through the top)
-    OmF wa = ga, wb = gb;               // Illinois-weighted gaps that steer the next point
-    OmI kept = 0;                       // +1: the a end survived the last step, -1: b
+    OmF wa = ga, wb = gb;         // Illinois-weighted gaps that steer the next point
+    OmI kept = 0;                 // +1: the a end survived the last step, -1: b
     OmI run = active & (hit.index > 0) & !hit.miss;
     *flags |= OM_SEL((OmI)0, (OmI)OM_FLAG_SILHOUETTE, hit.miss);
     OmI done = !run || gb <= tol;

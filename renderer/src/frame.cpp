@@ -93,8 +93,7 @@ struct FrameRenderer::Impl {
     // (CL_MEM_ALLOC_HOST_PTR): GL reads its planes into them, and takes the colour and depth from
     // them, one copy each way.
     cl::Buffer depth, normal, tangent, uv, ids, density, curvature;
-    bool curved = false;
-    DeviceGBuffer dg;
+    DeviceGBuffer dg;  // its curvature bound only while set_curvature is on
     OffsetTargets targets;
     cl::Buffer rgba, depth_after;
     std::unique_ptr<DepthOffsetPass> depth_offset;
@@ -170,7 +169,6 @@ std::pair<double, double> FrameRenderer::rerun_kernels(int repeats) {
 void FrameRenderer::set_shading(const ShadeSettings& shading) { impl_->shading = shading; }
 
 void FrameRenderer::set_curvature(bool on) {
-    impl_->curved = on;
     impl_->dg.curvature = on ? impl_->curvature : cl::Buffer();
 }
 
@@ -207,7 +205,7 @@ FrameRun FrameRenderer::render(FrameMode mode, bool prepass, int repeats) {
     FrameRun run;
     run.mode = mode;
     run.prepass = prepass;
-    run.curved = m.curved && !forward;
+    run.curved = m.dg.curvature() != nullptr && !forward;
     RasterPlanes planes;
     std::vector<float> ids(n), t_gl(n);
     std::vector<cl_float2> forward_uv;
@@ -218,8 +216,7 @@ FrameRun FrameRenderer::render(FrameMode mode, bool prepass, int repeats) {
         PassTimes t;
         const auto start = Clock::now();
         auto t0 = start;
-        const bool curved = m.curved && !forward;
-        m.raster->draw(m.view, forward ? &m.forward : nullptr, prepass, false, curved);
+        m.raster->draw(m.view, forward ? &m.forward : nullptr, prepass, false, run.curved);
         t.gbuffer = ms_since(t0);
 
         t0 = Clock::now();
@@ -236,9 +233,9 @@ FrameRun FrameRenderer::render(FrameMode mode, bool prepass, int repeats) {
             p.uv = map(m.uv, 2 * n);
             p.material = map(m.ids, n);
             p.density = map(m.density, n);
-            if (curved) p.curvature = map(m.curvature, 4 * n);
+            if (run.curved) p.curvature = map(m.curvature, 4 * n);
             m.raster->read_into(p);
-            if (curved) q.enqueueUnmapMemObject(m.curvature, p.curvature);
+            if (run.curved) q.enqueueUnmapMemObject(m.curvature, p.curvature);
             q.enqueueUnmapMemObject(m.depth, p.depth);
             q.enqueueUnmapMemObject(m.normal, p.normal);
             q.enqueueUnmapMemObject(m.tangent, p.tangent);
@@ -379,7 +376,7 @@ FrameRun FrameRenderer::render(FrameMode mode, bool prepass, int repeats) {
     // Depth, normal, tangent, uv, material id and uv density (forward: and the offset plane;
     // deferred with curvature: and the curvature); the colour and the depth after the offset.
     run.to_device_bytes =
-        n * sizeof(float) * (1 + 4 + 4 + 2 + 1 + 1 + (forward || m.curved ? 4 : 0));
+        n * sizeof(float) * (1 + 4 + 4 + 2 + 1 + 1 + (forward || run.curved ? 4 : 0));
     run.to_gl_bytes = n * sizeof(float) * (4 + 1);
     run.shade_kernel_ms = median(shade_kernel);
     if (!forward) run.offset.kernel_ms = kernel;

@@ -521,7 +521,7 @@ int run_frame(const FrameCommand& cmd) {
         {"deferred frame (offset pass on the OpenCL device)", to_srgb8(w, h, deferred.color)},
         {"uv error vs exact (log, white = 16 texels)", heat_map(w, h, errors[0], 16.0f)},
         {"depth offset written back (log, white = 16e-4)",
-         depth_change_image(w, h, engine.depth, shown.depth_after)}};
+         depth_change_image(w, h, engine.depth, deferred.depth_after)}};
     if (cmd.curvature)
         tiles.push_back(
             {"deferred over the curved base (--curvature; rays that leave the relief "

@@ -17,7 +17,7 @@
 #define OM_F2(a, b) (::clc::float2{{{static_cast<float>(a), static_cast<float>(b)}}})
 #define OM_F3(a, b, c) \
     (::clc::float3{{{static_cast<float>(a), static_cast<float>(b), static_cast<float>(c)}}})
-#define OM_F4(a, b, c, d)                                                                 \
+#define OM_F4(a, b, c, d)                                                                   \
     (::clc::float4{{{static_cast<float>(a), static_cast<float>(b), static_cast<float>(c), \
                      static_cast<float>(d)}}})
 #define get_global_id(dim) (::clc::global_id)
@@ -56,51 +56,22 @@ struct float4 {
     };
 };
 
-#define OM_CLC_OPS(T, N)                                                         \
-    inline T operator+(T a, T b) {                                               \
-        for (int k = 0; k < N; ++k) (&a.x)[k] += (&b.x)[k];                      \
-        return a;                                                                \
-    }                                                                            \
-    inline T operator-(T a, T b) {                                               \
-        for (int k = 0; k < N; ++k) (&a.x)[k] -= (&b.x)[k];                      \
-        return a;                                                                \
-    }                                                                            \
-    inline T operator*(T a, T b) {                                               \
-        for (int k = 0; k < N; ++k) (&a.x)[k] *= (&b.x)[k];                      \
-        return a;                                                                \
-    }                                                                            \
-    inline T operator/(T a, T b) {                                               \
-        for (int k = 0; k < N; ++k) (&a.x)[k] /= (&b.x)[k];                      \
-        return a;                                                                \
-    }                                                                            \
-    inline T operator*(T a, float b) {                                           \
-        for (int k = 0; k < N; ++k) (&a.x)[k] *= b;                              \
-        return a;                                                                \
-    }                                                                            \
-    inline T operator*(float b, T a) { return a * b; }                           \
-    inline T operator/(T a, float b) {                                           \
-        for (int k = 0; k < N; ++k) (&a.x)[k] /= b;                              \
-        return a;                                                                \
-    }                                                                            \
-    inline T operator-(T a) {                                                    \
-        for (int k = 0; k < N; ++k) (&a.x)[k] = -(&a.x)[k];                      \
-        return a;                                                                \
-    }                                                                            \
-    inline T& operator+=(T& a, T b) { return a = a + b; }                        \
-    inline T& operator-=(T& a, T b) { return a = a - b; }                        \
-    inline T& operator*=(T& a, float b) { return a = a * b; }                    \
-    inline T& operator/=(T& a, float b) { return a = a / b; }                    \
-    inline float dot(T a, T b) {                                                 \
-        float s = 0;                                                             \
-        for (int k = 0; k < N; ++k) s += (&a.x)[k] * (&b.x)[k];                  \
-        return s;                                                                \
-    }                                                                            \
-    inline float length(T a) { return std::sqrt(dot(a, a)); }                    \
-    inline T clamp(T v, T lo, T hi) {                                            \
-        for (int k = 0; k < N; ++k)                                              \
-            (&v.x)[k] = std::fmin(std::fmax((&v.x)[k], (&lo.x)[k]), (&hi.x)[k]); \
-        return v;                                                                \
-    }                                                                            \
+#define OM_CLC_OPS(T, N)                                                                 \
+    inline T operator+(T a, T b) { for (int k = 0; k < N; ++k) (&a.x)[k] += (&b.x)[k]; return a; } \
+    inline T operator-(T a, T b) { for (int k = 0; k < N; ++k) (&a.x)[k] -= (&b.x)[k]; return a; } \
+    inline T operator*(T a, T b) { for (int k = 0; k < N; ++k) (&a.x)[k] *= (&b.x)[k]; return a; } \
+    inline T operator/(T a, T b) { for (int k = 0; k < N; ++k) (&a.x)[k] /= (&b.x)[k]; return a; } \
+    inline T operator*(T a, float b) { for (int k = 0; k < N; ++k) (&a.x)[k] *= b; return a; }      \
+    inline T operator*(float b, T a) { return a * b; }                                               \
+    inline T operator/(T a, float b) { for (int k = 0; k < N; ++k) (&a.x)[k] /= b; return a; }      \
+    inline T operator-(T a) { for (int k = 0; k < N; ++k) (&a.x)[k] = -(&a.x)[k]; return a; }        \
+    inline T& operator+=(T& a, T b) { return a = a + b; }                                            \
+    inline T& operator-=(T& a, T b) { return a = a - b; }                                            \
+    inline T& operator*=(T& a, float b) { return a = a * b; }                                        \
+    inline T& operator/=(T& a, float b) { return a = a / b; }                                        \
+    inline float dot(T a, T b) { float s = 0; for (int k = 0; k < N; ++k) s += (&a.x)[k] * (&b.x)[k]; return s; } \
+    inline float length(T a) { return std::sqrt(dot(a, a)); }                                        \
+    inline T clamp(T v, T lo, T hi) { for (int k = 0; k < N; ++k) (&v.x)[k] = std::fmin(std::fmax((&v.x)[k], (&lo.x)[k]), (&hi.x)[k]); return v; } \
     inline T mix(T a, T b, float t) { return a + (b - a) * t; }
 
 OM_CLC_OPS(float2, 2)

@@ -7,8 +7,8 @@
 #ifndef OFFSETMAP_SHARED_H
 #define OFFSETMAP_SHARED_H
 
-// OpenCL C defines __OPENCL_C_VERSION__ (1.2 and later); __OPENCL_VERSION__ is the platform's,
-// which an offline compiler (clang for SPIR-V) leaves undefined.
+// OpenCL C defines __OPENCL_C_VERSION__ (1.2 and later); __OPENCL_VERSION__ is the platform's, which
+// an offline compiler (clang for SPIR-V) leaves undefined.
 #if defined(__OPENCL_C_VERSION__) || defined(__OPENCL_VERSION__)
 #define OM_OPENCL_C 1
 #endif
@@ -66,7 +66,7 @@ static inline int om_image_blocks(int width, int height, int lanes) {
 }
 
 typedef struct {
-    om_int gb_width;  // G-buffer width and height in pixels (0 x 0 outside the offset pass)
+    om_int gb_width;          // G-buffer width and height in pixels (0 x 0 outside the offset pass)
     om_int gb_height;
     om_int hf_width;          // height-field texels along u
     om_int hf_height;         // height-field texels along v
