@@ -109,6 +109,10 @@ for part in "${parts[@]}"; do
             cp "$tmp/truth-$scene/truth-sheet.png" "$IMG/truth-$scene.png"
             cp "$tmp/truth-$scene/truth-pareto.png" "$IMG/truth-pareto-$scene.png"
         done
+        # the curved trace's model against the truth, without a march's own error (docs/design.md)
+        $OM frame --scene data/curved.gltf --width 960 --height 540 --truth --curvature \
+            --method exact -o "$tmp/truth-curved-exact"
+        cp "$tmp/truth-curved-exact/frame.json" "$DATA/truth-curved-exact.json"
         ;;
     rebuild)  # a field that changes every frame: its update and each precompute's rebuild, on
         # PoCL's AVX-512 and AVX2 targets (docs/integrating.md)

@@ -22,19 +22,20 @@
 // OM_LANE_PAIRS, OM_IMAGES, OM_LOD when the LOD system is on, OM_CURVED when a curvature plane is
 // bound, OM_OUT_DEPTH / OM_OUT_FETCHES / OM_OUT_FLAGS for the optional outputs bound.
 
-// The base's second fundamental form at each lane's pixel, in uv units (zero: the tangent plane).
+// The base's second fundamental form at each lane's pixel, in uv units (zero: the tangent plane),
+// and the uv's stretch a = sqrt(|dP/du| / |dP/dv|) (1, or not above 0: none).
 typedef struct {
-    OmF uu, uv, vv;
+    OmF uu, uv, vv, stretch;
 } OmCurvature;
 
-// The curvature plane (float4 a pixel: k_uu, k_uv, k_vv, unused) as lanes; zero, and nothing read,
-// in a program without OM_CURVED.
+// The curvature plane (float4 a pixel: k_uu, k_uv, k_vv, stretch) as lanes; zero, and nothing
+// read, in a program without OM_CURVED.
 OM_INLINE OmCurvature om_load_curvature(__global const float4* curvature, OmBlock b) {
     OmCurvature k;
 #ifdef OM_CURVED
-    om_load_block3((__global const float*)curvature, b, &k.uu, &k.uv, &k.vv);
+    om_load_block4((__global const float*)curvature, b, &k.uu, &k.uv, &k.vv, &k.stretch);
 #else
-    k.uu = k.uv = k.vv = 0.0f;
+    k.uu = k.uv = k.vv = k.stretch = 0.0f;
 #endif
     return k;
 }
@@ -81,7 +82,7 @@ OM_INLINE void om_lanes_begin(const OmOffsetParams* P, OmF u, OmF v, OmF vx, OmF
         (g->flags & (int)(OM_FLAG_EMPTY | OM_FLAG_INVALID | OM_FLAG_BACKFACING)) != 0 || skip != 0;
     g->traced = !g->rejected && g->blend > 0.0f;
 #ifdef OM_CURVED
-    om_ray_curve(&g->ray, k->uu, k->uv, k->vv, g->traced);
+    om_ray_curve(&g->ray, k->uu, k->uv, k->vv, k->stretch, g->traced);
 #endif
 }
 

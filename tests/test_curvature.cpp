@@ -119,6 +119,27 @@ TEST(Curvature, DiagonalUvGivesTheCrossTermWithItsSign) {
     }
 }
 
+// The uv's stretch sqrt(|dP/du| / |dP/dv|): exact on a quad (2 m by 1 m in 4 by 1 tiles: 0.5 m
+// per u, 1 m per v, log2 -1/2), none on a square one; on a cylinder's side (R 0.5 in 2 tiles
+// around, 1 m in 3 along) sqrt(pi R 3) within the polygon's chord factor (sin x / x and cos x for
+// x = pi / 96 together shrink dP/du by 7e-4: 1e-3 in the stretch); its caps' planar uv has none.
+TEST(Curvature, UvStretchIsTheDensitiesRatio) {
+    const Mesh quad = make_quad("quad", 1, {0, 0, 0}, {2, 0, 0}, {0, 1, 0}, 4.0f, 1.0f, false);
+    for (const Vertex& v : quad.vertices) ASSERT_NEAR(v.uv_log_stretch, -0.5, 1e-6);
+    const Mesh square = make_quad("square", 1, {0, 0, 0}, {2, 0, 0}, {0, 1, 0}, 2.0f, 1.0f, false);
+    for (const Vertex& v : square.vertices) ASSERT_EQ(v.uv_log_stretch, 0.0f);
+    const float R = 0.5f;
+    const Mesh c = make_cylinder("cylinder", 1, {0.0f, 0.0f, 0.0f}, R, 1.0f, 96, 2.0f, 3.0f);
+    const double want = std::sqrt(M_PI * R * 3.0);
+    for (const Vertex& v : c.vertices) {
+        const double a = std::exp2(double(v.uv_log_stretch));
+        if (std::fabs(v.normal[1]) > 0.5f)
+            ASSERT_NEAR(a, 1.0, 1e-5) << "a cap";
+        else
+            ASSERT_NEAR(a, want, 1e-3 * want);
+    }
+}
+
 // A torus (R from the axis to the tube's centre, r the tube): at the tube angle theta the
 // principal curvatures are cos(theta) / (R + r cos(theta)) around the axis (T) and 1 / r around
 // the tube (B), k_TB = 0. The fit is first order: each face gives the tensor at a point of the
@@ -162,7 +183,8 @@ TEST(Curvature, TorusIsItsPrincipalCurvaturesToSecondOrder) {
 // The G-buffer's curvature plane: the raster interpolates the vertices' tensors and scales them by
 // the uv density into uv units. With one density per mesh, the sphere's pixels hold (d / R, 0,
 // d / R) and the cylinder's side (d / R, 0, 0) up to the interpolation's float rounding; its caps
-// and the sky hold zero. The engine G-buffer file keeps the plane bit for bit.
+// and the sky hold zero. The cylinder's side holds its uv's stretch, its caps none, the sky 0. The
+// engine G-buffer file keeps both bit for bit.
 TEST(Renderer, GBufferCurvatureIsTheSurfaces) {
     const float Rs = 0.5f, Rc = 0.35f, ds = 0.8f, dc = 0.6f;
     Scene scene;
@@ -188,6 +210,7 @@ TEST(Renderer, GBufferCurvatureIsTheSurfaces) {
     r.render(FrameMode::Deferred, false, 1);
     const EngineScene& e = r.gbuffer();
     ASSERT_EQ(e.curvature.size(), 3 * e.pixels());
+    ASSERT_EQ(e.uv_stretch.size(), e.pixels());
     const double eps = 1e-5;  // a few float roundings of the barycentric blend, relative
     size_t on_sphere = 0, on_side = 0;
     for (size_t k = 0; k < e.pixels(); ++k) {
@@ -196,6 +219,7 @@ TEST(Renderer, GBufferCurvatureIsTheSurfaces) {
             ASSERT_EQ(c[0], 0.0f);
             ASSERT_EQ(c[1], 0.0f);
             ASSERT_EQ(c[2], 0.0f);
+            ASSERT_EQ(e.uv_stretch[k], 0.0f);
         } else if (e.material[k] == 1.0f) {
             ASSERT_NEAR(c[0], ds / Rs, eps * ds / Rs) << k;
             ASSERT_NEAR(c[1], 0.0, eps * ds / Rs) << k;
@@ -205,16 +229,21 @@ TEST(Renderer, GBufferCurvatureIsTheSurfaces) {
             ASSERT_NEAR(c[0], dc / Rc, eps * dc / Rc) << k;
             ASSERT_NEAR(c[1], 0.0, eps * dc / Rc) << k;
             ASSERT_NEAR(c[2], 0.0, eps * dc / Rc) << k;
+            // 2 pi Rc m around in one tile, 1 m along in one: the 48-gon's chord factor, 3e-3.
+            ASSERT_NEAR(e.uv_stretch[k], std::sqrt(2.0 * M_PI * Rc), 3e-3) << k;
             ++on_side;
         } else {
             ASSERT_EQ(c[0], 0.0f) << "a cap, pixel " << k;
+            ASSERT_NEAR(e.uv_stretch[k], 1.0f, 1e-5) << "a cap, pixel " << k;
         }
     }
     EXPECT_GT(on_sphere, 1000u);
     EXPECT_GT(on_side, 1000u);
     const std::string path = ::testing::TempDir() + "/curved_gbuffer.exr";
     save_engine_gbuffer(path, e);
-    EXPECT_EQ(load_engine_gbuffer(path).curvature, e.curvature);
+    const EngineScene back = load_engine_gbuffer(path);
+    EXPECT_EQ(back.curvature, e.curvature);
+    EXPECT_EQ(back.uv_stretch, e.uv_stretch);
 }
 
 TEST(Curvature, FlatAndHardEdgedMeshesHaveNone) {

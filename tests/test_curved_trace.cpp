@@ -24,7 +24,8 @@ GBuffer curved_gbuffer(const std::vector<CurvedRay>& rays) {
     gb.curvature.resize(rays.size());
     for (size_t k = 0; k < rays.size(); ++k)
         gb.curvature[k] = {{static_cast<float>(rays[k].K.uu), static_cast<float>(rays[k].K.uv),
-                            static_cast<float>(rays[k].K.vv), 0.0f}};
+                            static_cast<float>(rays[k].K.vv),
+                            static_cast<float>(rays[k].K.stretch)}};
     return gb;
 }
 
@@ -57,7 +58,10 @@ TEST(CurvedTrace, ZeroCurvatureIsTodaysPassBitForBit) {
     std::vector<CurvedRay> rays = random_rays(256, {Curvature{}}, 7);
     GBuffer none = curved_gbuffer(rays);
     none.curvature.clear();
-    const GBuffer zero = curved_gbuffer(rays);
+    GBuffer zero = curved_gbuffer(rays);
+    // A stretch of 1, or one not a finite value above 0, is none.
+    const float no_stretch[] = {1.0f, 0.0f, -2.0f, NAN, INFINITY, -INFINITY};
+    for (size_t k = 0; k < rays.size(); ++k) zero.curvature[k].s[3] = no_stretch[k % 6];
     for (size_t k = 1; k < rays.size(); k += 2) rays[k].K = Curvature{1.5, 0.4, -0.7};
     const GBuffer mixed = curved_gbuffer(rays);
     for (const std::string& method : method_names()) {
@@ -85,7 +89,8 @@ TEST(CurvedTrace, ZeroCurvatureIsTodaysPassBitForBit) {
 namespace omtest {
 namespace {
 
-// Rays over a sphere, a cylinder, a saddle, a bowl and a gentle sphere, 12 to 85 degrees, and the
+// Rays over a sphere, a cylinder, a saddle, a bowl, a gentle sphere, a sphere whose uv is stretched
+// and a plane whose uv is, 12 to 85 degrees, and the
 // curved oracle's answers for them and for the same rays over the plane.
 struct Curved {
     HeightMap map;
@@ -100,7 +105,9 @@ struct Curved {
                             {2.0, 0.0, 0.0},
                             {1.0, 0.5, -0.8},
                             {-1.2, 0.0, -1.2},
-                            {0.3, 0.0, 0.3}},
+                            {0.3, 0.0, 0.3},
+                            {1.5, 0.0, 1.5, 1.25},
+                            {0.0, 0.0, 0.0, 0.7}},
                            seed);
         gb = curved_gbuffer(rays);
         plane = gb;

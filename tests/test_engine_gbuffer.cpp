@@ -539,8 +539,17 @@ TEST(EngineGBuffer, CurvatureChannelsAreAllOrNoneAndFinite) {
     save_engine_gbuffer(path, e);
     EXPECT_TRUE(contains(error_of([&] { load_engine_gbuffer(path); }),
                          "engine_curvature.exr': channel kuv is not finite at pixel (5, 0)"));
-    // The same file less its last channel (kvv).
+    // The uv's stretch beside it: kept, and finite.
     e.curvature.assign(3 * e.pixels(), 0.25f);
+    e.uv_stretch.assign(e.pixels(), 1.5f);
+    save_engine_gbuffer(path, e);
+    EXPECT_EQ(load_engine_gbuffer(path).uv_stretch, e.uv_stretch);
+    e.uv_stretch[7] = INFINITY;
+    save_engine_gbuffer(path, e);
+    EXPECT_TRUE(contains(error_of([&] { load_engine_gbuffer(path); }),
+                         "engine_curvature.exr': channel stretch is not finite at pixel (7, 0)"));
+    e.uv_stretch.clear();
+    // The same file less its last channel (kvv).
     save_engine_gbuffer(path, e);
     auto in = OIIO::ImageInput::open(path);
     OIIO::ImageSpec spec = in->spec();

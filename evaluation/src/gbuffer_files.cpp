@@ -61,6 +61,8 @@ void save_engine_gbuffer(const std::string& path, const EngineScene& e) {
     if (derivatives) names.insert(names.end(), {"dudx", "dvdx", "dudy", "dvdy"});
     const bool curvature = !e.curvature.empty();
     if (curvature) names.insert(names.end(), {"kuu", "kuv", "kvv"});
+    const bool stretch = curvature && !e.uv_stretch.empty();
+    if (stretch) names.push_back("stretch");
     const int nc = static_cast<int>(names.size());
     std::vector<float> data(e.pixels() * nc);
     for (size_t k = 0; k < e.pixels(); ++k) {
@@ -77,6 +79,7 @@ void save_engine_gbuffer(const std::string& path, const EngineScene& e) {
             for (int a = 0; a < 4; ++a) px[c++] = e.uv_derivatives[4 * k + a];
         if (curvature)
             for (int a = 0; a < 3; ++a) px[c++] = e.curvature[3 * k + a];
+        if (stretch) px[c++] = e.uv_stretch[k];
     }
     std::map<std::string, std::string> attributes = {
         {"offsetmap:inverseViewProjection", numbers(e.camera.inverse_view_projection.data(), 16)},
@@ -212,6 +215,10 @@ EngineScene read_engine_form(GBufferFile& g, size_t max_bytes) {
     if (curvature_channels != 0 && curvature_channels != 3)
         throw Error(file + ": the curvature needs all three channels kuu kuv kvv, or none");
     if (curvature_channels) e.curvature.resize(3 * n);
+    const bool stretch = index.count("stretch") != 0;
+    if (stretch && !curvature_channels)
+        throw Error(file + ": channel stretch needs the curvature's kuu kuv kvv beside it");
+    if (stretch) e.uv_stretch.resize(n);
     for (size_t k = 0; k < n; ++k) {
         e.depth[k] = ch(k, "depth");
         e.uv[2 * k] = ch(k, "u");
@@ -232,6 +239,13 @@ EngineScene read_engine_form(GBufferFile& g, size_t max_bytes) {
                 throw Error(file + ": channel " + curvature[a] + " is not finite at pixel (" +
                             std::to_string(k % e.width) + ", " + std::to_string(k / e.width) + ")");
             e.curvature[3 * k + a] = c;
+        }
+        if (stretch) {
+            const float a = ch(k, "stretch");
+            if (!std::isfinite(a))
+                throw Error(file + ": channel stretch is not finite at pixel (" +
+                            std::to_string(k % e.width) + ", " + std::to_string(k / e.width) + ")");
+            e.uv_stretch[k] = a;
         }
     }
     return e;

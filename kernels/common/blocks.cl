@@ -192,38 +192,49 @@ OM_INLINE void om_load_block2(__global const float* p, OmBlock b, OmF* x, OmF* y
 #endif
 }
 
-// The first three values of a float4 plane (view, light) as lane vectors.
-OM_INLINE void om_load_block3(__global const float* p, OmBlock b, OmF* x, OmF* y, OmF* z) {
+// A float4 plane (curvature) as four lane vectors.
+OM_INLINE void om_load_block4(__global const float* p, OmBlock b, OmF* x, OmF* y, OmF* z, OmF* w) {
 #if OM_LANES == 1
     const int id = om_block_pixel(b, 0);
     *x = p[4 * id];
     *y = p[4 * id + 1];
     *z = p[4 * id + 2];
+    *w = p[4 * id + 3];
 #else
     if (b.full) {
-        float4 rx[OM_LANES / 4], ry[OM_LANES / 4], rz[OM_LANES / 4];
+        float4 rx[OM_LANES / 4], ry[OM_LANES / 4], rz[OM_LANES / 4], rw[OM_LANES / 4];
         for (int r = 0; r < OM_LANES / 4; ++r) {
             const float16 c = vload16(0, p + 4 * OM_RUN4(b, r));
             rx[r] = c.s048c;
             ry[r] = c.s159d;
             rz[r] = c.s26ae;
+            rw[r] = c.s37bf;
         }
         *x = OM_JOIN4(rx);
         *y = OM_JOIN4(ry);
         *z = OM_JOIN4(rz);
+        *w = OM_JOIN4(rw);
         return;
     }
-    float tx[OM_LANES], ty[OM_LANES], tz[OM_LANES];
+    float tx[OM_LANES], ty[OM_LANES], tz[OM_LANES], tw[OM_LANES];
     for (int k = 0; k < OM_LANES; ++k) {
         const int id = om_block_pixel(b, k);
         tx[k] = p[4 * id];
         ty[k] = p[4 * id + 1];
         tz[k] = p[4 * id + 2];
+        tw[k] = p[4 * id + 3];
     }
     *x = OM_VLOAD(tx);
     *y = OM_VLOAD(ty);
     *z = OM_VLOAD(tz);
+    *w = OM_VLOAD(tw);
 #endif
+}
+
+// The first three values of a float4 plane (view, light) as lane vectors.
+OM_INLINE void om_load_block3(__global const float* p, OmBlock b, OmF* x, OmF* y, OmF* z) {
+    OmF w;
+    om_load_block4(p, b, x, y, z, &w);
 }
 
 // Stores a float4 plane (colour) from four lane vectors, for the lanes whose pixels lie in the

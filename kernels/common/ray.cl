@@ -15,8 +15,10 @@ typedef struct {
 #ifdef OM_CURVED
     // The base's curvature (docs/design.md, "Curved surfaces"): in the ray's vertical plane the
     // circle of normal curvature kn = e.K.e, and the cross term kc = e_perp.K.e, with e = -V.xy /
-    // |V.xy| the direction the footprint runs ((1, 0) for a vertical view); in uv units.
-    OmF kn, kc, ex, ey, lxy;
+    // |V.xy| the direction the footprint runs ((1, 0) for a vertical view); in uv units. The
+    // trace runs in the surface's lengths (one uv density each way); an offset (x, y) there is
+    // (x / a, y a) in uv for the uv's stretch a: su = 1 / a, sv = a.
+    OmF kn, kc, ex, ey, lxy, su, sv;
     OmI curved;     // lanes over a curved base; the rest trace the plane, bit for bit
     OmI exits_top;  // curved lanes that leave the slab through its top again (a convex base)
     int any_curved;
@@ -105,16 +107,19 @@ OM_INLINE OmI om_ray_setup(OmF u, OmF v, OmF vx, OmF vy, OmF vz, const OmOffsetP
 
 #ifdef OM_CURVED
 // The ray over a curved base: K = [[kuu, kuv], [kuv, kvv]] in uv units per lane (positive bends
-// away from N). Lanes with K = 0, a non-finite K or no depth scale stay on the plane. On the rest,
+// away from N), and the uv's stretch a (1, or not a finite value above 0: none). Lanes with K = 0
+// and no stretch, a non-finite K or no depth scale stay on the plane. On the rest,
 // the slab between h = s (1 - r) and h = -s r over the circle of curvature kn is met where
 //   kn t^2 - 2 V.z t - H0 (2 + kn H0) = 0    (h(t) = H0, |V| = 1),
 // entered at the root through t < 0 and left at the bottom's first root t >= 0, or, where a
 // convex base turns the ray away before the bottom (no real root), through the top's second.
 // kn is held within 1 / (2 s) in magnitude: a base bent tighter than twice the relief's depth
 // leaves the circles of the slab degenerate (the model's stated limit).
-OM_INLINE void om_ray_curve(OmRay* r, OmF kuu, OmF kuv, OmF kvv, OmI lanes) {
+OM_INLINE void om_ray_curve(OmRay* r, OmF kuu, OmF kuv, OmF kvv, OmF stretch, OmI lanes) {
     const OmI finite = isfinite(kuu) && isfinite(kuv) && isfinite(kvv);
-    const OmI curved = lanes & finite & (kuu != 0.0f || kuv != 0.0f || kvv != 0.0f);
+    // !(a > 0) also takes NaN; an infinite stretch is as unusable.
+    const OmF a = OM_SEL(stretch, (OmF)1.0f, !(stretch > 0.0f) || isinf(stretch));
+    const OmI curved = lanes & finite & (kuu != 0.0f || kuv != 0.0f || kvv != 0.0f || a != 1.0f);
     r->curved = r->scale > 0.0f ? curved : (OmI)0;
     r->any_curved = OM_ANY(r->curved);
     if (!r->any_curved) return;
@@ -129,6 +134,8 @@ OM_INLINE void om_ray_curve(OmRay* r, OmF kuu, OmF kuv, OmF kvv, OmI lanes) {
     r->ex = ex;
     r->ey = ey;
     r->lxy = OM_SEL(lxy, (OmF)0.0f, plumb);
+    r->su = 1.0f / a;
+    r->sv = a;
     const float top = r->scale * (1.0f - r->ref), bottom = -r->scale * r->ref;
     const OmF vz = r->vz, kn = r->kn;
     const OmF c_top = top * (2.0f + kn * top), c_bottom = bottom * (2.0f + kn * bottom);
@@ -161,11 +168,11 @@ OM_INLINE OmCurvePoint om_curve_point(const OmRay* r, OmF t) {
     return p;
 }
 
-// The point's footprint offset: arc along e, -h kc arc across it.
+// The point's footprint offset: arc along e, -h kc arc across it, in uv.
 OM_INLINE void om_curve_offset(const OmRay* r, const OmCurvePoint* p, OmF* dx, OmF* dy) {
     const OmF side = -p->h * r->kc * p->arc;
-    *dx = p->arc * r->ex - side * r->ey;
-    *dy = p->arc * r->ey + side * r->ex;
+    *dx = (p->arc * r->ex - side * r->ey) * r->su;
+    *dy = (p->arc * r->ey + side * r->ex) * r->sv;
 }
 
 OM_INLINE void om_curve_at(const OmRay* r, OmF t, OmF* dx, OmF* dy, OmF* h) {
@@ -181,8 +188,8 @@ OM_INLINE void om_curve_rate(const OmRay* r, const OmCurvePoint* p, OmF* ddx, Om
     *dh = (r->lxy * p->ka - r->vz * p->c) / p->q;
     const OmF darc = (r->lxy * p->c + r->vz * p->ka) / (p->q * p->q);
     const OmF dside = -r->kc * (*dh * p->arc + p->h * darc);
-    *ddx = darc * r->ex - dside * r->ey;
-    *ddy = darc * r->ey + dside * r->ex;
+    *ddx = (darc * r->ex - dside * r->ey) * r->su;
+    *ddy = (darc * r->ey + dside * r->ex) * r->sv;
 }
 
 // The curved lanes' footprint at the point, over the plane's (x, y) from the same t.

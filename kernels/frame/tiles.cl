@@ -28,7 +28,7 @@ OM_INLINE OmTileBlock om_tile_block(const OmTileParams* T, int tile, int q, floa
     const int inside = q < om_tile_blocks(OM_LANES, T->tile_h) && x0 < T->width && y0 < y1;
     w.b = om_block_at(inside ? x0 : 0, inside ? y0 : 0, T->width, y1, bw, T->width);
     w.mine = inside ? om_load_block_f(material, w.b) == id : (OmI)0;
-    w.k.uu = w.k.uv = w.k.vv = 0.0f;
+    w.k.uu = w.k.uv = w.k.vv = w.k.stretch = 0.0f;
     if (OM_ANY(w.mine)) {
         om_load_block(gb_uv, gb_view, w.b, &w.u, &w.v, &w.vx, &w.vy, &w.vz);
         w.k = om_load_curvature(curvature, w.b);

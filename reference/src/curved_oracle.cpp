@@ -35,7 +35,8 @@ CurvedPoint curved_point(const double V[3], const Curvature& K, double t) {
     const double kc = px * (K.uu * ex + K.uv * ey) + py * (K.uv * ex + K.vv * ey);
     const CircleCoords c = circle_coords(kn, t * lxy, -t * V[2]);
     const double side = -c.h * kc * c.arc;
-    return CurvedPoint{c.arc * ex + side * px, c.arc * ey + side * py, c.h};
+    return CurvedPoint{(c.arc * ex + side * px) / K.stretch, (c.arc * ey + side * py) * K.stretch,
+                       c.h};
 }
 
 CurvedHit curved_hit(const HeightMap& map, double u, double v, const double V[3],
@@ -70,7 +71,8 @@ CurvedHit curved_hit(const HeightMap& map, double u, double v, const double V[3]
         t_in = lo;
     }
     const double texel = 1.0 / std::max(map.width, map.height);
-    const double dt = std::min(texel / 32.0 / std::max(lxy, 1e-12), scale / 256.0 / V[2]);
+    const double speed = lxy * std::max(K.stretch, 1.0 / K.stretch);  // in uv per unit of t
+    const double dt = std::min(texel / 32.0 / std::max(speed, 1e-12), scale / 256.0 / V[2]);
     double t = t_in, g = gap(t), h = at(t).h;
     if (g <= 0.0) return result(t, false);
     // A convex base turns the ray back up: past its lowest point, above the top, it has left.

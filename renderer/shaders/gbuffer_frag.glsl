@@ -8,6 +8,7 @@ in vec4 v_tangent;
 in vec2 v_uv;
 in float v_uv_density;
 in vec3 v_curvature;
+in float v_uv_log_stretch;
 
 uniform float u_material;
 
@@ -17,7 +18,8 @@ layout(location = 2) out vec2 o_uv;
 layout(location = 3) out vec4 o_uv_derivatives;  // du/dx, dv/dx, du/dy, dv/dy (y up, GL's rows)
 layout(location = 4) out vec2 o_material;         // id, uv density (world units per uv unit)
 // The base surface's second fundamental form in the pixel's tangent frame, uv units (the pass's
-// unit of length is one uv density): k_uu, k_uv, k_vv.
+// unit of length is one uv density): k_uu, k_uv, k_vv; and the uv's stretch sqrt(|dP/du| /
+// |dP/dv|), exactly 1 where the mesh has none.
 layout(location = 6) out vec4 o_curvature;
 #ifdef OM_COUNT
 // Counting fragments shaded: depth tested before the shader, as a driver does for a shader that
@@ -42,7 +44,8 @@ void main() {
     o_uv = v_uv;
     o_uv_derivatives = vec4(dFdx(v_uv), dFdy(v_uv));
     o_material = vec2(u_material, v_uv_density);
-    o_curvature = vec4(v_curvature * v_uv_density, 0.0);
+    o_curvature = vec4(v_curvature * v_uv_density,
+                       v_uv_log_stretch == 0.0 ? 1.0 : exp2(v_uv_log_stretch));
 #ifdef OM_FORWARD
     // Tangent-space V as the reconstruct pass builds it: the tangent made orthogonal to the
     // normal, B = h N x T, V = (V.T, V.B, V.N).

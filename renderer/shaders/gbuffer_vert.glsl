@@ -6,6 +6,7 @@ layout(location = 2) in vec4 a_tangent;
 layout(location = 3) in vec2 a_uv;
 layout(location = 4) in float a_uv_density;
 layout(location = 5) in vec3 a_curvature;  // k_TT, k_TB, k_BB in world units (1 / m)
+layout(location = 6) in float a_uv_log_stretch;  // log2 sqrt(|dP/du| / |dP/dv|)
 
 uniform mat4 u_view_projection;
 
@@ -17,6 +18,7 @@ out vec4 v_tangent;
 out vec2 v_uv;
 out float v_uv_density;
 out vec3 v_curvature;
+out float v_uv_log_stretch;
 
 void main() {
     v_position = a_position;
@@ -25,5 +27,6 @@ void main() {
     v_uv = a_uv;
     v_uv_density = a_uv_density;
     v_curvature = a_curvature;
+    v_uv_log_stretch = a_uv_log_stretch;
     gl_Position = u_view_projection * vec4(a_position, 1.0);
 }

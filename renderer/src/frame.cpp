@@ -362,7 +362,13 @@ FrameRun FrameRenderer::render(FrameMode mode, bool prepass, int repeats) {
         engine_.uv_derivatives[4 * k + 2] *= -1.0f;
         engine_.uv_derivatives[4 * k + 3] *= -1.0f;
     }
-    engine_.curvature = flip_rows(m.raster->read_curvature(), w, h, 3);
+    const std::vector<float> curvature = flip_rows(m.raster->read_curvature(), w, h, 4);
+    engine_.curvature.resize(3 * n);
+    engine_.uv_stretch.resize(n);
+    for (size_t k = 0; k < n; ++k) {
+        std::copy_n(&curvature[4 * k], 3, &engine_.curvature[3 * k]);
+        engine_.uv_stretch[k] = curvature[4 * k + 3];
+    }
     auto med = [&](double PassTimes::*field) {
         std::vector<double> v;
         for (const PassTimes& t : times) v.push_back(t.*field);

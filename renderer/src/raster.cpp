@@ -109,10 +109,11 @@ Raster::Raster(const Scene& scene, int width, int height) : width_(width), heigh
         const struct {
             GLint size;
             size_t offset;
-        } attributes[] = {{3, offsetof(Vertex, position)},   {3, offsetof(Vertex, normal)},
-                          {4, offsetof(Vertex, tangent)},    {2, offsetof(Vertex, uv)},
-                          {1, offsetof(Vertex, uv_density)}, {3, offsetof(Vertex, curvature)}};
-        for (GLuint a = 0; a < 6; ++a) {
+        } attributes[] = {{3, offsetof(Vertex, position)},      {3, offsetof(Vertex, normal)},
+                          {4, offsetof(Vertex, tangent)},       {2, offsetof(Vertex, uv)},
+                          {1, offsetof(Vertex, uv_density)},    {3, offsetof(Vertex, curvature)},
+                          {1, offsetof(Vertex, uv_log_stretch)}};
+        for (GLuint a = 0; a < 7; ++a) {
             glEnableVertexArrayAttrib(ids[0], a);
             glVertexArrayAttribFormat(ids[0], a, attributes[a].size, GL_FLOAT, GL_FALSE,
                                       static_cast<GLuint>(attributes[a].offset));
@@ -278,7 +279,7 @@ std::vector<float> Raster::read_uv_derivatives() const {
 }
 
 std::vector<float> Raster::read_curvature() const {
-    return read_pixels(fbo_.get(), GL_COLOR_ATTACHMENT6, GL_RGB, 3, width_, height_);
+    return read_pixels(fbo_.get(), GL_COLOR_ATTACHMENT6, GL_RGBA, 4, width_, height_);
 }
 
 void Raster::write_results(const float* color, const float* depth_after) {

@@ -94,8 +94,9 @@ class Raster {
     // The uv derivatives of the last draw with `derivatives`, 4 per pixel: du/dx, dv/dx, du/dy,
     // dv/dy (rows bottom first); the G-buffer file keeps them, the passes do not read them.
     std::vector<float> read_uv_derivatives() const;
-    // The curvature of the last draw with `curvature`, 3 per pixel (rows bottom first): the base
-    // surface's k_uu, k_uv, k_vv in the pixel's tangent frame, uv units; 0 where nothing was drawn.
+    // The curvature of the last draw with `curvature`, 4 per pixel (rows bottom first): the base
+    // surface's k_uu, k_uv, k_vv in the pixel's tangent frame, uv units, and the uv's stretch; 0
+    // where nothing was drawn.
     std::vector<float> read_curvature() const;
     // The frame's results into GL (rows bottom first): the colour (4 floats a pixel) into the
     // colour texture, the depth after the pixel depth offset into the second depth target, which

@@ -26,8 +26,9 @@ struct GBuffer {
     // relief (the material frame, offsetmap/material_frame.hpp)
     std::vector<float> material;
     // empty, or width * height: the base surface's second fundamental form in its tangent frame,
-    // in uv units (k_uu, k_uv, k_vv; w unused), positive where it bends away from its normal. The
-    // offset pass then traces the relief over the curved base (docs/design.md, "Curved surfaces").
+    // in uv units (k_uu, k_uv, k_vv), positive where it bends away from its normal, and in w the
+    // uv's stretch sqrt(|dP/du| / |dP/dv|) (1, or not a finite value above 0: none). The offset
+    // pass then traces the relief over the curved base (docs/design.md, "Curved surfaces").
     std::vector<cl_float4> curvature;
 
     size_t pixels() const { return static_cast<size_t>(width) * height; }
@@ -52,7 +53,7 @@ struct DeviceGBuffer {
     cl::Buffer light;      // float4 per pixel, or a null buffer
     cl::Buffer lod;        // float per pixel, or a null buffer
     cl::Buffer material;   // float per pixel (integer material ids), or a null buffer
-    cl::Buffer curvature;  // float4 per pixel (k_uu, k_uv, k_vv in uv units), or a null buffer
+    cl::Buffer curvature;  // float4 per pixel (k_uu, k_uv, k_vv in uv units, stretch), or null
 
     size_t pixels() const { return static_cast<size_t>(width) * height; }
 };

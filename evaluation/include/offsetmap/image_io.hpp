@@ -54,7 +54,8 @@ GBuffer load_gbuffer(const std::string& path, size_t max_bytes = kDefaultReadLim
 // numbers column-major; offsetmap:eye, 3; offsetmap:depth, gl | zero-one | reversed;
 // offsetmap:firstRow, top | bottom; offsetmap:light, "directional x y z" or "point x y z").
 // Optional channels: material (ids), dudx dvdx dudy dvdy (uv derivatives) and kuu kuv kvv (the
-// base surface's curvature in uv units, EngineScene::curvature; all three or none, finite).
+// base surface's curvature in uv units, EngineScene::curvature; all three or none, finite) with
+// stretch beside them (EngineScene::uv_stretch, finite).
 void save_engine_gbuffer(const std::string& path, const EngineScene& scene);
 EngineScene load_engine_gbuffer(const std::string& path, size_t max_bytes = kDefaultReadLimitBytes);
 

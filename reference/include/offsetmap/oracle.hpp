@@ -48,6 +48,9 @@ ExactHit exact_hit(const HeightMap& map, double u, double v, const double V[3],
 // (EngineScene::curvature): positive where the surface bends away from its normal.
 struct Curvature {
     double uu = 0.0, uv = 0.0, vv = 0.0;
+    // The uv's stretch a = sqrt(|dP/du| / |dP/dv|): the curvature and the ray are in the
+    // surface's lengths (one uv density each way), an offset (x, y) there is (x / a, y a) in uv.
+    double stretch = 1.0;
 };
 
 struct CurvedHit {

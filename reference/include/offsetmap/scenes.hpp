@@ -75,6 +75,10 @@ struct EngineScene {
     // pixel's tangent frame (T, B = w N x T) in uv units (world curvature times the uv density),
     // positive where the surface bends away from its normal (files keep it)
     std::vector<float> curvature;
+    // empty, or 1 per pixel beside the curvature: the uv's stretch sqrt(|dP/du| / |dP/dv|), the
+    // unit the curvature and the trace take along u being one uv density times it (1, or not
+    // above 0: none; files keep it)
+    std::vector<float> uv_stretch;
 
     size_t pixels() const { return static_cast<size_t>(width) * height; }
 };

@@ -21,6 +21,10 @@ struct Vertex {
     // world units (1 / m): k_TT, k_TB, k_BB of dN = K dP, positive where the surface bends away
     // from its normal (a sphere seen from outside: 1 / R, 0, 1 / R). Zero on a flat mesh.
     std::array<float, 3> curvature{};
+    // log2 of the uv's stretch sqrt(|dP/du| / |dP/dv|) (derive_tangents): 0 where u and v have
+    // one density. The log, so that a triangle whose corners have none interpolates to exactly
+    // none.
+    float uv_log_stretch = 0.0f;
 };
 
 struct Mesh {
