@@ -205,6 +205,13 @@ EngineScene read_engine_form(GBufferFile& g, size_t max_bytes) {
     e.normal.assign(4 * n, 0.0f);
     if (!quaternion) e.tangent.resize(4 * n);
     auto ch = [&](size_t k, const char* name) { return data[k * nc + index[name]]; };
+    auto finite = [&](size_t k, const char* name) {
+        const float c = ch(k, name);
+        if (!std::isfinite(c))
+            throw Error(file + ": channel " + name + " is not finite at pixel (" +
+                        std::to_string(k % e.width) + ", " + std::to_string(k / e.width) + ")");
+        return c;
+    };
     const char* const derivative[] = {"dudx", "dvdx", "dudy", "dvdy"};
     const bool derivatives = std::all_of(std::begin(derivative), std::end(derivative),
                                          [&](const char* d) { return index.count(d) != 0; });
@@ -233,20 +240,9 @@ EngineScene read_engine_form(GBufferFile& g, size_t max_bytes) {
         }
         if (derivatives)
             for (int a = 0; a < 4; ++a) e.uv_derivatives[4 * k + a] = ch(k, derivative[a]);
-        for (int a = 0; a < (curvature_channels ? 3 : 0); ++a) {
-            const float c = ch(k, curvature[a]);
-            if (!std::isfinite(c))
-                throw Error(file + ": channel " + curvature[a] + " is not finite at pixel (" +
-                            std::to_string(k % e.width) + ", " + std::to_string(k / e.width) + ")");
-            e.curvature[3 * k + a] = c;
-        }
-        if (stretch) {
-            const float a = ch(k, "stretch");
-            if (!std::isfinite(a))
-                throw Error(file + ": channel stretch is not finite at pixel (" +
-                            std::to_string(k % e.width) + ", " + std::to_string(k / e.width) + ")");
-            e.uv_stretch[k] = a;
-        }
+        for (int a = 0; a < (curvature_channels ? 3 : 0); ++a)
+            e.curvature[3 * k + a] = finite(k, curvature[a]);
+        if (stretch) e.uv_stretch[k] = finite(k, "stretch");
     }
     return e;
 }

@@ -208,7 +208,7 @@ void derive_tangents(Mesh& mesh) {
         // of 1, under 0.002 texel on a 10-texel offset) it is none, and the plane's trace runs.
         const double lu = glm::length(su[k] - nn * glm::dot(nn, su[k]));
         const double lv = glm::length(sv[k] - nn * glm::dot(nn, sv[k]));
-        const double stretch = 0.25 * std::log2(lu * lu / (lv * lv));
+        const double stretch = 0.5 * std::log2(lu / lv);
         v.uv_log_stretch = std::isfinite(stretch) && std::fabs(stretch) > 0x1p-12
                                ? float(std::clamp(stretch, -8.0, 8.0))
                                : 0.0f;
