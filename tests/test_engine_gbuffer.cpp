@@ -528,6 +528,25 @@ TEST(EngineGBuffer, EngineFormFileErrorsNameTheAttribute) {
                          "attribute offsetmap:light must start with directional or point"));
 }
 
+// An engine file's curvature reaches the pass: the reconstructed G-buffer carries it per pixel as
+// it is, the stretch beside it (1 where the file has none).
+TEST(EngineGBuffer, CurvatureReachesTheReconstructedGBuffer) {
+    EngineScene e = make_engine_scene(small_plane(), DepthConvention::GL);
+    for (size_t k = 0; k < e.pixels(); ++k)
+        e.curvature.insert(e.curvature.end(), {0.5f * k, -1.0f, 2.0f});
+    const std::string path = ::testing::TempDir() + "/engine_curvature_pass.exr";
+    for (bool stretch : {false, true}) {
+        if (stretch) e.uv_stretch.assign(e.pixels(), 1.25f);
+        save_engine_gbuffer(path, e);
+        const GBuffer gb = load_gbuffer(path, kDefaultReadLimitBytes, runtime());
+        ASSERT_EQ(gb.curvature.size(), e.pixels());
+        for (size_t k = 0; k < e.pixels(); ++k) {
+            for (int a = 0; a < 3; ++a) EXPECT_EQ(gb.curvature[k].s[a], e.curvature[3 * k + a]);
+            EXPECT_EQ(gb.curvature[k].s[3], stretch ? 1.25f : 1.0f);
+        }
+    }
+}
+
 // The curvature channels: all three or none, and finite; each error names the file.
 TEST(EngineGBuffer, CurvatureChannelsAreAllOrNoneAndFinite) {
     EngineScene e = make_engine_scene(small_plane(), DepthConvention::ZeroToOne);

@@ -13,6 +13,8 @@ TEST(GBufferFile, RoundTripKeepsEveryChannelBitForBit) {
     GBuffer gb = make_scene(RandomScene{17, 9, 4, 3.0, 80.0});
     gb.light.assign(gb.pixels(), {{0.1f, -0.2f, 0.97f, 0.0f}});
     gb.lod.assign(gb.pixels(), 2.5f);
+    for (size_t k = 0; k < gb.pixels(); ++k)
+        gb.curvature.push_back({{0.5f * k, -0.25f, 3.0f, 1.0f + 0.125f * (k % 5)}});
     gb.uv[3] = {{std::numeric_limits<float>::quiet_NaN(), std::numeric_limits<float>::quiet_NaN()}};
     gb.view[5] = {{0.0f, 0.0f, -1.0f, 0.0f}};
     auto path = (std::filesystem::temp_directory_path() / "om_gbuffer_rt.exr").string();
@@ -29,13 +31,21 @@ TEST(GBufferFile, RoundTripKeepsEveryChannelBitForBit) {
             EXPECT_TRUE(same_bits(back.light[k].s[a], gb.light[k].s[a])) << k;
         }
         EXPECT_EQ(back.lod[k], 2.5f);
+        for (int a = 0; a < 4; ++a)
+            EXPECT_TRUE(same_bits(back.curvature[k].s[a], gb.curvature[k].s[a])) << k;
     }
+    // A curvature value that is not finite is an error naming the channel and the pixel.
+    gb.curvature[20].s[2] = std::numeric_limits<float>::infinity();
+    save_gbuffer(path, gb);
+    EXPECT_TRUE(contains(error_of([&] { load_gbuffer(path); }),
+                         "om_gbuffer_rt.exr': channel kvv is not finite at pixel (3, 1)"));
     // Without the optional channels the file has just u v Vx Vy Vz.
     GBuffer plain = make_scene(RandomScene{4, 4, 1, 5.0, 90.0});
     save_gbuffer(path, plain);
     GBuffer plain_back = load_gbuffer(path);
     EXPECT_FALSE(plain_back.has_light());
     EXPECT_FALSE(plain_back.has_lod());
+    EXPECT_FALSE(plain_back.has_curvature());
     auto in = OIIO::ImageInput::open(path);
     ASSERT_TRUE(in);
     auto names = in->spec().channelnames;  // OpenEXR stores channels sorted by name
@@ -49,8 +59,8 @@ TEST(GBufferFile, ChannelsAreFoundByNameInAnyOrder) {
     auto path = (std::filesystem::temp_directory_path() / "om_gbuffer_order.exr").string();
     OIIO::ImageSpec spec(2, 1, 6, OIIO::TypeDesc::FLOAT);
     spec.channelnames = {"Vz", "extra", "v", "Vx", "u", "Vy"};
-    std::vector<float> px = {0.8f, 9.0f, 0.25f, 0.6f, 0.75f, 0.0f,
-                             1.0f, 9.0f, 0.5f, 0.0f, 0.125f, 0.0f};
+    std::vector<float> px = {0.8f, 9.0f, 0.25f, 0.6f, 0.75f,  0.0f,
+                             1.0f, 9.0f, 0.5f,  0.0f, 0.125f, 0.0f};
     auto out = OIIO::ImageOutput::create(path);
     ASSERT_TRUE(out->open(path, spec));
     ASSERT_TRUE(out->write_image(OIIO::TypeDesc::FLOAT, px.data()));
@@ -70,7 +80,7 @@ TEST(Scenes, PlaneCameraSeesThePlane) {
     p.height = 48;
     p.pitch_deg = 10.0;  // the horizon is in view: the top rows miss the plane
     GBuffer gb = make_scene(p);
-    EXPECT_TRUE(std::isnan(gb.uv[0].s[0]));                   // sky
+    EXPECT_TRUE(std::isnan(gb.uv[0].s[0]));  // sky
     size_t bottom = gb.pixels() - 1;
     ASSERT_TRUE(std::isfinite(gb.uv[bottom].s[0]));
     for (size_t k = 0; k < gb.pixels(); ++k) {
@@ -96,7 +106,8 @@ TEST(Scenes, SweepAndRandomCoverTheirRanges) {
     GBuffer a = make_scene(RandomScene{32, 32, 9, 20.0, 40.0});
     GBuffer b = make_scene(RandomScene{32, 32, 9, 20.0, 40.0});
     for (size_t k = 0; k < a.pixels(); ++k) {
-        EXPECT_EQ(std::memcmp(&a.view[k], &b.view[k], sizeof(cl_float4)), 0);  // same seed, same buffer
+        EXPECT_EQ(std::memcmp(&a.view[k], &b.view[k], sizeof(cl_float4)),
+                  0);  // same seed, same buffer
         double e = std::asin(a.view[k].s[2]) * 180 / M_PI;
         EXPECT_GE(e, 20.0 - 1e-4);
         EXPECT_LE(e, 40.0 + 1e-4);

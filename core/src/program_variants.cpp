@@ -37,6 +37,23 @@ void add_offset_variants(std::vector<ProgramVariant>& out) {
                                    (outputs ? "-outputs" : ""),
                                files, offset_program_defines(m, v, true)});
             }
+        // Over a curved base (OM_CURVED), with every output: a GPU's path (one lane, images) and
+        // PoCL's (16 lanes, buffers), per pixel and in the material frame's tiles.
+        for (int lanes : {1, 16}) {
+            OffsetVariant v;
+            v.lanes = lanes;
+            v.images = lanes == 1;
+            v.curved = true;
+            v.depth = v.fetches = v.flags = true;
+            const std::string at = "/lanes" + std::to_string(lanes);
+            out.push_back(
+                {"offset/" + m.name + at + (v.images ? "-images" : "") + "-curved-outputs",
+                 offset_program_files(m), offset_program_defines(m, v)});
+            std::vector<std::string> files = offset_program_files(m);
+            files.push_back("frame/tiles.cl");
+            out.push_back({"tiles/" + m.name + at + "-curved-outputs", files,
+                           offset_program_defines(m, v, true)});
+        }
     }
 }
 
@@ -86,8 +103,8 @@ std::vector<ProgramVariant> program_variants() {
     out.push_back({"frame/classify", classify_program_files(), ""});
     out.push_back({"frame/depth_offset", {"frame/depth_offset.cl"}, ""});
     for (int lanes : {1, 8, 16})
-        out.push_back({"shade/lanes" + std::to_string(lanes), shade_program_files(),
-                       lanes_define(lanes)});
+        out.push_back(
+            {"shade/lanes" + std::to_string(lanes), shade_program_files(), lanes_define(lanes)});
     for (int lanes : {1, 8, 16})
         out.push_back({"bench/roofline/lanes" + std::to_string(lanes),
                        sampling_program_files("bench/roofline.cl"), lanes_define(lanes)});

@@ -125,6 +125,43 @@ std::vector<float> material_ids(const std::string& file, const GBuffer& gb,
     return ids;
 }
 
+// The optional curvature channels of either form: kuu kuv kvv (all or none) and stretch beside
+// them; every value finite.
+struct CurvatureChannels {
+    bool curvature = false, stretch = false;
+
+    CurvatureChannels(const GBufferFile& g) {
+        const int count =
+            static_cast<int>(g.index.count("kuu") + g.index.count("kuv") + g.index.count("kvv"));
+        if (count != 0 && count != 3)
+            throw Error(g.file + ": the curvature needs all three channels kuu kuv kvv, or none");
+        curvature = count == 3;
+        stretch = g.index.count("stretch") != 0;
+        if (stretch && !curvature)
+            throw Error(g.file + ": channel stretch needs the curvature's kuu kuv kvv beside it");
+        // Integer channels would be scaled to [0,1] on read.
+        for (const char* n : {"kuu", "kuv", "kvv", "stretch"}) {
+            if (!g.index.count(n)) continue;
+            const OIIO::TypeDesc t = g.in->spec().channelformat(g.index.at(n));
+            if (t.basetype != OIIO::TypeDesc::HALF && t.basetype != OIIO::TypeDesc::FLOAT)
+                throw Error(g.file + " stores channel '" + n + "' as " + t.c_str() +
+                            "; G-buffer channels must be half or float");
+        }
+    }
+    // Pixel k's (kuu, kuv, kvv, stretch: 1 without the channel) from `ch(k, name)`.
+    template <class Channel>
+    cl_float4 at(const GBufferFile& g, int width, size_t k, const Channel& ch) const {
+        auto finite = [&](const char* name) {
+            const float c = ch(k, name);
+            if (!std::isfinite(c))
+                throw Error(g.file + ": channel " + name + " is not finite at pixel (" +
+                            std::to_string(k % width) + ", " + std::to_string(k / width) + ")");
+            return c;
+        };
+        return {{finite("kuu"), finite("kuv"), finite("kvv"), stretch ? finite("stretch") : 1.0f}};
+    }
+};
+
 EngineScene read_engine_form(GBufferFile& g, size_t max_bytes) {
     const std::string what = "G-buffer";
     const std::string& path = g.path;
@@ -205,27 +242,13 @@ EngineScene read_engine_form(GBufferFile& g, size_t max_bytes) {
     e.normal.assign(4 * n, 0.0f);
     if (!quaternion) e.tangent.resize(4 * n);
     auto ch = [&](size_t k, const char* name) { return data[k * nc + index[name]]; };
-    auto finite = [&](size_t k, const char* name) {
-        const float c = ch(k, name);
-        if (!std::isfinite(c))
-            throw Error(file + ": channel " + name + " is not finite at pixel (" +
-                        std::to_string(k % e.width) + ", " + std::to_string(k / e.width) + ")");
-        return c;
-    };
     const char* const derivative[] = {"dudx", "dvdx", "dudy", "dvdy"};
     const bool derivatives = std::all_of(std::begin(derivative), std::end(derivative),
                                          [&](const char* d) { return index.count(d) != 0; });
     if (derivatives) e.uv_derivatives.resize(4 * n);
-    const char* const curvature[] = {"kuu", "kuv", "kvv"};
-    const int curvature_channels = static_cast<int>(std::count_if(
-        std::begin(curvature), std::end(curvature), [&](const char* c) { return index.count(c); }));
-    if (curvature_channels != 0 && curvature_channels != 3)
-        throw Error(file + ": the curvature needs all three channels kuu kuv kvv, or none");
-    if (curvature_channels) e.curvature.resize(3 * n);
-    const bool stretch = index.count("stretch") != 0;
-    if (stretch && !curvature_channels)
-        throw Error(file + ": channel stretch needs the curvature's kuu kuv kvv beside it");
-    if (stretch) e.uv_stretch.resize(n);
+    const CurvatureChannels curved(g);
+    if (curved.curvature) e.curvature.resize(3 * n);
+    if (curved.stretch) e.uv_stretch.resize(n);
     for (size_t k = 0; k < n; ++k) {
         e.depth[k] = ch(k, "depth");
         e.uv[2 * k] = ch(k, "u");
@@ -240,9 +263,11 @@ EngineScene read_engine_form(GBufferFile& g, size_t max_bytes) {
         }
         if (derivatives)
             for (int a = 0; a < 4; ++a) e.uv_derivatives[4 * k + a] = ch(k, derivative[a]);
-        for (int a = 0; a < (curvature_channels ? 3 : 0); ++a)
-            e.curvature[3 * k + a] = finite(k, curvature[a]);
-        if (stretch) e.uv_stretch[k] = finite(k, "stretch");
+        if (curved.curvature) {
+            const cl_float4 c = curved.at(g, e.width, k, ch);
+            std::copy_n(c.s, 3, &e.curvature[3 * k]);
+            if (curved.stretch) e.uv_stretch[k] = c.s[3];
+        }
     }
     return e;
 }
@@ -281,11 +306,11 @@ GBuffer load_gbuffer(const std::string& path, size_t max_bytes, std::shared_ptr<
     for (const char* n : {"u", "v", "Vx", "Vy", "Vz"})
         if (!index.count(n)) missing += std::string(missing.empty() ? "" : " ") + n;
     if (!missing.empty())
-        throw Error(
-            file + " lacks channel(s) " + missing +
-            " (needs u v Vx Vy Vz, optionally Lx Ly Lz lod material, or the engine form: depth u v "
-            "Nx Ny Nz Tx Ty Tz Tw; it has: " +
-            present + ")");
+        throw Error(file + " lacks channel(s) " + missing +
+                    " (needs u v Vx Vy Vz, optionally Lx Ly Lz lod material kuu kuv kvv "
+                    "stretch, or the engine form: depth u v "
+                    "Nx Ny Nz Tx Ty Tz Tw; it has: " +
+                    present + ")");
     int nl = static_cast<int>(index.count("Lx") + index.count("Ly") + index.count("Lz"));
     if (nl != 0 && nl != 3)
         throw Error(file + " has only some of Lx Ly Lz (it has: " + present + ")");
@@ -298,14 +323,16 @@ GBuffer load_gbuffer(const std::string& path, size_t max_bytes, std::shared_ptr<
                         "; G-buffer channels must be half or float");
     }
     check_gbuffer_size(spec.width, spec.height, file);
-    // What is read (every channel as float) and what is kept (uv, view, light, lod).
+    // What is read (every channel as float) and what is kept (uv, view, light, curvature, lod).
     check_decode_size(spec, path, what,
-                      spec.nchannels * sizeof(float) + sizeof(cl_float2) + 2 * sizeof(cl_float4) +
+                      spec.nchannels * sizeof(float) + sizeof(cl_float2) + 3 * sizeof(cl_float4) +
                           2 * sizeof(float),
                       max_bytes);
     std::vector<float> data = read_float_pixels(*in, path, what, 0, spec.nchannels);
     GBuffer gb;
     gb.resize(spec.width, spec.height, nl == 3, index.count("lod") != 0);
+    const CurvatureChannels curved(g);
+    if (curved.curvature) gb.curvature.resize(gb.pixels());
     const int nc = spec.nchannels;
     auto ch = [&](size_t k, const char* name) { return data[k * nc + index[name]]; };
     for (size_t k = 0; k < gb.pixels(); ++k) {
@@ -313,6 +340,7 @@ GBuffer load_gbuffer(const std::string& path, size_t max_bytes, std::shared_ptr<
         gb.view[k] = {{ch(k, "Vx"), ch(k, "Vy"), ch(k, "Vz"), 0.0f}};
         if (gb.has_light()) gb.light[k] = {{ch(k, "Lx"), ch(k, "Ly"), ch(k, "Lz"), 0.0f}};
         if (gb.has_lod()) gb.lod[k] = ch(k, "lod");
+        if (curved.curvature) gb.curvature[k] = curved.at(g, gb.width, k, ch);
     }
     if (index.count("material"))
         gb.material = material_ids(file, gb, [&](size_t k) { return ch(k, "material"); });
@@ -324,6 +352,7 @@ void save_gbuffer(const std::string& path, const GBuffer& gb) {
     if (gb.has_light()) names.insert(names.end(), {"Lx", "Ly", "Lz"});
     if (gb.has_lod()) names.push_back("lod");
     if (gb.has_material()) names.push_back("material");
+    if (gb.has_curvature()) names.insert(names.end(), {"kuu", "kuv", "kvv", "stretch"});
     const int nc = static_cast<int>(names.size());
     std::vector<float> data(gb.pixels() * nc);
     for (size_t k = 0; k < gb.pixels(); ++k) {
@@ -336,6 +365,8 @@ void save_gbuffer(const std::string& path, const GBuffer& gb) {
             for (int a = 0; a < 3; ++a) px[c++] = gb.light[k].s[a];
         if (gb.has_lod()) px[c++] = gb.lod[k];
         if (gb.has_material()) px[c++] = gb.material[k];
+        if (gb.has_curvature())
+            for (int a = 0; a < 4; ++a) px[c++] = gb.curvature[k].s[a];
     }
     write_float_exr(path, "G-buffer", gb.width, gb.height, names, data);
 }

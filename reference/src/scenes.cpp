@@ -225,6 +225,16 @@ GBuffer reconstruct(std::shared_ptr<Runtime> runtime, const EngineScene& e) {
     rt.queue().enqueueReadBuffer(out.view, CL_TRUE, 0, n * sizeof(cl_float4), gb.view.data());
     if (lit)
         rt.queue().enqueueReadBuffer(out.light, CL_TRUE, 0, n * sizeof(cl_float4), gb.light.data());
+    // The curvature is per pixel in the frame the reconstruction keeps: carried over as it is.
+    if (!e.curvature.empty()) {
+        if (e.curvature.size() != 3 * n || (!e.uv_stretch.empty() && e.uv_stretch.size() != n))
+            throw Error("the engine scene's curvature planes do not match its size " +
+                        std::to_string(e.width) + "x" + std::to_string(e.height));
+        gb.curvature.resize(n);
+        for (size_t k = 0; k < n; ++k)
+            gb.curvature[k] = {{e.curvature[3 * k], e.curvature[3 * k + 1], e.curvature[3 * k + 2],
+                                e.uv_stretch.empty() ? 1.0f : e.uv_stretch[k]}};
+    }
     return gb;
 }
 

@@ -112,5 +112,23 @@ run_case shade-soft-lanes16 16 render --method relief "${frame[@]}" --shadows so
 [ -n "$tests" ] && bin=$tests run_case depth-offset 1 \
     --gtest_filter=DepthOffset.KernelMovesEachPointAlongItsEyeRay
 run_case engine-form-lanes16 16 render --gbuffer "$work/e.exr" --height-map "$map" --method pom
+# Over a curved base (the G-buffer's curvature channels, a sphere of a quarter tile's radius with a
+# stretched uv and a saddle): the cell walks, a march and the material frame's tiles, at 1 and 16
+# lanes, on buffers and images, in both G-buffer forms.
+run_case gbuffer-curved 1 gbuffer --width 19 --height 13 --curvature 4 0 4 1.3 -o "$work/c.exr"
+run_case gbuffer-curved-engine 1 gbuffer --engine-form gl --width 19 --height 13 \
+    --curvature 2 1 -3 -o "$work/ce.exr"
+run_case gbuffer-curved-ids 1 gbuffer --width 19 --height 13 --material-ids 0 1 3 \
+    --curvature 4 0 4 -o "$work/cids.exr"
+run_case curved-exact 1 render --gbuffer "$work/c.exr" --height-map "$map" --method exact
+OFFSETMAP_IMAGES=1 run_case curved-cone-images 1 render --gbuffer "$work/c.exr" \
+    --height-map "$map" --method cone
+run_case curved-pom-lanes16 16 render --gbuffer "$work/c.exr" --height-map "$map" --method pom
+run_case curved-maxmip-engine-lanes16 16 render --gbuffer "$work/ce.exr" --height-map "$map" \
+    --method maxmip
+run_case curved-materials 1 render --materials "$work/materials.json" --gbuffer "$work/cids.exr" \
+    --color-out "$work/cm.png"
+run_case curved-materials-lanes16 16 render --materials "$work/materials.json" \
+    --gbuffer "$work/cids.exr"
 echo "$((runs - fails)) passed, $fails failed"
 [ "$fails" -eq 0 ]

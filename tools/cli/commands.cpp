@@ -1,4 +1,5 @@
 // The CLI's subcommands, each a struct: its options, added to its own CLI::App, and its run.
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <iostream>
@@ -179,7 +180,8 @@ struct GbufferCli : Command {
     SceneOptions scene;
     std::string out;
     std::vector<int> ids;
-    std::string depth;  // the engine form's depth convention ("": the explicit form)
+    std::string depth;             // the engine form's depth convention ("": the explicit form)
+    std::vector<float> curvature;  // kuu kuv kvv [stretch] at every pixel, or none
 
     void add_to(CLI::App& parent) override {
         app = parent.add_subcommand("gbuffer", "write a G-buffer EXR from a scene source");
@@ -193,12 +195,23 @@ struct GbufferCli : Command {
                         "write the plane scene in the engine form (depth, camera, frame, uv) with "
                         "this depth convention; render reconstructs V from it")
             ->check(CLI::IsMember({"gl", "zero-one", "reversed"}));
+        // A uniformly curved base (a sphere, cylinder or saddle of the relief's own size) without
+        // a mesh: the curved trace on a synthetic G-buffer.
+        app->add_option("--curvature", curvature,
+                        "write curvature channels: kuu kuv kvv in uv units, and optionally the "
+                        "uv's stretch, the same at every pixel")
+            ->expected(3, 4);
     }
     int run() override {
         scene.check();
+        for (float c : curvature)
+            if (!std::isfinite(c)) throw UsageError("--curvature takes finite numbers");
         if (depth.empty()) {
             GBuffer gb = scene.make();
             if (!ids.empty()) lay_out_materials(gb, ids);
+            if (!curvature.empty())
+                gb.curvature.assign(gb.pixels(), {{curvature[0], curvature[1], curvature[2],
+                                                   curvature.size() > 3 ? curvature[3] : 1.0f}});
             save_gbuffer(out, gb);
             return 0;
         }
@@ -217,6 +230,11 @@ struct GbufferCli : Command {
             for (size_t k = 0; k < at.pixels(); ++k) at.uv[k] = {{e.uv[2 * k], e.uv[2 * k + 1]}};
             lay_out_materials(at, ids);
             e.material = at.material;
+        }
+        if (!curvature.empty()) {
+            for (size_t k = 0; k < e.pixels(); ++k)
+                e.curvature.insert(e.curvature.end(), curvature.begin(), curvature.begin() + 3);
+            if (curvature.size() > 3) e.uv_stretch.assign(e.pixels(), curvature[3]);
         }
         save_engine_gbuffer(out, e);
         return 0;
