@@ -1,6 +1,7 @@
 // The material frame: tiles classified by material, one dispatch per method, each pixel with the
 // bits its material's pass alone gives it; shading per material; bad tables and ids refused.
 #include <cstring>
+#include <set>
 #include <thread>
 
 #include "support.hpp"
@@ -296,6 +297,119 @@ TEST(MaterialFrame, RefusesBadTablesAndUnknownIds) {
     EXPECT_TRUE(frame.dispatches().empty()) << "nothing is traced";
     g.material = cl::Buffer();
     EXPECT_TRUE(contains(error_of([&] { frame.enqueue(g, t); }), "no material buffer"));
+}
+
+// A G-buffer on the device in buffers the frame may write (a layer behind overwrites the first
+// layer's planes where it shows), and read-write targets.
+DeviceGBuffer writable(Runtime& rt, const GBuffer& gb) {
+    DeviceGBuffer d = upload(rt, gb);
+    auto copy = [&](cl::Buffer& b) {
+        if (!b()) return;
+        const size_t bytes = b.getInfo<CL_MEM_SIZE>();
+        cl::Buffer w(rt.context(), CL_MEM_READ_WRITE, bytes);
+        rt.queue().enqueueCopyBuffer(b, w, 0, 0, bytes);
+        b = w;
+    };
+    for (cl::Buffer* b : {&d.uv, &d.view, &d.light, &d.lod, &d.material, &d.curvature}) copy(*b);
+    rt.queue().finish();
+    return d;
+}
+
+OffsetTargets read_write_targets(Runtime& rt, size_t n) {
+    OffsetTargets t;
+    t.uv = cl::Buffer(rt.context(), CL_MEM_READ_WRITE, n * sizeof(cl_float2));
+    t.depth = cl::Buffer(rt.context(), CL_MEM_READ_WRITE, n * sizeof(float));
+    t.fetches = cl::Buffer(rt.context(), CL_MEM_READ_WRITE, n * sizeof(cl_uint));
+    t.flags = cl::Buffer(rt.context(), CL_MEM_READ_WRITE, n * sizeof(cl_uint));
+    return t;
+}
+
+template <typename T>
+std::vector<T> read_plane(Runtime& rt, const cl::Buffer& b, size_t n) {
+    std::vector<T> v(n);
+    rt.queue().enqueueReadBuffer(b, CL_TRUE, 0, n * sizeof(T), v.data());
+    return v;
+}
+
+// A frame with a layer behind: the first layer's tile-masked material over a curved base (rays
+// that leave it, uv' off its tile), the second layer other rays and materials with id 0 and empty
+// pixels. A pixel the first layer shows is its frame alone's, bit for bit, its planes untouched;
+// one it does not show takes the second layer's frame alone's result (flags with BEHIND) and
+// planes where that shows a surface, and keeps its own result where that shows none.
+TEST(MaterialFrame, LayerBehindShowsWhatTheFirstLayerDoesNot) {
+    auto rt = runtime();
+    std::vector<TableRow> rows = table_rows();
+    rows[0].settings.out_of_tile_mask = true;
+    Table table = make_table(*rt, rows);
+    MaterialFrame frame(rt, table.materials);
+    GBuffer first = mixed_gbuffer(77, 45, {1, 5, 9}, 3), second = mixed_gbuffer(77, 45, {2, 7}, 11);
+    first.curvature.assign(first.pixels(), {{4.0f, 0.0f, 4.0f, 1.0f}});
+    const size_t n = first.pixels();
+    const OffsetResult alone1 = run_material_frame(*rt, frame, upload(*rt, first));
+    size_t first_entries = 0;
+    for (const MaterialFrame::Dispatch& d : frame.dispatches()) first_entries += d.entries;
+    const OffsetResult alone2 = run_material_frame(*rt, frame, upload(*rt, second));
+    const DeviceGBuffer g = writable(*rt, first), behind = upload(*rt, second);
+    const OffsetTargets t = read_write_targets(*rt, n), t2 = read_write_targets(*rt, n);
+    frame.enqueue(g, t, LayerBehind{behind, t2}).wait();
+    // The second layer's classification lists only the tiles of the pixels it traces: one entry
+    // per tile and material among them (id 0 needs none).
+    std::set<std::pair<size_t, float> > wanted;
+    for (size_t k = 0; k < n; ++k)
+        if ((alone1.flags[k] & OM_FLAGS_SEE_BEHIND) && second.material[k] != 0.0f)
+            wanted.insert({k % first.width / OM_TILE_W +
+                               k / first.width / kDefaultTileRows * 1000,
+                           second.material[k]});
+    size_t entries = 0;
+    for (const MaterialFrame::Dispatch& d : frame.dispatches()) entries += d.entries;
+    EXPECT_EQ(entries - first_entries, wanted.size());
+    OffsetResult r;
+    r.uv = read_plane<cl_float2>(*rt, t.uv, n);
+    r.depth = read_plane<float>(*rt, t.depth, n);
+    r.fetches = read_plane<std::uint32_t>(*rt, t.fetches, n);
+    r.flags = read_plane<std::uint32_t>(*rt, t.flags, n);
+    const auto uv = read_plane<cl_float2>(*rt, g.uv, n);
+    const auto view = read_plane<cl_float4>(*rt, g.view, n);
+    const auto ids = read_plane<float>(*rt, g.material, n);
+    size_t shown = 0, taken = 0, neither = 0;
+    for (size_t k = 0; k < n; ++k) {
+        SCOPED_TRACE("pixel " + std::to_string(k));
+        const bool see_behind = alone1.flags[k] & OM_FLAGS_SEE_BEHIND;
+        const bool take = see_behind && !(alone2.flags[k] & OM_FLAGS_NOT_SHOWN);
+        const OffsetResult& want = take ? alone2 : alone1;
+        const GBuffer& planes = take ? second : first;
+        shown += !see_behind;
+        taken += take;
+        neither += see_behind && !take;
+        ASSERT_TRUE(same_bits(r.uv[k], want.uv[k]));
+        ASSERT_TRUE(same_bits(r.depth[k], want.depth[k]));
+        ASSERT_EQ(r.fetches[k], want.fetches[k]);
+        ASSERT_EQ(r.flags[k], want.flags[k] | (take ? OM_FLAG_BEHIND : 0u));
+        ASSERT_TRUE(same_bits(uv[k], planes.uv[k]));
+        ASSERT_TRUE(same_bits(view[k], planes.view[k]));
+        ASSERT_EQ(ids[k], planes.material[k]);
+    }
+    std::printf(
+        "layer behind: %zu pixels shown by the first layer, %zu by the second, %zu by "
+        "neither\n",
+        shown, taken, neither);
+    EXPECT_GT(taken, n / 20);
+    EXPECT_GT(neither, 0u);
+    EXPECT_GT(shown, n / 4);
+    // The layers' sizes must match, and the first layer's flags are what picks its pixels.
+    GBuffer small = second;
+    small.resize(40, 20, true, false);
+    small.material.assign(small.pixels(), 2.0f);
+    EXPECT_TRUE(contains(error_of([&] {
+                             frame.enqueue(g, t, LayerBehind{upload(*rt, small), t2});
+                         }),
+                         "the layer behind is 40x20; the G-buffer is 77x45"));
+    OffsetTargets no_flags = t;
+    no_flags.flags = cl::Buffer();
+    EXPECT_TRUE(contains(error_of([&] {
+                             frame.enqueue(g, no_flags, LayerBehind{behind, t2});
+                         }),
+                         "needs the offset pass's flags output"));
 }
 
 // One frame of the material frame and its shade on `queue`, into `t` and `rgba` (reused), read

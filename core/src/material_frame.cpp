@@ -183,6 +183,10 @@ MaterialFrame::MaterialFrame(std::shared_ptr<Runtime> runtime, std::vector<Frame
                     describe_cl_error(e.err()));
     }
     classify_ = rt.kernel(rt.program(classify_program_files()), "om_classify");
+    const cl::Program behind = rt.program(behind_program_files());
+    behind_mask_ = rt.kernel(behind, "om_behind_mask");
+    behind_choose_ = rt.kernel(behind, "om_behind_choose");
+    behind_take_ = rt.kernel(behind, "om_behind_take");
     shade_lanes_ = rt.lanes();
     shade_ = shade_kernel(rt, "om_shade_materials");
     // Compile the usual variant now, so a method's build errors surface here.
@@ -276,6 +280,7 @@ cl::Kernel& MaterialFrame::tile_kernel(Method& m, OffsetVariant v) {
 double MaterialFrame::kernel_ms() const {
     double ms = event_ms(classify_event_);
     for (const Dispatch& d : dispatches_) ms += event_ms(d.event);
+    for (const cl::Event& e : behind_events_) ms += event_ms(e);
     return ms;
 }
 
@@ -296,6 +301,7 @@ cl::Event MaterialFrame::enqueue(const DeviceGBuffer& g, const OffsetTargets& t,
     const cl::Context& context = rt.context();
     const cl::CommandQueue& queue = checked_queue(g, queue_given);
     check_targets(context, t, g.pixels());
+    behind_events_.clear();
 
     OmTileParams T{};
     T.width = g.width;
@@ -397,6 +403,104 @@ cl::Event MaterialFrame::enqueue(const DeviceGBuffer& g, const OffsetTargets& t,
     } catch (const cl::Error& e) {
         throw Error("cannot run the material frame: " + describe_cl_error(e.err()));
     }
+}
+
+cl::Event MaterialFrame::enqueue(const DeviceGBuffer& g, const OffsetTargets& t,
+                                 const LayerBehind& behind, const std::vector<cl::Event>& wait,
+                                 const cl::CommandQueue& queue_given) {
+    const cl::Context& context = runtime_->context();
+    const cl::CommandQueue& queue = checked_queue(g, queue_given);
+    const DeviceGBuffer& b = behind.gbuffer;
+    const size_t n = g.pixels();
+    if (b.width != g.width || b.height != g.height)
+        throw Error("the layer behind is " + std::to_string(b.width) + "x" +
+                    std::to_string(b.height) + "; the G-buffer is " + std::to_string(g.width) +
+                    "x" + std::to_string(g.height));
+    if (!t.flags()) throw Error("a frame with a layer behind needs the offset pass's flags output");
+    checked_queue(b, queue);
+    check_targets(context, behind.targets, n);
+    if (!behind.targets.depth() || !behind.targets.fetches() || !behind.targets.flags())
+        throw Error("the layer behind's targets need every output (uv, depth, fetches, flags)");
+    // Read back here as well as written: none may be write-only.
+    check_buffer(context, t.flags, {"the offset pass's flags output", "uint", sizeof(cl_uint), n});
+    check_buffer(context, behind.targets.uv,
+                 {"the layer behind's uv output", "float2", sizeof(cl_float2), n});
+    check_buffer(context, behind.targets.depth,
+                 {"the layer behind's depth output", "float", sizeof(float), n});
+    check_buffer(context, behind.targets.fetches,
+                 {"the layer behind's fetches output", "uint", sizeof(cl_uint), n});
+    check_buffer(context, behind.targets.flags,
+                 {"the layer behind's flags output", "uint", sizeof(cl_uint), n});
+    if (static_cast<bool>(g.light()) != static_cast<bool>(b.light()) ||
+        static_cast<bool>(g.lod()) != static_cast<bool>(b.lod()))
+        throw Error("the layer behind must carry the same planes (light, lod) as the G-buffer");
+    const cl::Event first = enqueue(g, t, wait, queue);
+    const std::vector<Dispatch> first_dispatches = dispatches_;
+    const cl::Event first_classify = classify_event_;
+    try {
+        if (!behind_ids_() || behind_ids_.getInfo<CL_MEM_SIZE>() != n * sizeof(float))
+            behind_ids_ = device_buffer(context, CL_MEM_READ_WRITE, n * sizeof(float),
+                                        "the layer behind's masked ids");
+        const cl_int count = static_cast<cl_int>(n);
+        cl::Event masked, chosen;
+        set_args(behind_mask_, count, t.flags, b.material, behind_ids_);
+        const std::vector<cl::Event> after_first{first};
+        queue.enqueueNDRangeKernel(behind_mask_, cl::NullRange, padded(n), cl::NDRange(kLocalSize),
+                                   &after_first, &masked);
+        DeviceGBuffer kept = b;
+        kept.material = behind_ids_;
+        const cl::Event second = enqueue(kept, behind.targets, {masked}, queue);
+        set_args(behind_choose_, count, t.flags, behind.targets.flags);
+        const std::vector<cl::Event> after_second{second};
+        queue.enqueueNDRangeKernel(behind_choose_, cl::NullRange, padded(n),
+                                   cl::NDRange(kLocalSize), &after_second, &chosen);
+        std::vector<cl::Event> done;
+        auto take = [&](const cl::Buffer& from, const cl::Buffer& to, int words) {
+            if (from() && to())
+                done.push_back(take_behind(t.flags, from, to, n, words, {chosen}, queue));
+        };
+        take(behind.targets.uv, t.uv, 2);
+        take(behind.targets.depth, t.depth, 1);
+        take(behind.targets.fetches, t.fetches, 1);
+        take(b.uv, g.uv, 2);
+        take(b.view, g.view, 4);
+        take(b.light, g.light, 4);
+        take(b.lod, g.lod, 1);
+        take(b.material, g.material, 1);
+        take(b.curvature, g.curvature, 4);
+        std::vector<Dispatch> both = first_dispatches;
+        both.insert(both.end(), dispatches_.begin(), dispatches_.end());
+        dispatches_ = both;
+        behind_events_ = {first_classify, masked,
+                          chosen};  // the second classify is classify_event_
+        cl::Event all;
+        queue.enqueueMarkerWithWaitList(&done, &all);
+        return all;
+    } catch (const cl::Error& e) {
+        throw Error("cannot run the material frame's layer behind: " + describe_cl_error(e.err()));
+    }
+}
+
+cl::Event MaterialFrame::take_behind(const cl::Buffer& flags, const cl::Buffer& from,
+                                     const cl::Buffer& to, size_t pixels, int words,
+                                     const std::vector<cl::Event>& wait,
+                                     const cl::CommandQueue& queue_given) {
+    const cl::CommandQueue& queue = pass_queue(*runtime_, queue_given);
+    const cl::Context& context = runtime_->context();
+    const size_t bytes = static_cast<size_t>(words) * 4;
+    check_buffer(context, flags, {"the frame's flags", "uint", sizeof(cl_uint), pixels});
+    check_buffer(context, from, {"the layer behind's plane", "word", bytes, pixels});
+    check_buffer(context, to, {"the G-buffer's plane", "word", bytes, pixels, true, false});
+    set_args(behind_take_, static_cast<cl_int>(pixels), static_cast<cl_int>(words), flags, from,
+             to);
+    cl::Event done;
+    try {
+        queue.enqueueNDRangeKernel(behind_take_, cl::NullRange, padded(pixels),
+                                   cl::NDRange(kLocalSize), &wait, &done);
+    } catch (const cl::Error& e) {
+        throw Error("cannot copy a plane of the layer behind: " + describe_cl_error(e.err()));
+    }
+    return done;
 }
 
 cl::Event MaterialFrame::shade(const cl::Buffer& uv, const cl::Buffer& flags,

@@ -101,6 +101,7 @@ std::vector<ProgramVariant> program_variants() {
         out.push_back({file.substr(0, file.rfind('.')), prep_program_files(*spec), ""});
     }
     out.push_back({"frame/classify", classify_program_files(), ""});
+    out.push_back({"frame/behind", behind_program_files(), ""});
     out.push_back({"frame/depth_offset", {"frame/depth_offset.cl"}, ""});
     for (int lanes : {1, 8, 16})
         out.push_back(

@@ -339,6 +339,8 @@ std::vector<std::string> shade_program_files() {
 
 std::vector<std::string> classify_program_files() { return {"frame/slots.h", "frame/classify.cl"}; }
 
+std::vector<std::string> behind_program_files() { return {"frame/behind.cl"}; }
+
 int lane_groups(const MethodInfo& m, int lanes) { return lanes > 1 && m.lane_pairs ? 2 : 1; }
 
 std::vector<std::string> offset_program_files(const MethodInfo& m) {

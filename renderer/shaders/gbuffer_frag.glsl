@@ -27,13 +27,22 @@ layout(location = 6) out vec4 o_curvature;
 layout(early_fragment_tests) in;
 layout(binding = 0, offset = 0) uniform atomic_uint om_shaded;
 #endif
+#ifdef OM_PEEL
+// The second layer (depth peeling): at each pixel the nearest surface behind the first layer's,
+// whose depth this is (the same vertex stage, invariant, gives its own fragment the same depth).
+uniform sampler2D u_front_depth;
+#endif
 #ifdef OM_FORWARD
 #include "relief.glsl"
 uniform vec3 u_eye;
+uniform int u_curved;  // trace over the curved base (the curvature target's values)
 layout(location = 5) out vec4 o_offset;  // uv', t, fetches
 #endif
 
 void main() {
+#ifdef OM_PEEL
+    if (gl_FragCoord.z <= texelFetch(u_front_depth, ivec2(gl_FragCoord.xy), 0).r) discard;
+#endif
 #ifdef OM_COUNT
     atomicCounterIncrement(om_shaded);
 #endif
@@ -53,10 +62,13 @@ void main() {
     vec3 b = handedness * cross(n, t);
     vec3 view = normalize(u_eye - v_position);
     vec3 tv = vec3(dot(view, t), dot(view, b), dot(view, n));
-    o_offset = u_material == 0.0 ? vec4(v_uv, 0.0, 0.0) : om_offset(v_uv, tv);
-    // The forward renderer's silhouette: the fragment is dropped and whatever lies behind it
-    // stays (drawn before or after), which a one-layer G-buffer cannot show. After a depth
-    // pre-pass nothing behind is drawn, so the pixel is left empty, as the deferred frame's is.
-    if (u_material != 0.0 && om_out_of_tile(o_offset.xy)) discard;
+    vec4 k = u_curved != 0 ? o_curvature : vec4(0.0, 0.0, 0.0, 1.0);
+    o_offset = u_material == 0.0 ? vec4(v_uv, 0.0, 0.0) : om_offset(v_uv, tv, k);
+    // The forward renderer's silhouette (the tile mask's, or a ray that left the curved base):
+    // the fragment is dropped and whatever lies behind it stays (drawn before or after), which
+    // a one-layer G-buffer cannot show (the deferred frame's second layer does). After a depth
+    // pre-pass nothing behind is drawn, so the pixel is left empty, as the one-layer deferred
+    // frame's is.
+    if (u_material != 0.0 && (om_out_of_tile(o_offset.xy) || om_silhouette)) discard;
 #endif
 }

@@ -95,6 +95,17 @@ struct FrameRenderer::Impl {
     cl::Buffer depth, normal, tangent, uv, ids, density, curvature;
     DeviceGBuffer dg;  // its curvature bound only while set_curvature is on
     OffsetTargets targets;
+    // The second layer (set_layers(2)): its raster, planes, G-buffer and targets, made at first
+    // use.
+    Scene scene;
+    int layers = 1;
+    struct Behind {
+        std::unique_ptr<Raster> raster;
+        cl::Buffer depth, normal, tangent, uv, ids, density, curvature;
+        DeviceGBuffer dg;
+        OffsetTargets targets;
+    };
+    std::unique_ptr<Behind> behind;
     cl::Buffer rgba, depth_after;
     std::unique_ptr<DepthOffsetPass> depth_offset;
     OmDepthOffsetParams depth_params{};
@@ -117,6 +128,7 @@ FrameRenderer::FrameRenderer(std::shared_ptr<Runtime> runtime, const Scene& scen
     m.light = scene.light;
     m.view = make_view(scene.camera, width, height);
     m.raster = std::make_unique<Raster>(scene, width, height);
+    m.scene = scene;
     for (size_t s = 0; s < table.size(); ++s)
         m.forward.push_back(
             forward_material(table[s].spec.id, table[s].map, table[s].spec.settings, methods[s]));
@@ -125,14 +137,17 @@ FrameRenderer::FrameRenderer(std::shared_ptr<Runtime> runtime, const Scene& scen
     auto buffer = [&](size_t bytes, cl_mem_flags flags) {
         return cl::Buffer(rt.context(), flags, bytes);
     };
+    // Read-write: with a layer behind, its pixels take that layer's depth, ids, uv density and
+    // curvature in place.
     const cl_mem_flags in = CL_MEM_READ_ONLY | CL_MEM_ALLOC_HOST_PTR;
-    m.depth = buffer(n * sizeof(float), in);
+    const cl_mem_flags taken = CL_MEM_READ_WRITE | CL_MEM_ALLOC_HOST_PTR;
+    m.depth = buffer(n * sizeof(float), taken);
     m.normal = buffer(4 * n * sizeof(float), in);
     m.tangent = buffer(4 * n * sizeof(float), in);
     m.uv = buffer(2 * n * sizeof(float), in);
-    m.ids = buffer(n * sizeof(float), in);
-    m.density = buffer(n * sizeof(float), in);
-    m.curvature = buffer(4 * n * sizeof(float), in);
+    m.ids = buffer(n * sizeof(float), taken);
+    m.density = buffer(n * sizeof(float), taken);
+    m.curvature = buffer(4 * n * sizeof(float), taken);
     m.dg = allocate_gbuffer(rt, width, height, scene.light.kind != LightKind::None, false);
     m.dg.material = m.ids;
     m.targets.uv = buffer(n * sizeof(cl_float2), CL_MEM_READ_WRITE);
@@ -172,6 +187,37 @@ void FrameRenderer::set_curvature(bool on) {
     impl_->dg.curvature = on ? impl_->curvature : cl::Buffer();
 }
 
+void FrameRenderer::set_layers(int layers) {
+    if (layers != 1 && layers != 2)
+        throw Error("a frame has 1 or 2 G-buffer layers, not " + std::to_string(layers));
+    Impl& m = *impl_;
+    m.layers = layers;
+    if (layers == 1 || m.behind) return;
+    m.gl->make_current();
+    auto b = std::make_unique<Impl::Behind>();
+    b->raster = std::make_unique<Raster>(m.scene, m.width, m.height);
+    Runtime& rt = *m.rt;
+    const size_t n = static_cast<size_t>(m.width) * m.height;
+    auto buffer = [&](size_t floats, cl_mem_flags flags) {
+        return cl::Buffer(rt.context(), flags, floats * sizeof(float));
+    };
+    const cl_mem_flags in = CL_MEM_READ_ONLY | CL_MEM_ALLOC_HOST_PTR;
+    b->depth = buffer(n, in);
+    b->normal = buffer(4 * n, in);
+    b->tangent = buffer(4 * n, in);
+    b->uv = buffer(2 * n, in);
+    b->ids = buffer(n, in);
+    b->density = buffer(n, in);
+    b->curvature = buffer(4 * n, in);
+    b->dg = allocate_gbuffer(rt, m.width, m.height, m.light.kind != LightKind::None, false);
+    b->dg.material = b->ids;
+    b->targets.uv = buffer(2 * n, CL_MEM_READ_WRITE);
+    b->targets.depth = buffer(n, CL_MEM_READ_WRITE);
+    b->targets.fetches = buffer(n, CL_MEM_READ_WRITE);
+    b->targets.flags = buffer(n, CL_MEM_READ_WRITE);
+    m.behind = std::move(b);
+}
+
 std::string FrameRenderer::gl_renderer() const {
     impl_->gl->make_current();  // another renderer's context may be current, or none
     return impl_->gl->renderer();
@@ -205,7 +251,10 @@ FrameRun FrameRenderer::render(FrameMode mode, bool prepass, int repeats) {
     FrameRun run;
     run.mode = mode;
     run.prepass = prepass;
-    run.curved = m.dg.curvature() != nullptr && !forward;
+    run.curved = m.dg.curvature() != nullptr;
+    run.layers = forward ? 1 : m.layers;
+    Impl::Behind* behind = run.layers == 2 ? m.behind.get() : nullptr;
+    if (behind) behind->dg.curvature = run.curved ? behind->curvature : cl::Buffer();
     RasterPlanes planes;
     std::vector<float> ids(n), t_gl(n);
     std::vector<cl_float2> forward_uv;
@@ -216,33 +265,42 @@ FrameRun FrameRenderer::render(FrameMode mode, bool prepass, int repeats) {
         PassTimes t;
         const auto start = Clock::now();
         auto t0 = start;
-        m.raster->draw(m.view, forward ? &m.forward : nullptr, prepass, false, run.curved);
+        m.raster->draw(m.view, forward ? &m.forward : nullptr, prepass, false,
+                       run.curved && !forward, run.curved);
+        if (behind) behind->raster->draw_behind(m.view, *m.raster, run.curved);
         t.gbuffer = ms_since(t0);
 
         t0 = Clock::now();
-        {
-            // The planes straight into the mapped buffers: GL's read is the one copy.
+        // The planes straight into the mapped buffers: GL's read is the one copy.
+        auto move_planes = [&](const Raster& raster, const cl::Buffer& depth,
+                               const cl::Buffer& normal, const cl::Buffer& tangent,
+                               const cl::Buffer& uv, const cl::Buffer& ids,
+                               const cl::Buffer& density, const cl::Buffer& curvature) {
             auto map = [&](const cl::Buffer& b, size_t floats) {
                 return static_cast<float*>(q.enqueueMapBuffer(
                     b, CL_TRUE, CL_MAP_WRITE_INVALIDATE_REGION, 0, floats * sizeof(float)));
             };
             PlanePointers p;
-            p.depth = map(m.depth, n);
-            p.normal = map(m.normal, 4 * n);
-            p.tangent = map(m.tangent, 4 * n);
-            p.uv = map(m.uv, 2 * n);
-            p.material = map(m.ids, n);
-            p.density = map(m.density, n);
-            if (run.curved) p.curvature = map(m.curvature, 4 * n);
-            m.raster->read_into(p);
-            if (run.curved) q.enqueueUnmapMemObject(m.curvature, p.curvature);
-            q.enqueueUnmapMemObject(m.depth, p.depth);
-            q.enqueueUnmapMemObject(m.normal, p.normal);
-            q.enqueueUnmapMemObject(m.tangent, p.tangent);
-            q.enqueueUnmapMemObject(m.uv, p.uv);
-            q.enqueueUnmapMemObject(m.ids, p.material);
-            q.enqueueUnmapMemObject(m.density, p.density);
-        }
+            p.depth = map(depth, n);
+            p.normal = map(normal, 4 * n);
+            p.tangent = map(tangent, 4 * n);
+            p.uv = map(uv, 2 * n);
+            p.material = map(ids, n);
+            p.density = map(density, n);
+            if (run.curved && !forward) p.curvature = map(curvature, 4 * n);
+            raster.read_into(p);
+            if (p.curvature) q.enqueueUnmapMemObject(curvature, p.curvature);
+            q.enqueueUnmapMemObject(depth, p.depth);
+            q.enqueueUnmapMemObject(normal, p.normal);
+            q.enqueueUnmapMemObject(tangent, p.tangent);
+            q.enqueueUnmapMemObject(uv, p.uv);
+            q.enqueueUnmapMemObject(ids, p.material);
+            q.enqueueUnmapMemObject(density, p.density);
+        };
+        move_planes(*m.raster, m.depth, m.normal, m.tangent, m.uv, m.ids, m.density, m.curvature);
+        if (behind)
+            move_planes(*behind->raster, behind->depth, behind->normal, behind->tangent, behind->uv,
+                        behind->ids, behind->density, behind->curvature);
         if (forward) {
             forward_uv.resize(n);
             forward_fetches.resize(n);
@@ -270,12 +328,26 @@ FrameRun FrameRenderer::render(FrameMode mode, bool prepass, int repeats) {
         g.uv.buffer = m.uv;
         g.light = m.light;
         m.reconstruct->enqueue(g, m.dg);
+        if (behind) {
+            g.depth.buffer = behind->depth;
+            g.normal.buffer = behind->normal;
+            g.tangent.buffer = behind->tangent;
+            g.uv.buffer = behind->uv;
+            m.reconstruct->enqueue(g, behind->dg);
+        }
         q.finish();
         t.reconstruct = ms_since(t0);
 
         if (!forward) {
             t0 = Clock::now();
-            m.frame->enqueue(m.dg, m.targets);
+            if (behind) {
+                m.frame->enqueue(m.dg, m.targets, LayerBehind{behind->dg, behind->targets});
+                // The depth offset's planes: the window depth and uv density of the surface shown.
+                m.frame->take_behind(m.targets.flags, behind->depth, m.depth, n, 1);
+                m.frame->take_behind(m.targets.flags, behind->density, m.density, n, 1);
+            } else {
+                m.frame->enqueue(m.dg, m.targets);
+            }
             q.finish();
             t.offset = ms_since(t0);
             kernel.push_back(m.frame->kernel_ms());
@@ -314,9 +386,12 @@ FrameRun FrameRenderer::render(FrameMode mode, bool prepass, int repeats) {
 
     // The last frame's outputs, rows top first: read again outside the timed frames, after the
     // same draw with the uv derivatives and the curvature kept (the G-buffer file's).
-    m.raster->draw(m.view, forward ? &m.forward : nullptr, prepass, true, true);
+    m.raster->draw(m.view, forward ? &m.forward : nullptr, prepass, true, true, run.curved);
     planes = m.raster->read(false);
     for (size_t k = 0; k < n; ++k) ids[k] = planes.material[2 * k];
+    run.material = ids;
+    if (behind) q.enqueueReadBuffer(m.ids, CL_TRUE, 0, n * sizeof(float), run.material.data());
+    run.material = flip_rows(run.material, w, h, 1);
     run.color.resize(n);
     q.enqueueReadBuffer(m.rgba, CL_TRUE, 0, n * sizeof(cl_float4), run.color.data());
     if (!forward) q.enqueueReadBuffer(m.targets.depth, CL_TRUE, 0, n * sizeof(float), t_gl.data());
@@ -340,10 +415,14 @@ FrameRun FrameRenderer::render(FrameMode mode, bool prepass, int repeats) {
         q.enqueueReadBuffer(m.targets.flags, CL_TRUE, 0, n * sizeof(cl_uint), out.flags.data());
     }
     flip_result(out);
+    for (std::uint32_t f : out.flags) {
+        run.behind_pixels += (f & OM_FLAG_BEHIND) != 0;
+        run.missed_pixels += behind && (f & OM_FLAGS_SEE_BEHIND);
+    }
     run.color = flip_rows(run.color, w, h, 1);
     run.depth_after = flip_rows(m.raster->depth_after(), w, h, 1);
     run.shaded_fragments =
-        m.raster->count_fragments(m.view, forward ? &m.forward : nullptr, prepass);
+        m.raster->count_fragments(m.view, forward ? &m.forward : nullptr, prepass, run.curved);
 
     engine_.width = w;
     engine_.height = h;
@@ -381,8 +460,9 @@ FrameRun FrameRenderer::render(FrameMode mode, bool prepass, int repeats) {
     run.offset_kernel_ms = median(kernel);
     // Depth, normal, tangent, uv, material id and uv density (forward: and the offset plane;
     // deferred with curvature: and the curvature); the colour and the depth after the offset.
-    run.to_device_bytes =
-        n * sizeof(float) * (1 + 4 + 4 + 2 + 1 + 1 + (forward || run.curved ? 4 : 0));
+    run.to_device_bytes = n * sizeof(float) *
+                          (1 + 4 + 4 + 2 + 1 + 1 + (forward || run.curved ? 4 : 0)) *
+                          (behind ? 2 : 1);
     run.to_gl_bytes = n * sizeof(float) * (4 + 1);
     run.shade_kernel_ms = median(shade_kernel);
     if (!forward) run.offset.kernel_ms = kernel;
@@ -396,7 +476,7 @@ FrameRun FrameRenderer::render(FrameMode mode, bool prepass, int repeats) {
     explicit_.uv = flip_rows(explicit_.uv, w, h, 1);
     explicit_.view = flip_rows(explicit_.view, w, h, 1);
     explicit_.light = flip_rows(explicit_.light, w, h, 1);
-    explicit_.material = engine_.material;
+    explicit_.material = run.material;
     return run;
 }
 

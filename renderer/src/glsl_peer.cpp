@@ -17,7 +17,7 @@ struct GlslPeer::Impl {
     PassSettings settings;
     ForwardMaterial material;
     Program program;
-    Texture uv, view, offset;
+    Texture uv, view, curvature, offset;
     Framebuffer fbo;
     VertexArray empty_vao;
 };
@@ -36,6 +36,11 @@ GlslPeer::GlslPeer(const GBuffer& gbuffer, const HeightMap& map, const PassSetti
     m.view = make_texture(GL_RGBA32F, m.width, m.height);
     glTextureSubImage2D(m.view.get(), 0, 0, 0, m.width, m.height, GL_RGBA, GL_FLOAT,
                         gbuffer.view.data());
+    if (gbuffer.has_curvature()) {
+        m.curvature = make_texture(GL_RGBA32F, m.width, m.height);
+        glTextureSubImage2D(m.curvature.get(), 0, 0, 0, m.width, m.height, GL_RGBA, GL_FLOAT,
+                            gbuffer.curvature.data());
+    }
     m.offset = make_texture(GL_RGBA32F, m.width, m.height);
     GLuint fbo = 0, vao = 0;
     glCreateFramebuffers(1, &fbo);
@@ -75,6 +80,11 @@ double GlslPeer::run() {
     glUniform1i(uniform(m.program, "u_uv"), 1);
     glBindTextureUnit(2, m.view.get());
     glUniform1i(uniform(m.program, "u_view"), 2);
+    glUniform1i(uniform(m.program, "u_curved"), m.curvature.get() != 0);
+    if (m.curvature.get()) {
+        glBindTextureUnit(3, m.curvature.get());
+        glUniform1i(uniform(m.program, "u_curvature"), 3);
+    }
     glBindVertexArray(m.empty_vao.get());
     glDrawArrays(GL_TRIANGLES, 0, 3);
     glFinish();
@@ -100,8 +110,10 @@ OffsetResult GlslPeer::result() const {
     for (size_t k = 0; k < n; ++k) {
         r.uv[k] = {{px[4 * k], px[4 * k + 1]}};
         r.depth[k] = px[4 * k + 2];
-        r.fetches[k] = static_cast<std::uint32_t>(px[4 * k + 3]);
-        r.flags[k] = std::isnan(px[4 * k]) ? OM_FLAG_EMPTY : 0u;
+        r.fetches[k] = static_cast<std::uint32_t>(std::abs(px[4 * k + 3]));
+        r.flags[k] = std::isnan(px[4 * k])  ? OM_FLAG_EMPTY
+                     : px[4 * k + 3] < 0.0f ? OM_FLAG_SILHOUETTE
+                                            : 0u;
     }
     return r;
 }

@@ -131,6 +131,9 @@ Raster::Raster(const Scene& scene, int width, int height) : width_(width), heigh
     forward_count_ = make_program("gbuffer_vert.glsl", "gbuffer_frag.glsl",
                                   methods + "#define OM_FORWARD 1\n#define OM_COUNT 1\n");
     depth_only_ = make_program("gbuffer_vert.glsl", "depth_only_frag.glsl");
+    deferred_peel_ =
+        make_program("gbuffer_vert.glsl", "gbuffer_frag.glsl", methods + "#define OM_PEEL 1\n");
+    glProgramUniform1i(deferred_peel_.get(), uniform(deferred_peel_, "u_front_depth"), 1);
 
     depth_ = make_texture(GL_DEPTH_COMPONENT32F, width, height);
     normal_ = make_texture(GL_RGBA32F, width, height);
@@ -168,7 +171,7 @@ Raster::Raster(const Scene& scene, int width, int height) : width_(width), heigh
 }
 
 void Raster::draw(const View& view, const std::vector<ForwardMaterial>* forward, bool prepass,
-                  bool derivatives, bool curvature) {
+                  bool derivatives, bool curvature, bool curved) {
     // The targets this draw keeps: the uv derivatives and the curvature only when asked (the
     // file keeps them), the offset plane only forward. A target set to GL_NONE is neither
     // cleared nor written.
@@ -178,16 +181,30 @@ void Raster::draw(const View& view, const std::vector<ForwardMaterial>* forward,
     if (!forward) targets[5] = GL_NONE;
     if (!curvature) targets[6] = GL_NONE;
     glNamedFramebufferDrawBuffers(fbo_.get(), kTargetCount, targets);
-    draw_with(view, forward, prepass, forward ? forward_ : deferred_);
+    draw_with(view, forward, prepass, forward ? forward_ : deferred_, curved);
+    glNamedFramebufferDrawBuffers(fbo_.get(), kTargetCount, kTargets);
+}
+
+void Raster::draw_behind(const View& view, const Raster& front, bool curvature) {
+    if (front.width_ != width_ || front.height_ != height_)
+        throw Error("the second layer's raster is not the size of the first's");
+    GLenum targets[kTargetCount];
+    std::copy(std::begin(kTargets), std::end(kTargets), targets);
+    targets[3] = targets[5] = GL_NONE;
+    if (!curvature) targets[6] = GL_NONE;
+    glNamedFramebufferDrawBuffers(fbo_.get(), kTargetCount, targets);
+    glBindTextureUnit(1, front.depth_.get());
+    draw_with(view, nullptr, false, deferred_peel_, false);
+    glBindTextureUnit(1, 0);
     glNamedFramebufferDrawBuffers(fbo_.get(), kTargetCount, kTargets);
 }
 
 std::int64_t Raster::count_fragments(const View& view, const std::vector<ForwardMaterial>* forward,
-                                     bool prepass) {
+                                     bool prepass, bool curved) {
     const GLuint zero = 0;
     glNamedBufferSubData(counter_.get(), 0, sizeof zero, &zero);
     glBindBufferBase(GL_ATOMIC_COUNTER_BUFFER, 0, counter_.get());
-    draw_with(view, forward, prepass, forward ? forward_count_ : deferred_count_);
+    draw_with(view, forward, prepass, forward ? forward_count_ : deferred_count_, curved);
     GLuint count = 0;
     glGetNamedBufferSubData(counter_.get(), 0, sizeof count, &count);
     check_gl("counting the G-buffer pass's fragments");
@@ -195,7 +212,7 @@ std::int64_t Raster::count_fragments(const View& view, const std::vector<Forward
 }
 
 void Raster::draw_with(const View& view, const std::vector<ForwardMaterial>* forward, bool prepass,
-                       const Program& program) {
+                       const Program& program, bool curved) {
     glViewport(0, 0, width_, height_);
     glBindFramebuffer(GL_DRAW_FRAMEBUFFER, fbo_.get());
     const float nan = std::numeric_limits<float>::quiet_NaN();
@@ -211,8 +228,10 @@ void Raster::draw_with(const View& view, const std::vector<ForwardMaterial>* for
         glUseProgram(p.get());
         glUniformMatrix4fv(uniform(p, "u_view_projection"), 1, GL_FALSE,
                            view.view_projection.data());
-        if (with_materials && forward)
+        if (with_materials && forward) {
             glUniform3f(uniform(p, "u_eye"), view.eye[0], view.eye[1], view.eye[2]);
+            glUniform1i(uniform(p, "u_curved"), curved ? 1 : 0);
+        }
         for (const DrawMesh& m : meshes_) {
             if (with_materials) {
                 glUniform1f(uniform(p, "u_material"), float(m.material));

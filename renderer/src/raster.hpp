@@ -76,14 +76,19 @@ class Raster {
     // the list is drawn without relief). With `prepass`, depth first and then the G-buffer at
     // GL_EQUAL. Blocks until GL is done.
     // The uv derivatives' target is filled only with `derivatives` (read_uv_derivatives), the
-    // curvature's only with `curvature` (read_curvature).
+    // curvature's only with `curvature` (read_curvature). With `curved` forward traces over the
+    // curved base and discards the rays that leave it, as the tile mask's.
     void draw(const View& view, const std::vector<ForwardMaterial>* forward, bool prepass,
-              bool derivatives = false, bool curvature = false);
+              bool derivatives = false, bool curvature = false, bool curved = false);
+    // The G-buffer's second layer (deferred): at each pixel the nearest surface behind `front`'s
+    // last draw (depth peeling against its depth target), into this raster's targets; `front`
+    // draws the same scene at the same size.
+    void draw_behind(const View& view, const Raster& front, bool curvature);
     // The same draw with the fragments that pass the depth test counted (an atomic counter in a
     // variant of the shader, so the timed draws carry no counter): the fragments the G-buffer
     // shader, and forward the method, runs on.
     std::int64_t count_fragments(const View& view, const std::vector<ForwardMaterial>* forward,
-                                 bool prepass);
+                                 bool prepass, bool curved = false);
     // The last draw's planes the passes read (forward's offset plane only after a forward draw).
     RasterPlanes read(bool forward) const;
     // The forward draw's offset plane: 4 per pixel (uv', t, fetches).
@@ -113,9 +118,10 @@ class Raster {
     };
     int width_, height_;
     std::vector<DrawMesh> meshes_;
+    // `curved`: forward traces over the curved base (relief.glsl's curvature).
     void draw_with(const View& view, const std::vector<ForwardMaterial>* forward, bool prepass,
-                   const Program& program);
-    Program deferred_, forward_, deferred_count_, forward_count_, depth_only_;
+                   const Program& program, bool curved);
+    Program deferred_, forward_, deferred_count_, forward_count_, depth_only_, deferred_peel_;
     Texture depth_, normal_, tangent_, uv_, derivatives_, material_, offset_, curvature_, color_,
         depth_after_;
     Framebuffer fbo_, depth_fbo_;

@@ -44,6 +44,13 @@ void FrameCommand::add_to(CLI::App& app) {
                  "plane to the offset pass, which bends each ray with the surface and leaves "
                  "the pixels whose ray leaves the relief to the background (final.png is this "
                  "frame's)");
+    app.add_option("--layers", layers,
+                   "2: also render the deferred frame with the G-buffer's second layer (depth "
+                   "peeling): the pixels the first layer's relief does not show (rays that leave "
+                   "the curved base, tile-mask discards) traced on the surface behind (final.png "
+                   "is this frame's)")
+        ->check(CLI::Range(1, 2))
+        ->capture_default_str();
     app.add_flag("--truth", truth,
                  "also draw the truth: each relief mesh tessellated and displaced for real, and "
                  "measure every frame against it (frame.json's truth, truth-*.png)");
@@ -82,7 +89,8 @@ using namespace offsetmap::renderer;
 // A run's name in frame.json: `deferred` (the tangent plane), `deferred-curved`, `forward`,
 // `forward-prepass` (the modes table spells the last `forward + pre-pass`).
 std::string run_name(const FrameRun& r) {
-    if (r.mode == FrameMode::Deferred) return r.curved ? "deferred-curved" : "deferred";
+    if (r.mode == FrameMode::Deferred)
+        return r.layers == 2 ? "deferred-two-layers" : r.curved ? "deferred-curved" : "deferred";
     return r.prepass ? "forward-prepass" : "forward";
 }
 
@@ -430,14 +438,27 @@ int run_frame(const FrameCommand& cmd) {
     const size_t covered = renderer.covered_pixels();
 
     std::vector<FrameRun> runs = {deferred};
-    std::vector<std::vector<float> > shown_ids = {engine.material};  // each run's G-buffer ids
+    std::vector<std::vector<float> > shown_ids = {engine.material};  // the ids each run shows
     if (cmd.curvature) {
         renderer.set_curvature(true);
         runs.push_back(renderer.render(FrameMode::Deferred, false, cmd.repeats));
         renderer.set_curvature(false);
-        shown_ids.push_back(renderer.gbuffer().material);
+        shown_ids.push_back(runs.back().material);
     }
-    // final.png's run: the curved frame with --curvature; the forward runs follow.
+    if (cmd.layers == 2) {
+        renderer.set_curvature(cmd.curvature);
+        renderer.set_layers(2);
+        runs.push_back(renderer.render(FrameMode::Deferred, false, cmd.repeats));
+        renderer.set_layers(1);
+        renderer.set_curvature(false);
+        shown_ids.push_back(runs.back().material);
+        std::printf(
+            "two layers: %zu pixels show the surface behind, %zu show neither (the "
+            "background)\n",
+            runs.back().behind_pixels, runs.back().missed_pixels);
+    }
+    // final.png's run: the two-layer frame with --layers 2, else the curved one with --curvature;
+    // the forward runs follow.
     const size_t shown_at = runs.size() - 1, forward_at = runs.size();
     if (cmd.forward) {
         for (bool prepass : {false, true}) {
@@ -490,10 +511,11 @@ int run_frame(const FrameCommand& cmd) {
     }
     std::printf("%4s %-10s %-10s %8s", "id", "material", "method", "pixels");
     for (const FrameRun& r : runs)
-        std::printf("  %s", r.mode == FrameMode::Deferred
-                                ? (r.curved ? "curved mean/p95" : "deferred mean/p95")
-                            : r.prepass ? "fwd+pre mean/p95"
-                                        : "forward mean/p95");
+        std::printf("  %s", r.mode == FrameMode::Deferred ? (r.layers == 2 ? "2 layers mean/p95"
+                                                             : r.curved    ? "curved mean/p95"
+                                                                           : "deferred mean/p95")
+                            : r.prepass                   ? "fwd+pre mean/p95"
+                                                          : "forward mean/p95");
     std::printf("  (texels vs exact)\n");
     for (size_t s = 0; s < table.size(); ++s) {
         std::printf("%4d %-10s %-10s %8zu", table[s].spec.id, table[s].spec.name.c_str(),
@@ -526,6 +548,11 @@ int run_frame(const FrameCommand& cmd) {
         tiles.push_back(
             {"deferred over the curved base (--curvature; rays that leave the relief "
              "show the background)",
+             to_srgb8(w, h, runs[1].color)});
+    if (cmd.layers == 2)
+        tiles.push_back(
+            {"deferred with the layer behind (--layers 2): what the rays that leave "
+             "show",
              to_srgb8(w, h, shown.color)});
     if (cmd.forward) {
         write_image(d + "final-forward.png", to_srgb8(w, h, runs[forward_at].color));

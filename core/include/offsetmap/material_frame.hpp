@@ -17,6 +17,14 @@
 
 namespace offsetmap {
 
+// A G-buffer's second layer: at each pixel the nearest surface behind the first (depth peeling),
+// every plane the frame reads (its material required; its curvature traces it curved), and the
+// targets to trace it into (every output required).
+struct LayerBehind {
+    DeviceGBuffer gbuffer;
+    OffsetTargets targets;
+};
+
 // One material of a frame's table. Id 0 is reserved for pixels without relief (uv' = uv).
 struct FrameMaterial {
     int id = 1;               // [1, kMaxMaterialId]
@@ -59,6 +67,24 @@ class MaterialFrame {
     cl::Event enqueue(const DeviceGBuffer& gbuffer, const OffsetTargets& targets,
                       const std::vector<cl::Event>& wait = {},
                       const cl::CommandQueue& queue = cl::CommandQueue());
+    // The same frame with a layer behind (`targets.flags` required). The pixels the first layer
+    // does not show for the relief's sake (OM_FLAGS_SEE_BEHIND: a ray that left a curved base, a
+    // tile mask's discard) are traced on the second layer with its material, method and
+    // curvature, and only they: the others' ids are masked to 0 in a buffer of the frame's, so
+    // the second classification lists just their tiles. Where the second layer shows a surface the
+    // pixel takes its result into `targets`, flagged OM_FLAG_BEHIND, and the second layer's uv,
+    // view, light and material into `gbuffer`'s buffers (overwritten in place), so shade() and an
+    // engine's depth offset see one layer (take_behind copies its other planes: window depth, uv
+    // density); where it shows none the pixel keeps its flag for the background. Without a layer
+    // behind (the overload above) such pixels stay flagged for the engine to fill.
+    cl::Event enqueue(const DeviceGBuffer& gbuffer, const OffsetTargets& targets,
+                      const LayerBehind& behind, const std::vector<cl::Event>& wait = {},
+                      const cl::CommandQueue& queue = cl::CommandQueue());
+    // After an enqueue with a layer behind: copies `words` 4-byte words a pixel from `from` (the
+    // second layer's plane) to `to` (the first's) where `flags` (its targets' flags) say BEHIND.
+    cl::Event take_behind(const cl::Buffer& flags, const cl::Buffer& from, const cl::Buffer& to,
+                          size_t pixels, int words, const std::vector<cl::Event>& wait = {},
+                          const cl::CommandQueue& queue = cl::CommandQueue());
 
     // Shades uv' (and the offset pass's flags, optional) with each pixel's material: its normals,
     // albedo and self-shadows; id 0 flat with the checker. One dispatch.
@@ -67,7 +93,8 @@ class MaterialFrame {
                     const std::vector<cl::Event>& wait = {},
                     const cl::CommandQueue& queue = cl::CommandQueue());
 
-    // The last enqueue's dispatches, one per method present on screen.
+    // The last enqueue's dispatches, one per method present on screen (with a layer behind, the
+    // first layer's and then the second's).
     struct Dispatch {
         const MethodInfo* method = nullptr;
         size_t entries = 0;     // (tile, material) entries it traced
@@ -129,7 +156,10 @@ class MaterialFrame {
     std::vector<Gathered> gathered_;  // per slot
     cl::Event last_shade_;            // the last shade dispatch (it reads the gathered buffers)
     cl::Kernel classify_, shade_;
-    int shade_lanes_ = 1;  // shade_'s lanes, the runtime's when it was built
+    cl::Kernel behind_mask_, behind_choose_, behind_take_;
+    cl::Buffer behind_ids_;                 // the second layer's ids, masked (behind_mask_)
+    std::vector<cl::Event> behind_events_;  // the last enqueue's mask and choice
+    int shade_lanes_ = 1;                   // shade_'s lanes, the runtime's when it was built
     // Per frame size: the classification's counts, lists and their bases.
     size_t tiles_ = 0;
     cl::Buffer counts_, entries_, list_base_;

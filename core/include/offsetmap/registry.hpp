@@ -115,6 +115,7 @@ std::vector<std::string> sampling_program_files(const std::string& file);
 std::vector<std::string> prep_program_files(const PrecomputeSpec& spec);
 std::vector<std::string> shade_program_files();
 std::vector<std::string> classify_program_files();
+std::vector<std::string> behind_program_files();  // the material frame's layer behind
 std::vector<std::string> offset_program_files(const MethodInfo& method);
 
 // Groups of lanes a work-item of `method` walks on a device with `lanes` lanes: 2 for a lane-pair

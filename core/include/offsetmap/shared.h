@@ -45,6 +45,10 @@ typedef std::uint32_t om_uint;
 // The flags under which the pixel shows nothing of its G-buffer surface: the shade pass gives it
 // the background, an engine fills it (or a second G-buffer layer does).
 #define OM_FLAGS_NOT_SHOWN (OM_FLAG_EMPTY | OM_FLAG_OUT_OF_TILE | OM_FLAG_SILHOUETTE)
+// Where the relief dropped its own surface (not where there is none), a second G-buffer layer
+// shows what lies behind; a pixel that took the second layer's surface and result is BEHIND.
+#define OM_FLAGS_SEE_BEHIND (OM_FLAG_OUT_OF_TILE | OM_FLAG_SILHOUETTE)
+#define OM_FLAG_BEHIND 512u
 
 // Enums, one definition each for host and device: the kernels and the shared structs use the OM_*
 // constants (as om_int), the host's enum classes take their values from them.

@@ -34,7 +34,11 @@ struct PassTimes {
 struct FrameRun {
     FrameMode mode = FrameMode::Deferred;
     bool prepass = false;
-    bool curved = false;  // deferred with the curvature plane (set_curvature)
+    bool curved = false;  // over the curved base (set_curvature), deferred or forward
+    int layers = 1;       // deferred: 2 with the layer behind (set_layers)
+    // Two layers: pixels that show the second layer's surface (OM_FLAG_BEHIND), and pixels the
+    // first layer does not show whose second shows nothing either (the background's).
+    size_t behind_pixels = 0, missed_pixels = 0;
     PassTimes ms;
     double offset_kernel_ms = 0;  // deferred: the material frame's kernel time (profiling)
     double shade_kernel_ms = 0;   // the shade kernel's time (profiling; 0 where not timed)
@@ -45,6 +49,8 @@ struct FrameRun {
     OffsetResult offset;             // uv', depth t, fetches, flags (forward: flags EMPTY or 0)
     std::vector<cl_float4> color;    // linear RGBA
     std::vector<float> depth_after;  // window depth after the offset (GL convention)
+    // The material id each pixel shows: the G-buffer's, the layer behind's where BEHIND.
+    std::vector<float> material;
 };
 
 // A scene drawn by the G-buffer raster alone (the truth's displaced meshes, a tessellation level),
@@ -80,8 +86,14 @@ class FrameRenderer {
     void set_shading(const ShadeSettings& shading);
     // Deferred frames rendered after this call with `on` carry the base's curvature (the raster's
     // seventh target, moved with the other planes) to the offset pass, which then traces the
-    // relief over the curved base and flags the rays that leave it SILHOUETTE (docs/design.md).
+    // relief over the curved base and flags the rays that leave it SILHOUETTE (docs/design.md);
+    // forward frames trace over it in the fragment shader and discard those rays' fragments.
     void set_curvature(bool on);
+    // Deferred frames rendered after this call with 2 also draw the G-buffer's second layer
+    // (depth peeling: each pixel's nearest surface behind the first, every plane the passes read)
+    // and trace it where the first shows nothing of its relief (MaterialFrame's LayerBehind); 1
+    // goes back to one layer. Throws Error for another count.
+    void set_layers(int layers);
 
     // After a render: the G-buffer as the engine wrote it (depth GL, rows top first, with ids and
     // uv derivatives), its reconstruction, and the depth before the offset.

@@ -16,7 +16,8 @@ namespace offsetmap::renderer {
 class GlslPeer {
   public:
     // Creates its GL context (throws Error naming what is missing) and uploads the G-buffer's uv
-    // and V and the map (level 0, linear, the settings' address mode).
+    // and V (and curvature: traced over the curved base) and the map (level 0, linear, the
+    // settings' address mode).
     GlslPeer(const GBuffer& gbuffer, const HeightMap& map, const PassSettings& settings);
     ~GlslPeer();
 
@@ -26,7 +27,8 @@ class GlslPeer {
     // One full-screen draw, finished: its wall-clock milliseconds.
     double run();
     // The last run's uv', t and fetch count (rows as the G-buffer's; flags 0 where traced, EMPTY
-    // where V was not usable, as the forward frame reports them).
+    // where V was not usable, as the forward frame reports them, SILHOUETTE where the ray left a
+    // curved base).
     OffsetResult result() const;
     std::string gl_renderer() const;
 
