@@ -1,9 +1,12 @@
 #!/usr/bin/python3
-"""check_truth.py FRAME_JSON: `offsetmap frame --truth --forward`'s truth section, by content.
+"""check_truth.py FRAME_JSON [MODES]: `offsetmap frame --truth --forward`'s truth section, by content.
 
-The keys the tools read, every frame mode measured, the tessellation rows from the coarsest lattice
-to the finest with their error falling toward the truth, the truth's bound finite and below the
-deferred frame's p95 error, and the per-pixel methods."""
+The keys the tools read, every frame mode measured (MODES, comma-separated: deferred and forward
+unless given), the tessellation rows from the coarsest lattice to the finest with their error
+falling toward the truth, the truth's bound finite and below the deferred frame's p95 error, and
+the per-pixel methods. With deferred-two-layers among the modes: its silhouette band mismatch at
+most the curved frame's, which is below the tangent plane's, and the forward frame's coverage
+(without a pre-pass it shows what the second layer shows) the two-layer frame's."""
 import json
 import math
 import sys
@@ -23,7 +26,8 @@ def main():
     if not (math.isfinite(t["bound_texels"]) and t["bound_texels"] >= 0):
         fail("bound_texels is %r" % t["bound_texels"])
     modes = {m["mode"]: m for m in t["modes"]}
-    for name in ("deferred", "forward"):
+    wanted = sys.argv[2].split(",") if len(sys.argv) > 2 else ["deferred", "forward"]
+    for name in wanted:
         m = modes.get(name) or fail("no mode '%s' in %s" % (name, sorted(modes)))
         if m["compared_pixels"] <= 0:
             fail("%s compared no pixels" % name)
@@ -54,6 +58,13 @@ def main():
     if t["bound_texels"] >= modes["deferred"]["uv_err_texels"]["p95"]:
         fail("the truth's bound %.3g is not below the deferred frame's p95 %.3g" % (
             t["bound_texels"], modes["deferred"]["uv_err_texels"]["p95"]))
+    if "deferred-two-layers" in wanted:
+        band = {m: modes[m]["coverage_mismatch"]["silhouette_band"]
+                for m in ("deferred", "deferred-curved", "deferred-two-layers", "forward")}
+        if not band["deferred-two-layers"] <= band["deferred-curved"] < band["deferred"]:
+            fail("silhouette band mismatch does not fall to the two layers: %s" % band)
+        if band["forward"] != band["deferred-two-layers"]:
+            fail("forward and the two-layer frame show other pixels: %s" % band)
     methods = [m["method"] for m in t["pixel_methods"]]
     if "exact" not in methods or "none" not in methods:
         fail("pixel methods %s" % methods)

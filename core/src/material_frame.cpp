@@ -434,6 +434,19 @@ cl::Event MaterialFrame::enqueue(const DeviceGBuffer& g, const OffsetTargets& t,
     if (static_cast<bool>(g.light()) != static_cast<bool>(b.light()) ||
         static_cast<bool>(g.lod()) != static_cast<bool>(b.lod()))
         throw Error("the layer behind must carry the same planes (light, lod) as the G-buffer");
+    // The first layer's planes its pixels that show the second take from it.
+    const struct {
+        const cl::Buffer& plane;
+        const char* name;
+        size_t bytes;
+    } taken[] = {{g.uv, "the G-buffer's uv", sizeof(cl_float2)},
+                 {g.view, "the G-buffer's view", sizeof(cl_float4)},
+                 {g.material, "the G-buffer's material", sizeof(float)},
+                 {g.light, "the G-buffer's light", sizeof(cl_float4)},
+                 {g.lod, "the G-buffer's lod", sizeof(float)},
+                 {g.curvature, "the G-buffer's curvature", sizeof(cl_float4)}};
+    for (const auto& p : taken)
+        check_buffer(context, p.plane, {p.name, "value", p.bytes, n, true, true});
     const cl::Event first = enqueue(g, t, wait, queue);
     const std::vector<Dispatch> first_dispatches = dispatches_;
     const cl::Event first_classify = classify_event_;
@@ -450,32 +463,36 @@ cl::Event MaterialFrame::enqueue(const DeviceGBuffer& g, const OffsetTargets& t,
         DeviceGBuffer kept = b;
         kept.material = behind_ids_;
         const cl::Event second = enqueue(kept, behind.targets, {masked}, queue);
-        set_args(behind_choose_, count, t.flags, behind.targets.flags);
+        // The planes the layers share (a null one where either lacks it).
+        auto both = [](const cl::Buffer& from, const cl::Buffer& to) {
+            return from() && to() ? std::make_pair(from, to)
+                                  : std::make_pair(cl::Buffer(), cl::Buffer());
+        };
+        const auto light = both(b.light, g.light), lod = both(b.lod, g.lod),
+                   curvature = both(b.curvature, g.curvature);
+        set_args(behind_choose_, count, t.flags, behind.targets.flags, behind.targets.uv,
+                 behind.targets.depth, behind.targets.fetches, t.uv);
+        set_optional(behind_choose_, 7, t.depth);
+        set_optional(behind_choose_, 8, t.fetches);
+        set_args_from(behind_choose_, 9, b.uv, b.view);
+        set_optional(behind_choose_, 11, light.first);
+        set_optional(behind_choose_, 12, lod.first);
+        behind_choose_.setArg(13, b.material);
+        set_optional(behind_choose_, 14, curvature.first);
+        set_args_from(behind_choose_, 15, g.uv, g.view);
+        set_optional(behind_choose_, 17, light.second);
+        set_optional(behind_choose_, 18, lod.second);
+        behind_choose_.setArg(19, g.material);
+        set_optional(behind_choose_, 20, curvature.second);
         const std::vector<cl::Event> after_second{second};
         queue.enqueueNDRangeKernel(behind_choose_, cl::NullRange, padded(n),
                                    cl::NDRange(kLocalSize), &after_second, &chosen);
-        std::vector<cl::Event> done;
-        auto take = [&](const cl::Buffer& from, const cl::Buffer& to, int words) {
-            if (from() && to())
-                done.push_back(take_behind(t.flags, from, to, n, words, {chosen}, queue));
-        };
-        take(behind.targets.uv, t.uv, 2);
-        take(behind.targets.depth, t.depth, 1);
-        take(behind.targets.fetches, t.fetches, 1);
-        take(b.uv, g.uv, 2);
-        take(b.view, g.view, 4);
-        take(b.light, g.light, 4);
-        take(b.lod, g.lod, 1);
-        take(b.material, g.material, 1);
-        take(b.curvature, g.curvature, 4);
-        std::vector<Dispatch> both = first_dispatches;
-        both.insert(both.end(), dispatches_.begin(), dispatches_.end());
-        dispatches_ = both;
-        behind_events_ = {first_classify, masked,
-                          chosen};  // the second classify is classify_event_
-        cl::Event all;
-        queue.enqueueMarkerWithWaitList(&done, &all);
-        return all;
+        std::vector<Dispatch> layers = first_dispatches;
+        layers.insert(layers.end(), dispatches_.begin(), dispatches_.end());
+        dispatches_ = layers;
+        // The second classification's event is classify_event_.
+        behind_events_ = {first_classify, masked, chosen};
+        return chosen;
     } catch (const cl::Error& e) {
         throw Error("cannot run the material frame's layer behind: " + describe_cl_error(e.err()));
     }

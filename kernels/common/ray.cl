@@ -242,9 +242,10 @@ typedef struct {
 // n + 1 samples at lambda_i = i / n from the top plane down, each lane with its own n, stopping at
 // the first sample at or below the relief (lambda_n = 1 is the bottom plane where every H >= 0, so
 // each lane stops by i = n; a curved lane that leaves through the top again stops there too, a
-// miss); the loop ends when every lane has.
-OM_INLINE OmSearchHit om_linear_search(const OmRay* r, const OmField* f, OmI n, OmI active,
-                                       OmI* fetches OM_IMG_PARAM) {
+// miss); the loop ends when every lane has. `curved` is a constant: the search is built twice, and
+// a block without a curved lane runs the plane's loop with none of the curve's work in it.
+OM_INLINE OmSearchHit om_linear_search_as(const OmRay* r, const OmField* f, OmI n, OmI active,
+                                          OmI* fetches OM_IMG_PARAM, const int curved) {
     OmSearchHit hit;
     hit.index = n;
     hit.h_prev = 1.0f;
@@ -267,7 +268,7 @@ OM_INLINE OmSearchHit om_linear_search(const OmRay* r, const OmField* f, OmI n, 
         OmF fi = (OmF)(float)i, lambda = fi * inv_n;
         OmF cx = fma(fi, dcx, cx0), cy = fma(fi, dcy, cy0), eta = 1.0f - lambda;
 #ifdef OM_CURVED
-        if (r->any_curved) {
+        if (curved) {
             OmF x, y, eta_c;
             om_ray_sample(r, lambda, &x, &y, &eta_c);
             cx = OM_SEL(cx, OM_CELL(x, f->fw), r->curved);
@@ -282,15 +283,25 @@ OM_INLINE OmSearchHit om_linear_search(const OmRay* r, const OmField* f, OmI n, 
         hit.h_prev = OM_SEL(hit.h_prev, h_prev, found);
         hit.h_cur = OM_SEL(hit.h_cur, h, found);
 #ifdef OM_CURVED
-        hit.miss |= found & !below & r->curved;
-        hit.eta_prev = OM_SEL(hit.eta_prev, eta_prev, found);
-        hit.eta_cur = OM_SEL(hit.eta_cur, eta, found);
-        eta_prev = eta;
+        if (curved) {
+            hit.miss |= found & !below & r->curved;
+            hit.eta_prev = OM_SEL(hit.eta_prev, eta_prev, found);
+            hit.eta_cur = OM_SEL(hit.eta_cur, eta, found);
+            eta_prev = eta;
+        }
 #endif
         searching &= !found;
         h_prev = h;
     }
     return hit;
+}
+
+OM_INLINE OmSearchHit om_linear_search(const OmRay* r, const OmField* f, OmI n, OmI active,
+                                       OmI* fetches OM_IMG_PARAM) {
+#ifdef OM_CURVED
+    if (r->any_curved) return om_linear_search_as(r, f, n, active, fetches OM_IMG_ARG, 1);
+#endif
+    return om_linear_search_as(r, f, n, active, fetches OM_IMG_ARG, 0);
 }
 
 // The ray's heights at the search's bracket [l0, l1] = [(index - 1) / n, index / n], as the

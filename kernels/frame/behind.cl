@@ -12,14 +12,36 @@ __kernel void om_behind_mask(const int n, __global const uint* flags, __global c
 }
 
 // The first layer's flags become the second's, with BEHIND, where the first does not show its
-// surface and the second does; elsewhere they stay (a pixel seen on neither keeps SILHOUETTE or
-// OUT_OF_TILE: the background's).
-__kernel void om_behind_choose(const int n, __global uint* flags,
-                               __global const uint* behind_flags) {
+// surface and the second does, and the pixel takes the second layer's result and planes (a null
+// plane: one the G-buffers do not carry); elsewhere nothing changes (a pixel seen on neither keeps
+// SILHOUETTE or OUT_OF_TILE: the background's). One pass for every plane: most pixels read a flag
+// and leave.
+__kernel void om_behind_choose(const int n, __global uint* flags, __global const uint* behind_flags,
+                               __global const float2* b_uv_out, __global const float* b_depth_out,
+                               __global const uint* b_fetches_out, __global float2* uv_out,
+                               __global float* depth_out, __global uint* fetches_out,
+                               __global const float2* b_uv, __global const float4* b_view,
+                               __global const float4* b_light, __global const float* b_lod,
+                               __global const float* b_material, __global const float4* b_curvature,
+                               __global float2* uv, __global float4* view, __global float4* light,
+                               __global float* lod, __global float* material,
+                               __global float4* curvature) {
     const int k = (int)get_global_id(0);
     if (k >= n) return;
-    const uint f = flags[k], b = behind_flags[k];
-    if ((f & OM_FLAGS_SEE_BEHIND) && !(b & OM_FLAGS_NOT_SHOWN)) flags[k] = b | OM_FLAG_BEHIND;
+    const uint f = flags[k];
+    if (!(f & OM_FLAGS_SEE_BEHIND)) return;
+    const uint b = behind_flags[k];
+    if (b & OM_FLAGS_NOT_SHOWN) return;
+    flags[k] = b | OM_FLAG_BEHIND;
+    uv_out[k] = b_uv_out[k];
+    if (depth_out) depth_out[k] = b_depth_out[k];
+    if (fetches_out) fetches_out[k] = b_fetches_out[k];
+    uv[k] = b_uv[k];
+    view[k] = b_view[k];
+    material[k] = b_material[k];
+    if (light) light[k] = b_light[k];
+    if (lod) lod[k] = b_lod[k];
+    if (curvature) curvature[k] = b_curvature[k];
 }
 
 __kernel void om_behind_take(const int n, const int words, __global const uint* flags,

@@ -2,8 +2,8 @@
 # Oclgrind over every kernel entry the CLI reaches, on a small odd-sized frame and map: wrap and
 # clamp, unorm16 words and float heights, images and buffers, LOD, every method, the material
 # frame (id 0 and a missing id beside two materials), the engine-form reconstruction, shading
-# with hard and soft shadows, and the rendered frame's pixel depth offset; one pixel a work-item
-# (a GPU's path) and 16 (PoCL's).
+# with hard and soft shadows, the rendered frame's pixel depth offset, the curved trace and the
+# material frame's layer behind; one pixel a work-item (a GPU's path) and 16 (PoCL's).
 # Oclgrind exits 0 whatever it finds, so its log is read: each report opens with a line at column
 # 0 (its details are indented), and any such line fails the case.
 # Plugins: --data-races --check-api, beside Oclgrind's own checks of every access against its
@@ -111,6 +111,9 @@ run_case shade-soft-lanes16 16 render --method relief "${frame[@]}" --shadows so
 # The rendered frame's pixel depth offset, through the suite's test of its kernel.
 [ -n "$tests" ] && bin=$tests run_case depth-offset 1 \
     --gtest_filter=DepthOffset.KernelMovesEachPointAlongItsEyeRay
+# The material frame's layer behind (its mask, choice and plane copies), through the suite's test.
+[ -n "$tests" ] && bin=$tests run_case layer-behind 1 \
+    --gtest_filter=MaterialFrame.LayerBehindShowsWhatTheFirstLayerDoesNot
 run_case engine-form-lanes16 16 render --gbuffer "$work/e.exr" --height-map "$map" --method pom
 # Over a curved base (the G-buffer's curvature channels, a sphere of a quarter tile's radius with a
 # stretched uv and a saddle): the cell walks, a march and the material frame's tiles, at 1 and 16

@@ -468,7 +468,8 @@ void print_header(const char* title) {
 
 }  // namespace
 
-// tools/bench/plot_bench.py on a bench JSON: the growth chart and, when it holds them, the GLSL peer's.
+// tools/bench/plot_bench.py on a bench JSON: the growth chart and, when it holds them, the GLSL
+// peer's.
 void draw_charts(const std::string& json_path, const std::string& out_dir) {
     const std::string cmd = "/usr/bin/python3 '" + std::string(OFFSETMAP_SCRIPT_DIR) +
                             "/plot_bench.py' '" + json_path + "' '" + out_dir + "'";
@@ -481,7 +482,7 @@ int main(int argc, char** argv) {
     CLI::App app{
         "offsetmap_bench: throughput of every offset method against the device's roofline"};
     bool quick = false, smoke = false, materials_only = false, peer_only = false,
-         frame_only = false, rebuild_only = false;
+         frame_only = false, rebuild_only = false, curved_only = false;
     std::string out_dir = "out/bench", device;
     double target_ms = 300;
     app.add_flag("--quick", quick, "720p only, smaller maps and grids (about a minute)");
@@ -506,6 +507,10 @@ int main(int argc, char** argv) {
     app.add_flag("--frame", frame_only,
                  "only the rendered room's deferred frame at the main resolution: each pass "
                  "against the offset pass, every shadow mode, in turns");
+    app.add_flag("--curved", curved_only,
+                 "only the curved scene's deferred frame at the main resolution: over the "
+                 "tangent plane, the curved base and with the layer behind, in turns; and the "
+                 "curvature plane's read on the offset pass");
     app.add_flag("--rebuild", rebuild_only,
                  "only a changing height field: its in-place update and each method's "
                  "precomputed data rebuilt, at 256^2, 1024^2 and 2048^2");
@@ -579,6 +584,13 @@ int main(int argc, char** argv) {
             b.out["frame"] = bench_frame(b.rt, main_res, data_dir, frame_rounds);
             std::ofstream(out_dir + "/bench-frame.json") << b.out.dump(2) << "\n";
             std::printf("\nwrote %s/bench-frame.json\n", out_dir.c_str());
+            return 0;
+        }
+        if (curved_only) {
+            b.out["curved"] =
+                bench_curved_frame(b.rt, main_res, data_dir, frame_rounds, b.target_ms);
+            std::ofstream(out_dir + "/bench-curved.json") << b.out.dump(2) << "\n";
+            std::printf("\nwrote %s/bench-curved.json\n", out_dir.c_str());
             return 0;
         }
         if (!ab.empty()) {

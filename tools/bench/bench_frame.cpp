@@ -7,6 +7,7 @@
 
 #ifdef OFFSETMAP_HAVE_RENDERER
 #include "offsetmap/renderer/frame.hpp"
+#include "offsetmap/renderer/gltf.hpp"
 #include "offsetmap/renderer/scene.hpp"
 #endif
 
@@ -17,6 +18,12 @@ namespace offsetmap::bench {
 nlohmann::json bench_frame(std::shared_ptr<Runtime>, const Resolution&, const std::string&, int,
                            const std::vector<std::string>&) {
     std::printf("\nframe: skipped (built without the renderer: EGL, OpenGL or TinyGLTF)\n");
+    return {{"skipped", "built without the renderer (EGL, OpenGL or TinyGLTF missing)"}};
+}
+
+nlohmann::json bench_curved_frame(std::shared_ptr<Runtime>, const Resolution&, const std::string&,
+                                  int, double) {
+    std::printf("\ncurved frame: skipped (built without the renderer)\n");
     return {{"skipped", "built without the renderer (EGL, OpenGL or TinyGLTF missing)"}};
 }
 
@@ -173,6 +180,109 @@ nlohmann::json bench_frame(std::shared_ptr<Runtime> rt, const Resolution& res,
                                                        {"total", ratio(9)}};
         }
     out["rows"] = rows;
+    return out;
+}
+
+nlohmann::json bench_curved_frame(std::shared_ptr<Runtime> rt, const Resolution& res,
+                                  const std::string& data_dir, int rounds, double target_ms) {
+    const std::string table_file = data_dir + "/curved.json";
+    const std::vector<MaterialSpec> specs = read_material_table(table_file);
+    const Scene scene = load_gltf_scene(data_dir + "/curved.gltf", specs, table_file);
+    const std::vector<LoadedMaterial> table = load_materials(specs);
+    std::vector<MethodParams> methods;
+    for (const LoadedMaterial& m : table)
+        methods.push_back(resolve_params(find_method(m.spec.method), m.spec.params));
+    FrameRenderer r(rt, scene, table, methods, res.w, res.h, ShadeSettings{});
+    struct Mode {
+        const char* name;
+        bool curved;
+        int layers;
+    };
+    const Mode modes[] = {{"plane", false, 1}, {"curved", true, 1}, {"two-layers", true, 2}};
+    // samples[mode][pass], one value per round.
+    std::vector<std::vector<std::vector<double> > > samples(std::size(modes),
+                                                            std::vector<std::vector<double> >(10));
+    for (int round = 0; round <= rounds; ++round)
+        for (size_t m = 0; m < std::size(modes); ++m) {
+            r.set_curvature(modes[m].curved);
+            r.set_layers(modes[m].layers);
+            const std::vector<double> v = pass_values(r.render(FrameMode::Deferred, false, 1));
+            if (round == 0) continue;  // the first round warms each mode up
+            for (size_t p = 0; p < v.size(); ++p) samples[m][p].push_back(v[p]);
+        }
+    nlohmann::json out;
+    out["resolution"] = {res.w, res.h};
+    out["rounds"] = rounds;
+    out["gl_renderer"] = r.gl_renderer();
+    std::printf(
+        "\nthe curved scene at %s (%dx%d; GL: %s), medians of %d frames a mode taken in "
+        "turns, ms\n  %-10s %8s %8s %8s %8s %8s %8s %8s\n",
+        res.name, res.w, res.h, out["gl_renderer"].get<std::string>().c_str(), rounds, "mode",
+        "G-buffer", "to CL", "reconstr", "offset", "off kern", "shade", "total");
+    nlohmann::json rows = nlohmann::json::array();
+    for (size_t m = 0; m < std::size(modes); ++m) {
+        nlohmann::json row = {{"mode", modes[m].name}};
+        std::vector<double> med;
+        for (size_t p = 0; p < 10; ++p) {
+            med.push_back(median_of(samples[m][p]));
+            row[std::string(kPasses[p]) + "_ms"] = med.back();
+        }
+        std::printf("  %-10s %8.2f %8.2f %8.2f %8.2f %8.2f %8.2f %8.2f\n", modes[m].name, med[0],
+                    med[1], med[2], med[3], med[4], med[5], med[9]);
+        rows.push_back(row);
+    }
+    // Ratios per round (the two frames of a round share the machine's load), then the median.
+    auto ratio = [&](size_t a, size_t b, size_t pass) {
+        std::vector<double> q;
+        for (size_t k = 0; k < samples[a][pass].size(); ++k)
+            q.push_back(samples[a][pass][k] / samples[b][pass][k]);
+        return median_of(q);
+    };
+    out["rows"] = rows;
+    out["ratios"] = {{"curved_over_plane_total", ratio(1, 0, 9)},
+                     {"curved_over_plane_offset", ratio(1, 0, 3)},
+                     {"two_layers_over_curved_total", ratio(2, 1, 9)},
+                     {"two_layers_over_plane_total", ratio(2, 0, 9)},
+                     {"two_layers_over_curved_gbuffer", ratio(2, 1, 0)},
+                     {"two_layers_over_curved_offset", ratio(2, 1, 3)}};
+    std::printf(
+        "  frame totals: curved / plane %.3f, two layers / curved %.3f, two layers / plane "
+        "%.3f (G-buffer pass %.3f, offset %.3f)\n",
+        out["ratios"]["curved_over_plane_total"].get<double>(),
+        out["ratios"]["two_layers_over_curved_total"].get<double>(),
+        out["ratios"]["two_layers_over_plane_total"].get<double>(),
+        out["ratios"]["two_layers_over_curved_gbuffer"].get<double>(),
+        out["ratios"]["two_layers_over_curved_offset"].get<double>());
+
+    // The curvature plane's read: a plane of zeros (every pixel traced as today) against none.
+    PassSettings s;
+    s.scale = 0.05f;
+    const DeviceHeightField field = upload(*rt, bench_map(1024), s);
+    GBuffer flat = camera_gbuffer(res);
+    const DeviceGBuffer none = upload(*rt, flat);
+    flat.curvature.assign(flat.pixels(), cl_float4{{0.0f, 0.0f, 0.0f, 1.0f}});
+    const DeviceGBuffer zeros = upload(*rt, flat);
+    OffsetTargets t;
+    t.uv = cl::Buffer(rt->context(), CL_MEM_WRITE_ONLY, flat.pixels() * sizeof(cl_float2));
+    nlohmann::json read = nlohmann::json::array();
+    std::printf(
+        "  the curvature plane's read (the camera plane, 1024^2, zeros bound against none):");
+    for (const char* method : {"pom", "relief", "exact"}) {
+        OffsetPass pass(rt, method);
+        const std::vector<Timing> ms =
+            time_interleaved({[&] { return pass.enqueue(none, field, s, t); },
+                              [&] { return pass.enqueue(zeros, field, s, t); }},
+                             target_ms);
+        read.push_back({{"method", method},
+                        {"none_ms", ms[0].median_ms},
+                        {"zero_plane_ms", ms[1].median_ms},
+                        {"ratio", ms[1].median_ms / ms[0].median_ms},
+                        {"rounds", ms[0].runs}});
+        std::printf(" %s %.3f / %.3f ms (x%.3f)", method, ms[1].median_ms, ms[0].median_ms,
+                    ms[1].median_ms / ms[0].median_ms);
+    }
+    std::printf("\n");
+    out["curvature_read"] = read;
     return out;
 }
 

@@ -19,4 +19,12 @@ nlohmann::json bench_frame(std::shared_ptr<Runtime> runtime, const Resolution& r
                            const std::string& data_dir, int rounds,
                            const std::vector<std::string>& kernel_dirs = {});
 
+// The curved scene (data_dir's curved.gltf and its table) at `res`: the deferred frame over the
+// tangent plane, over the curved base, and with the layer behind, `rounds` frames each in turns;
+// per pass the median and the ratios per round (curved over plane, two layers over curved and over
+// plane). Beside it the curvature plane's read alone: the offset pass (pom, the camera plane, a
+// 1024^2 map) with a plane of zeros bound against none, in turns.
+nlohmann::json bench_curved_frame(std::shared_ptr<Runtime> runtime, const Resolution& res,
+                                  const std::string& data_dir, int rounds, double target_ms);
+
 }  // namespace offsetmap::bench

@@ -57,8 +57,9 @@ nlohmann::json bench_materials(std::shared_ptr<Runtime> rt, const Resolution& re
     using nlohmann::json;
     if (host_clock()) {
         // Its table is each dispatch's own time and the classification's: events only.
-        std::printf("\nmaterial frame skipped under the host's clock: its table is each "
-                    "dispatch's event time\n");
+        std::printf(
+            "\nmaterial frame skipped under the host's clock: its table is each "
+            "dispatch's event time\n");
         return {{"skipped", "timed by the host's clock; the table needs event times"}};
     }
     PlaneScene p;

@@ -1,6 +1,7 @@
 // `offsetmap frame`: a rasterized deferred frame around the pass (OpenGL through EGL for the
 // G-buffer, the OpenCL passes for offset and shading, the depth offset written back), and with
 // --forward the forward peer: the same methods in the G-buffer pass's fragment shader.
+#include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
@@ -461,17 +462,21 @@ int run_frame(const FrameCommand& cmd) {
     // the forward runs follow.
     const size_t shown_at = runs.size() - 1, forward_at = runs.size();
     if (cmd.forward) {
+        // With --curvature the forward peer traces over the curved base too.
+        renderer.set_curvature(cmd.curvature);
         for (bool prepass : {false, true}) {
             runs.push_back(renderer.render(FrameMode::Forward, prepass, cmd.repeats));
-            shown_ids.push_back(renderer.gbuffer().material);
-            // Where the forward shader dropped a fragment (the tile mask) the pixel shows the
-            // surface behind it, or none after a pre-pass: errors are compared only where both
-            // frames show the same surface (the same uv in their G-buffers).
+            shown_ids.push_back(runs.back().material);
+            // Where the forward shader dropped a fragment (the tile mask, a ray that left the
+            // curved base) the pixel shows the surface behind it (flagged BEHIND, as the
+            // two-layer frame's), or none after a pre-pass.
             const std::vector<float>& uv = renderer.gbuffer().uv;
             for (size_t k = 0; k < gb.pixels(); ++k)
                 if (std::memcmp(&uv[2 * k], &deferred_uv[2 * k], 2 * sizeof(float)) != 0)
-                    runs.back().offset.flags[k] |= OM_FLAG_EMPTY;
+                    runs.back().offset.flags[k] |=
+                        std::isnan(uv[2 * k]) ? OM_FLAG_EMPTY : OM_FLAG_BEHIND;
         }
+        renderer.set_curvature(false);
     }
     std::printf("frame: %s scene %dx%d, %zu materials; GL: %s; OpenCL: %s; %s\n",
                 scene.name.c_str(), w, h, table.size(), renderer.gl_renderer().c_str(),
@@ -487,8 +492,13 @@ int run_frame(const FrameCommand& cmd) {
         std::printf("%-22s %9.2f %9.2f %9.2f %9.2f %9.2f %9.2f %9.2f %9.2f %10.2f\n", name.c_str(),
                     r.ms.gbuffer, r.ms.to_device, r.ms.reconstruct, r.ms.offset, r.ms.shade,
                     r.ms.depth_offset, r.ms.to_gl, r.ms.total, overdraw);
+        // Against exact on the first layer: only where the frame shows the first layer's surface.
+        OffsetResult first_layer = r.offset;
+        for (std::uint32_t& f : first_layer.flags)
+            if (f & OM_FLAG_BEHIND) f |= OM_FLAG_EMPTY;
         std::vector<float> err;
-        const std::vector<MaterialError> stats = material_errors(gb, r.offset, exact, table, &err);
+        const std::vector<MaterialError> stats =
+            material_errors(gb, first_layer, exact, table, &err);
         errors.push_back(err);
         nlohmann::json mats = nlohmann::json::array();
         for (size_t s = 0; s < table.size(); ++s)

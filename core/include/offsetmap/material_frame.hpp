@@ -73,10 +73,11 @@ class MaterialFrame {
     // curvature, and only they: the others' ids are masked to 0 in a buffer of the frame's, so
     // the second classification lists just their tiles. Where the second layer shows a surface the
     // pixel takes its result into `targets`, flagged OM_FLAG_BEHIND, and the second layer's uv,
-    // view, light and material into `gbuffer`'s buffers (overwritten in place), so shade() and an
-    // engine's depth offset see one layer (take_behind copies its other planes: window depth, uv
-    // density); where it shows none the pixel keeps its flag for the background. Without a layer
-    // behind (the overload above) such pixels stay flagged for the engine to fill.
+    // view, light, lod, material and curvature into `gbuffer`'s buffers (overwritten in place: they
+    // must be writable), all in one pass, so shade() and an engine's depth offset see one layer
+    // (take_behind copies its other planes: window depth, uv density); where it shows none the
+    // pixel keeps its flag for the background. Without a layer behind (the overload above) such
+    // pixels stay flagged for the engine to fill.
     cl::Event enqueue(const DeviceGBuffer& gbuffer, const OffsetTargets& targets,
                       const LayerBehind& behind, const std::vector<cl::Event>& wait = {},
                       const cl::CommandQueue& queue = cl::CommandQueue());
