@@ -178,10 +178,11 @@ def gltf(b, name, nodes, roots, materials, eye_target):
 
 def curved(out):
     b = Builder()
-    materials = ["floor", "bricks", "bricks deep"]
+    materials = ["floor", "bricks", "bricks deep", "bricks open"]
     floor = b.mesh("floor", 0, *quad([-4, 0, -4], [8, 0, 0], [0, 0, 8], 8 / 1.5, 8 / 1.5))
     ball = b.mesh("sphere", 1, *sphere(0.6, 64, 32, 4, 2))
-    can = b.mesh("cylinder", 1, *column(0.4, 1.4, 64, 3, 2))
+    # The open cylinder has its own material: its rims are edges the table's tile bounds mark.
+    can = b.mesh("cylinder", 3, *column(0.4, 1.4, 64, 3, 2))
     ring = b.mesh("torus", 2, *torus(0.55, 0.22, 96, 48, 6, 2))
     quarter = math.sin(math.radians(45)), math.cos(math.radians(45))
     nodes = [

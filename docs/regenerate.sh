@@ -74,6 +74,9 @@ for part in "${parts[@]}"; do
         POCL_KERNELLIB_NAME=avx2 POCL_LLVM_CPU_NAME=znver3 \
             ./build/release/offsetmap_bench --frame --target-ms 450 --out "$tmp/bench-frame-avx2"
         cp "$tmp/bench-frame-avx2/bench-frame.json" "$DATA/bench-frame-avx2.json"
+        # the curved scene's frame: the tangent plane, the curved trace, the layer behind
+        ./build/release/offsetmap_bench --curved --out "$tmp/bench-curved"
+        cp "$tmp/bench-curved/bench-curved.json" "$DATA/bench-curved.json"
         $OM frame --forward --shadows soft --width 640 --height 360 -o "$tmp/frame"
         cp "$tmp/frame/frame-sheet.png" "$IMG/frame-sheet.png"
         # The box in bricks (its faces are one uv square each, as the mask needs), close up.
@@ -99,20 +102,37 @@ for part in "${parts[@]}"; do
         cp "$tmp/peer/bench-glsl-peer.json" "$DATA/bench-glsl-peer.json"
         cp "$tmp/peer/bench-glsl-peer.png" "$IMG/"
         ;;
-    truth)  # the room, data/pillars.gltf and data/curved.gltf against the displaced mesh
-        # (docs/renderer.md): about 40 s and 3.2 GB each
+    truth)  # the room, data/pillars.gltf and data/curved.gltf against the displaced mesh, each
+        # frame variant (docs/renderer.md): about a minute and 3.2 GB each
         for scene in room pillars curved; do
             file=$scene
             [ $scene = room ] || file=data/$scene.gltf
-            $OM frame --scene $file --width 960 --height 540 --truth --forward -o "$tmp/truth-$scene"
+            $OM frame --scene $file --width 960 --height 540 --truth --forward --curvature \
+                --layers 2 -o "$tmp/truth-$scene"
             cp "$tmp/truth-$scene/frame.json" "$DATA/truth-$scene.json"
             cp "$tmp/truth-$scene/truth-sheet.png" "$IMG/truth-$scene.png"
             cp "$tmp/truth-$scene/truth-pareto.png" "$IMG/truth-pareto-$scene.png"
         done
+        # the sphere's and the torus's outlines: one layer over the tangent plane, over the curved
+        # base, and with the layer behind
+        for crop in "sphere 180 170 360 350" "torus 540 170 720 350"; do
+            set -- $crop
+            /usr/bin/python3 docs/crop_figure.py "$IMG/curved-edges-$1.png" $2 $3 $4 $5 2 \
+                "$tmp/truth-curved/coverage-deferred.png" "deferred (tangent plane)" \
+                "$tmp/truth-curved/coverage-deferred-curved.png" "over the curved base" \
+                "$tmp/truth-curved/coverage-deferred-two-layers.png" "and the layer behind"
+        done
         # the curved trace's model against the truth, without a march's own error (docs/design.md)
         $OM frame --scene data/curved.gltf --width 960 --height 540 --truth --curvature \
-            --method exact -o "$tmp/truth-curved-exact"
+            --layers 2 --method exact -o "$tmp/truth-curved-exact"
         cp "$tmp/truth-curved-exact/frame.json" "$DATA/truth-curved-exact.json"
+        # relief above the polygon (r = 0.5): what the base mesh's outline cannot give
+        sed -e 's#"height_map": "#"height_map": "'"$PWD"'/data/#' \
+            -e 's#"scale": \([0-9.]*\),#"scale": \1, "reference_plane": 0.5,#' \
+            data/curved.json >"$tmp/curved-r05.json"
+        $OM frame --scene data/curved.gltf --materials "$tmp/curved-r05.json" --width 960 \
+            --height 540 --truth --curvature --layers 2 --method exact -o "$tmp/truth-curved-r05"
+        cp "$tmp/truth-curved-r05/frame.json" "$DATA/truth-curved-r05.json"
         ;;
     rebuild)  # a field that changes every frame: its update and each precompute's rebuild, on
         # PoCL's AVX-512 and AVX2 targets (docs/integrating.md)

@@ -98,7 +98,9 @@ OM_INLINE void om_lanes_end(const OmOffsetParams* P, const OmLaneGroup* g, OmF u
     hv = ray->v + g->blend * (hv - ray->v);
     OmF ou = hu + g->base_u, ov = hv + g->base_v;
     // On a non-tiling surface a ray that leaves the tile sees past the polygon's edge.
-    OmI outside = P->tile_mask ? (OmI)(ou < 0.0f || ou > 1.0f || ov < 0.0f || ov > 1.0f) : (OmI)0;
+    OmI outside = P->tile_mask ? (OmI)(ou < P->tile_u0 || ou > P->tile_u1 || ov < P->tile_v0 ||
+                                       ov > P->tile_v1)
+                               : (OmI)0;
     OmI traced = g->traced;
     *flags_out = g->flags | OM_SEL(OM_SEL((OmI)OM_FLAG_LOD_FADED, (OmI)0, g->rejected),
                                    trace_flags | OM_SEL((OmI)0, (OmI)OM_FLAG_OUT_OF_TILE, outside),

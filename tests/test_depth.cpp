@@ -1,5 +1,6 @@
 // Pixel depth offset: the depth output is the distance along the view ray from the polygon point
-// to the hit, in uv units, so an engine can write the displaced depth (docs/conventions.md, "Depth output").
+// to the hit, in uv units, so an engine can write the displaced depth (docs/conventions.md, "Depth
+// output").
 #include <glm/glm.hpp>
 #include <glm/gtc/matrix_transform.hpp>
 
@@ -129,6 +130,33 @@ TEST(TileMask, FlagsRaysThatLeaveTheTileAndShadingDiscardsThem) {
     auto rgba = run_shade(*rt, shade, on, g, f, nullptr, s, ShadeSettings{});
     EXPECT_EQ(rgba[0].s[3], 0.0f);  // discarded: background
     EXPECT_EQ(rgba[1].s[3], 1.0f);
+}
+
+TEST(TileMask, BoundsAreTheSurfacesUvRangeAndAnInfiniteSideIsOpen) {
+    // A surface whose uv runs over [0, 3] x [1, 2]: the mask keeps what lies in that range, not
+    // in [0,1]^2. Rays from +u and from +v toward the low edges; one stays inside.
+    PassSettings s;
+    s.scale = 0.1f;
+    s.out_of_tile_mask = true;
+    s.tile_bounds = {0.0f, 1.0f, 3.0f, 2.0f};
+    auto U = view_dir(30, 0), V = view_dir(30, 90);
+    GBuffer gb = row_gbuffer({{0.02f, 1.5f, U[0], U[1], U[2]},
+                              {2.5f, 1.02f, V[0], V[1], V[2]},
+                              {2.5f, 1.5f, U[0], U[1], U[2]}});
+    HeightMap floor = constant_map(0.0f, 32, 32);
+    OffsetResult off = run("exact", floor, gb, s);
+    ASSERT_LT(off.uv[0].s[0], 0.0f);
+    ASSERT_LT(off.uv[1].s[1], 1.0f);
+    EXPECT_TRUE(off.flags[0] & OM_FLAG_OUT_OF_TILE);
+    EXPECT_TRUE(off.flags[1] & OM_FLAG_OUT_OF_TILE);
+    EXPECT_FALSE(off.flags[2] & OM_FLAG_OUT_OF_TILE) << "u of 2.33 lies inside [0, 3]";
+    s.tile_bounds[0] = -INFINITY;  // u open toward -u, as around a cylinder
+    OffsetResult open = run("exact", floor, gb, s);
+    EXPECT_FALSE(open.flags[0] & OM_FLAG_OUT_OF_TILE);
+    EXPECT_TRUE(open.flags[1] & OM_FLAG_OUT_OF_TILE);
+    EXPECT_EQ(open.uv[0].s[0], off.uv[0].s[0]) << "the mask flags; it moves nothing";
+    s.tile_bounds = {1.0f, 0.0f, 1.0f, 1.0f};
+    EXPECT_TRUE(contains(error_of([&] { validate(s); }), "u_min < u_max"));
 }
 
 }  // namespace

@@ -23,7 +23,8 @@ TEST(MaterialTable, ReadsEntriesWithDefaultsAndPathsBesideTheFile) {
         {"id": 3, "height_map": "maps/a.png", "method": "pom", "params": {"min_samples": 4},
          "address": "clamp", "albedo": "/abs/b.png"},
         {"id": 9, "name": "floor", "height_map": "c.png", "scale": 0.02, "reference_plane": 0.5,
-         "method": "auto", "error_budget": {"mean_texels": 0.25}, "grazing": "limit"}
+         "method": "auto", "error_budget": {"mean_texels": 0.25}, "grazing": "limit",
+         "tile_bounds": [0, -1, 5.5, null]}
     ])";
     PassSettings defaults;
     defaults.scale = 0.07f;
@@ -45,6 +46,11 @@ TEST(MaterialTable, ReadsEntriesWithDefaultsAndPathsBesideTheFile) {
     EXPECT_EQ(t[1].method, "auto");
     EXPECT_EQ(t[1].budget.statistic, ErrorBudget::Statistic::Mean);
     EXPECT_EQ(t[1].budget.texels, 0.25);
+    EXPECT_FALSE(t[0].settings.out_of_tile_mask);
+    EXPECT_TRUE(t[1].settings.out_of_tile_mask) << "tile bounds turn the mask on";
+    const std::array<float, 4> bounds = {0.0f, -1.0f, 5.5f, INFINITY};
+    EXPECT_EQ(t[1].settings.tile_bounds, bounds) << "null: an open side";
+    EXPECT_EQ(kernel_tile_bounds(t[1].settings)[3], FLT_MAX);
     std::filesystem::remove_all(dir);
 }
 
@@ -74,6 +80,12 @@ TEST(MaterialTable, RefusesBadEntriesNamingThem) {
     EXPECT_TRUE(contains(
         error(R"([{"id": 1, "method": "pom", "error_budget": {"p95_texels": 1}, )" + map + "}]"),
         "'error_budget' applies to method auto only"));
+    EXPECT_TRUE(contains(error(R"([{"id": 1, "tile_bounds": [0, 0, 1], )" + map + "}]"),
+                         "material 1: 'tile_bounds' must be [u_min, v_min, u_max, v_max]"));
+    EXPECT_TRUE(contains(error(R"([{"id": 1, "tile_bounds": [0, "a", 1, 1], )" + map + "}]"),
+                         "'tile_bounds' holds numbers or null, got \"a\""));
+    EXPECT_TRUE(contains(error(R"([{"id": 1, "tile_bounds": [0, 2, 1, 1], )" + map + "}]"),
+                         "material 1: tile bounds must have v_min < v_max"));
     EXPECT_TRUE(contains(error(R"([{"id": 1, "method": "pomm", )" + map + "}]"),
                          "material 1: unknown method 'pomm'"));
     EXPECT_TRUE(contains(

@@ -1,11 +1,20 @@
 // A pass's settings: their ranges, and the kernel parameters they give.
 #include "offsetmap/settings.hpp"
 
+#include <algorithm>
+#include <cfloat>
 #include <sstream>
 
 #include "offsetmap/error.hpp"
 
 namespace offsetmap {
+
+std::array<float, 4> kernel_tile_bounds(const PassSettings& s) {
+    std::array<float, 4> b = s.tile_bounds;
+    // Finite stand-ins for the open sides: a program built for finite math keeps its compares.
+    for (float& x : b) x = std::max(-FLT_MAX, std::min(FLT_MAX, x));
+    return b;
+}
 
 OmOffsetParams offset_params(const PassSettings& s, int hf_w, int hf_h, int gb_w, int gb_h) {
     OmOffsetParams p{};
@@ -21,6 +30,11 @@ OmOffsetParams offset_params(const PassSettings& s, int hf_w, int hf_h, int gb_w
     p.grazing = static_cast<om_int>(s.grazing);
     p.max_cells = g.max_cells;
     p.tile_mask = s.out_of_tile_mask ? 1 : 0;
+    const std::array<float, 4> tile = kernel_tile_bounds(s);
+    p.tile_u0 = tile[0];
+    p.tile_v0 = tile[1];
+    p.tile_u1 = tile[2];
+    p.tile_v1 = tile[3];
     p.mip_levels = 1;
     p.lod_threshold = s.lod.threshold;
     p.lod_fade = s.lod.fade;
@@ -43,6 +57,17 @@ void validate(const PassSettings& s) {
     range("reference plane", s.reference_plane, 0.0f, 1.0f);
     range("minimum elevation (degrees)", s.min_elevation_deg, 0.1f, 89.0f);
     range("maximum offset (texels)", s.max_offset_texels, 1.0f, 1.0e6f);
+    const std::array<float, 4>& t = s.tile_bounds;
+    for (int axis = 0; axis < 2; ++axis) {
+        if (!(t[axis] < t[axis + 2])) {
+            std::ostringstream m;
+            m << "tile bounds must have "
+              << "uv"[axis] << "_min < "
+              << "uv"[axis] << "_max (infinite for an open side), got [" << t[axis] << ", "
+              << t[axis + 2] << "]";
+            throw Error(m.str());
+        }
+    }
     if (s.lod.enabled) {
         range("LOD threshold", s.lod.threshold, 0.5f, 16.0f);
         if (!(s.lod.fade > 0.0f && s.lod.fade <= s.lod.threshold))

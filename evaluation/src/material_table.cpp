@@ -29,6 +29,7 @@ const std::set<std::string> kKeys = {"id",
                                      "grazing_min_deg",
                                      "max_offset",
                                      "tile_mask",
+                                     "tile_bounds",
                                      "method",
                                      "params",
                                      "error_budget",
@@ -105,6 +106,24 @@ MaterialSpec read_entry(const Entry& e, const std::filesystem::path& folder,
         s.min_elevation_deg = static_cast<float>(e.number("grazing_min_deg"));
     if (e.has("max_offset")) s.max_offset_texels = static_cast<float>(e.number("max_offset"));
     if (e.has("tile_mask")) s.out_of_tile_mask = e.boolean("tile_mask");
+    if (e.has("tile_bounds")) {
+        // [u_min, v_min, u_max, v_max], null for an open side; it turns the mask on unless the
+        // entry says "tile_mask": false.
+        const json& b = e.j.at("tile_bounds");
+        if (!b.is_array() || b.size() != 4)
+            e.fail("'tile_bounds' must be [u_min, v_min, u_max, v_max] (null: open), got " +
+                   b.dump());
+        for (size_t k = 0; k < 4; ++k) {
+            if (b[k].is_null()) {
+                s.tile_bounds[k] = (k < 2 ? -1.0f : 1.0f) * INFINITY;
+            } else if (b[k].is_number()) {
+                s.tile_bounds[k] = static_cast<float>(b[k].get<double>());
+            } else {
+                e.fail("'tile_bounds' holds numbers or null, got " + b[k].dump());
+            }
+        }
+        if (!e.has("tile_mask")) s.out_of_tile_mask = true;
+    }
     if (e.has("address"))
         s.address = e.choice("address", {"wrap", "clamp"}) == "clamp" ? AddressMode::Clamp
                                                                       : AddressMode::Wrap;

@@ -14,7 +14,8 @@ uniform float u_scale;
 uniform float u_ref;
 uniform float u_min_vz;
 uniform int u_limit;  // Welsh's offset limiting for every view
-uniform int u_tile_mask;  // the tile mask: uv' outside [0,1]^2 is not this surface's
+uniform int u_tile_mask;     // the tile mask: uv' outside the tile is not this surface's
+uniform vec4 u_tile_bounds;  // the tile: u_min, v_min, u_max, v_max
 
 int om_fetches = 0;
 bool om_silhouette = false;
@@ -205,5 +206,6 @@ vec4 om_offset(vec2 uv, vec3 view, vec4 k) {
 
 // The kernels' OUT_OF_TILE test (kernels/offset.cl).
 bool om_out_of_tile(vec2 uv) {
-    return u_tile_mask != 0 && (uv.x < 0.0 || uv.x > 1.0 || uv.y < 0.0 || uv.y > 1.0);
+    return u_tile_mask != 0 && (any(lessThan(uv, u_tile_bounds.xy)) ||
+                                any(greaterThan(uv, u_tile_bounds.zw)));
 }

@@ -49,6 +49,7 @@ ForwardMaterial forward_material(int id, const HeightMap& map, const PassSetting
     f.min_vz = grazing_rule(settings, map.width, map.height).min_vz;
     f.limit = settings.grazing == GrazingPolicy::Limit;
     f.tile_mask = settings.out_of_tile_mask;
+    f.tile_bounds = kernel_tile_bounds(settings);
     f.heights = make_texture(GL_R32F, map.width, map.height);
     glTextureSubImage2D(f.heights.get(), 0, 0, 0, map.width, map.height, GL_RED, GL_FLOAT,
                         map.h.data());
@@ -73,6 +74,7 @@ void bind_forward_material(const Program& p, const ForwardMaterial* fm) {
     glUniform1f(uniform(p, "u_min_vz"), fm->min_vz);
     glUniform1i(uniform(p, "u_limit"), fm->limit ? 1 : 0);
     glUniform1i(uniform(p, "u_tile_mask"), fm->tile_mask ? 1 : 0);
+    glUniform4fv(uniform(p, "u_tile_bounds"), 1, fm->tile_bounds.data());
 }
 
 View make_view(const Camera& c, int width, int height) {

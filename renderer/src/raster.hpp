@@ -23,7 +23,8 @@ struct ForwardMaterial {
     std::array<float, 4> params{};
     float scale = 0.0f, ref = 1.0f, min_vz = 0.0f;
     bool limit = false;
-    bool tile_mask = false;  // forward discards fragments whose uv' leaves [0,1]^2
+    bool tile_mask = false;  // forward discards fragments whose uv' leaves the tile:
+    std::array<float, 4> tile_bounds{0.0f, 0.0f, 1.0f, 1.0f};  // PassSettings::tile_bounds
 };
 
 // The value relief.glsl's u_method takes for a method with a GLSL version (its registry row's

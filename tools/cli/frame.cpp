@@ -236,10 +236,13 @@ nlohmann::json truth_section(const FrameCommand& cmd, const Scene& scene,
         if (run.mode == FrameMode::Deferred) {
             tiles.push_back({name + " uv error vs the displaced mesh (log, white = 16 texels)",
                              heat_map(w, h, c.uv_error, 16.0f)});
+            Rgb8 overlay = mismatch_overlay(w, h, run.color, c.mismatched, truth, shown_ids[r],
+                                            run.offset.flags);
+            // Each deferred variant's alone too, for close-ups of its outlines.
+            write_image(cmd.out_dir + "/coverage-" + name + ".png", overlay);
             tiles.push_back({name + " coverage vs the truth: red truth only, blue frame only, "
                                     "magenta other surface",
-                             mismatch_overlay(w, h, run.color, c.mismatched, truth, shown_ids[r],
-                                              run.offset.flags)});
+                             std::move(overlay)});
         }
     }
     // Tessellation as the competitor: coarser lattices of the same displaced mesh, each drawn and
@@ -591,7 +594,7 @@ int run_frame(const FrameCommand& cmd) {
         "wrote %s{final.png,%sframe-sheet.png,gbuffer.exr,depth-before.exr,"
         "depth-after.exr,frame.json%s}\n",
         d.c_str(), cmd.forward ? "final-forward.png," : "",
-        measured ? ",truth-sheet.png,truth-pareto.png" : "");
+        measured ? ",truth-sheet.png,truth-pareto.png,coverage-*.png" : "");
     return 0;
 }
 

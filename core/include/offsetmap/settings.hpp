@@ -1,5 +1,7 @@
 // A pass's settings (the relief's placement, the grazing rule, LOD) and what they give the kernels.
 #pragma once
+#include <array>
+
 #include "offsetmap/shared.h"
 
 namespace offsetmap {
@@ -52,9 +54,12 @@ struct PassSettings {
     //         max_offset_texels, i.e. views are raised to atan(s max(W, H) / max_offset_texels).
     GrazingPolicy grazing = GrazingPolicy::Clamp;
     float max_offset_texels = 32.0f;  // Cap policy: longest footprint of a ray, [1, 1e6]
-    // Flag pixels whose uv' leaves [0,1]^2 (OM_FLAG_OUT_OF_TILE), for silhouettes on non-tiling
-    // (clamped) surfaces; the shade pass draws them as background.
+    // Flag pixels whose uv' leaves the tile (OM_FLAG_OUT_OF_TILE), for silhouettes on non-tiling
+    // (clamped) surfaces and at a mesh's open edges; the shade pass draws them as background.
     bool out_of_tile_mask = false;
+    // The tile the mask keeps: u_min, v_min, u_max, v_max (a surface's uv range, [0,1]^2 for one
+    // uv square); an infinite side is open (a cylinder's u, which runs around it).
+    std::array<float, 4> tile_bounds{0.0f, 0.0f, 1.0f, 1.0f};
     // How upload() stores a field's heights, which every pass then reads (docs/design.md,
     // "Height storage"):
     //  Float:   a float per texel.
@@ -85,6 +90,9 @@ GrazingRule grazing_rule(const PassSettings& settings, int map_w, int map_h);
 // The kernel parameters a pass with these settings uses over a hf_w x hf_h height map (grazing
 // rule, march cap, LOD) and a gb_w x gb_h G-buffer (0 x 0 for kernels that read none); method
 // parameters and mip levels are the caller's to fill in.
+// The tile bounds as the kernels and shaders take them: an open side as -+FLT_MAX.
+std::array<float, 4> kernel_tile_bounds(const PassSettings& settings);
+
 OmOffsetParams offset_params(const PassSettings& settings, int hf_w, int hf_h, int gb_w = 0,
                              int gb_h = 0);
 

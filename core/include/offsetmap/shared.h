@@ -7,8 +7,8 @@
 #ifndef OFFSETMAP_SHARED_H
 #define OFFSETMAP_SHARED_H
 
-// OpenCL C defines __OPENCL_C_VERSION__ (1.2 and later); __OPENCL_VERSION__ is the platform's, which
-// an offline compiler (clang for SPIR-V) leaves undefined.
+// OpenCL C defines __OPENCL_C_VERSION__ (1.2 and later); __OPENCL_VERSION__ is the platform's,
+// which an offline compiler (clang for SPIR-V) leaves undefined.
 #if defined(__OPENCL_C_VERSION__) || defined(__OPENCL_VERSION__)
 #define OM_OPENCL_C 1
 #endif
@@ -70,7 +70,7 @@ static inline int om_image_blocks(int width, int height, int lanes) {
 }
 
 typedef struct {
-    om_int gb_width;          // G-buffer width and height in pixels (0 x 0 outside the offset pass)
+    om_int gb_width;  // G-buffer width and height in pixels (0 x 0 outside the offset pass)
     om_int gb_height;
     om_int hf_width;          // height-field texels along u
     om_int hf_height;         // height-field texels along v
@@ -84,10 +84,14 @@ typedef struct {
     om_float lod_fade;        // levels below the threshold over which the effect fades out
     om_float lod_min_detail;  // step-count factor at the threshold (1 at level 0)
     om_int grazing;           // OM_GRAZING_*: the policy (min_vz already holds cap's raise)
-    om_int tile_mask;         // flag OM_FLAG_OUT_OF_TILE where uv' leaves [0,1]^2
-    om_int lod_footprint;     // LOD mode: steps from the texels crossed, fade over a texel range
-    om_float lod_fade_lo;     // footprint mode: texels crossed at which the effect is gone
-    om_float lod_fade_hi;     // footprint mode: texels crossed from which it is whole
+    om_int tile_mask;         // flag OM_FLAG_OUT_OF_TILE where uv' leaves the tile:
+    om_float tile_u0;         // u in [tile_u0, tile_u1], v in [tile_v0, tile_v1] (+-FLT_MAX: open)
+    om_float tile_v0;
+    om_float tile_u1;
+    om_float tile_v1;
+    om_int lod_footprint;  // LOD mode: steps from the texels crossed, fade over a texel range
+    om_float lod_fade_lo;  // footprint mode: texels crossed at which the effect is gone
+    om_float lod_fade_hi;  // footprint mode: texels crossed from which it is whole
     // 0, or where the heights' packed unorm16 words start (in words after the height pointer):
     // one per texel of every level, texel (i, j) low and (i, j + 1) high (HeightStorage::Unorm16).
     om_int packed_heights;
@@ -207,12 +211,12 @@ typedef struct {
 // kernel program's (size: C99 has no static assertion, and offsetof is not OpenCL C 1.2's), rather
 // than uploading shifted fields. Sizes and offsets in bytes.
 #define OM_LAYOUT_CHECKS(CHECK)                     \
-    CHECK(OmOffsetParams, 108, p, 76)               \
+    CHECK(OmOffsetParams, 124, p, 92)               \
     CHECK(OmReconstructParams, 116, light_vec, 104) \
     CHECK(OmDepthOffsetParams, 148, eye, 136)       \
     CHECK(OmShadeParams, 92, grazing, 88)           \
     CHECK(OmTileParams, 40, entry_count, 36)        \
-    CHECK(OmMaterialSlot, 224, albedo_offset, 220)
+    CHECK(OmMaterialSlot, 240, albedo_offset, 236)
 #ifdef OM_OPENCL_C
 // An array of negative size does not compile.
 #define OM_LAYOUT_CHECK(S, size, last, at) \

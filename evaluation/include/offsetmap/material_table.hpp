@@ -21,7 +21,8 @@ struct ErrorBudget {
 
 // One entry of the table, as the file gives it. Keys: id, name, height_map, depth_map, channel,
 // scale, reference_plane, address (wrap, clamp), grazing (clamp, limit, cap), grazing_min_deg,
-// max_offset, tile_mask, method (a method's name or "auto"), params (name: value), error_budget
+// max_offset, tile_mask, tile_bounds ([u_min, v_min, u_max, v_max], null: open), method (a
+// method's name or "auto"), params (name: value), error_budget
 // ({"p95_texels": x} or {"mean_texels": x}; method auto only), normal_map, flip_green, albedo.
 // Paths are relative to the JSON file's folder; settings not given keep `defaults`.
 struct MaterialSpec {
