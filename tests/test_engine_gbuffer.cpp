@@ -596,3 +596,57 @@ TEST(EngineGBuffer, CurvatureChannelsAreAllOrNoneAndFinite) {
 
 }  // namespace
 }  // namespace omtest
+namespace omtest {
+namespace {
+
+// A directional light's view of the plane z = 0 (orthographic, as a shadow map sees it): every
+// pixel's V is the one direction toward the light, in the plane's tangent frame (T = +x, B = +y,
+// N = +z: tangent space is world space), and the file keeps the projection.
+TEST(EngineGBuffer, OrthographicViewHasOneViewDirection) {
+    const glm::dvec3 L = glm::normalize(glm::dvec3(0.6, -0.35, 0.45));
+    const glm::dmat4 view = glm::lookAt(4.0 * L, glm::dvec3(0), glm::dvec3(0, 0, 1));
+    const glm::dmat4 inv = glm::inverse(glm::orthoZO(-2.0, 2.0, -1.5, 1.5, 0.5, 8.0) * view);
+    EngineScene e;
+    e.width = 24;
+    e.height = 18;
+    for (int c = 0; c < 4; ++c)
+        for (int r = 0; r < 4; ++r)
+            e.camera.inverse_view_projection[4 * c + r] = static_cast<float>(inv[c][r]);
+    e.camera.eye = {float(L.x), float(L.y), float(L.z)};
+    e.camera.orthographic = true;
+    e.camera.depth = DepthConvention::ZeroToOne;
+    e.camera.first_row = FirstRow::Top;
+    for (int y = 0; y < e.height; ++y)
+        for (int x = 0; x < e.width; ++x) {
+            // The pixel's ray from NDC z 0 to 1 meets z = 0 at the fraction s: its window depth.
+            const double nx = 2.0 * (x + 0.5) / e.width - 1.0,
+                         ny = 1.0 - 2.0 * (y + 0.5) / e.height;
+            const glm::dvec4 a = inv * glm::dvec4(nx, ny, 0, 1), b = inv * glm::dvec4(nx, ny, 1, 1);
+            const double s = a.z / (a.z - b.z);
+            const glm::dvec3 p = glm::dvec3(a) + s * (glm::dvec3(b) - glm::dvec3(a));
+            e.depth.push_back(static_cast<float>(s));
+            e.normal.insert(e.normal.end(), {0, 0, 1, 0});
+            e.tangent.insert(e.tangent.end(), {1, 0, 0, 1});
+            e.uv.insert(e.uv.end(), {float(p.x), float(p.y)});
+        }
+    const std::string path = ::testing::TempDir() + "/engine_orthographic.exr";
+    save_engine_gbuffer(path, e);
+    const EngineScene r = load_engine_gbuffer(path);
+    EXPECT_TRUE(r.camera.orthographic);
+    const GBuffer g = reconstruct(runtime(), r);
+    double worst = 0;
+    for (size_t k = 0; k < g.pixels(); ++k)
+        for (int i = 0; i < 3; ++i) worst = std::max(worst, std::abs(g.view[k].s[i] - L[i]));
+    EXPECT_LT(worst, 1e-6) << "one direction: float rounding of L alone";
+    // The same file seen as a perspective camera at the point L: views fan out.
+    EngineScene p = r;
+    p.camera.orthographic = false;
+    const GBuffer fan = reconstruct(runtime(), p);
+    EXPECT_GT(std::abs(fan.view[0].s[0] - fan.view[g.pixels() - 1].s[0]), 0.1);
+    EngineScene zero = r;
+    zero.camera.eye = {0, 0, 0};
+    EXPECT_TRUE(contains(error_of([&] { reconstruct(runtime(), zero); }), "is the zero vector"));
+}
+
+}  // namespace
+}  // namespace omtest

@@ -310,6 +310,59 @@ TEST(DepthOffset, KernelMovesEachPointAlongItsEyeRay) {
     std::printf("depth offset kernel: worst depth difference %.2e\n", worst);
 }
 
+// A directional light's orthographic view (a shadow map's): every point moves along the one
+// direction away from the light, and depth is linear in the distance along it.
+TEST(DepthOffset, OrthographicViewMovesEveryPointAlongTheLight) {
+    auto rt = runtime();
+    const int w = 19, h = 11;
+    const size_t n = static_cast<size_t>(w) * h;
+    const glm::dvec3 L = glm::normalize(glm::dvec3(-0.3, 0.8, 0.5));
+    const glm::dmat4 vp = glm::ortho(-3.0, 3.0, -2.0, 2.0, 1.0, 12.0) *
+                          glm::lookAt(6.0 * L, glm::dvec3(0), glm::dvec3(0, 0, 1));
+    std::array<float, 16> fvp, finv;
+    glm::dmat4 vp32, inv32;
+    for (int c = 0; c < 4; ++c)
+        for (int r = 0; r < 4; ++r) {
+            fvp[4 * c + r] = static_cast<float>(vp[c][r]);
+            finv[4 * c + r] = static_cast<float>(glm::inverse(vp)[c][r]);
+            vp32[c][r] = fvp[4 * c + r];
+            inv32[c][r] = finv[4 * c + r];
+        }
+    std::mt19937 rng(7);
+    std::uniform_real_distribution<double> unit(0.0, 1.0);
+    std::vector<float> depth(n), t(n), density(n);
+    for (size_t k = 0; k < n; ++k) {
+        depth[k] = static_cast<float>(0.2 + 0.6 * unit(rng));
+        t[k] = static_cast<float>(0.1 * unit(rng) - 0.05);
+        density[k] = static_cast<float>(0.5 + 1.5 * unit(rng));
+    }
+    auto in = [&](std::vector<float>& v) {
+        return cl::Buffer(rt->context(), CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, n * sizeof(float),
+                          v.data());
+    };
+    cl::Buffer d = in(depth), tb = in(t), db = in(density);
+    cl::Buffer out(rt->context(), CL_MEM_WRITE_ONLY, n * sizeof(float));
+    const Vec3 toward = {float(L.x), float(L.y), float(L.z)};
+    DepthOffsetPass(*rt)
+        .enqueue(rt->queue(), depth_offset_params(fvp, finv, toward, w, h, true), d, tb, db, out)
+        .wait();
+    std::vector<float> after(n);
+    rt->queue().enqueueReadBuffer(out, CL_TRUE, 0, n * sizeof(float), after.data());
+    // Window depth runs over the 11 m between the planes: a move of t density m along L changes
+    // it by t density / 11 exactly; float rounding of the matrices and the point, a few 1e-7.
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            const size_t k = static_cast<size_t>(y) * w + x;
+            const glm::dvec4 pw =
+                inv32 * glm::dvec4((2.0 * x + 1.0) / w - 1.0, (2.0 * y + 1.0) / h - 1.0,
+                                   2.0 * depth[k] - 1.0, 1.0);
+            const glm::dvec3 q = glm::dvec3(pw) / pw.w - double(t[k]) * density[k] * L;
+            const glm::dvec4 c = vp32 * glm::dvec4(q, 1.0);
+            EXPECT_NEAR(after[k], 0.5 * c.z / c.w + 0.5, 2e-6) << x << "," << y;
+            EXPECT_NEAR(after[k] - depth[k], double(t[k]) * density[k] / 11.0, 3e-6) << k;
+        }
+}
+
 // The forward peer against the deferred pass, method by method at equal parameters: each uv'
 // from the same rasterized G-buffer, V from the interpolated position (forward) or from the depth
 // (deferred). Both trace the same steps; the two V differ by float rounding, which moves uv' by

@@ -107,6 +107,9 @@ cl::Event ReconstructPass::launch(const EngineGBuffer& in, const DeviceGBuffer& 
     const EngineCamera& cam = in.camera;
     if (!finite(cam.inverse_view_projection.data(), 16) || !finite(cam.eye.data(), 3))
         throw Error("the engine camera's inverse view-projection and eye must be finite");
+    if (cam.orthographic &&
+        !(std::fabs(cam.eye[0]) + std::fabs(cam.eye[1]) + std::fabs(cam.eye[2]) > 0.0f))
+        throw Error("the orthographic engine camera's eye (its view direction) is the zero vector");
     if (cam.depth != DepthConvention::GL && cam.depth != DepthConvention::ZeroToOne &&
         cam.depth != DepthConvention::Reversed)
         throw Error("the engine camera's depth convention " +
@@ -150,6 +153,7 @@ cl::Event ReconstructPass::launch(const EngineGBuffer& in, const DeviceGBuffer& 
     std::copy(cam.inverse_view_projection.begin(), cam.inverse_view_projection.end(),
               p.inv_view_proj);
     std::copy(cam.eye.begin(), cam.eye.end(), p.eye);
+    p.eye_w = cam.orthographic ? 0.0f : 1.0f;
     const bool gl = cam.depth == DepthConvention::GL;
     const bool reversed = cam.depth == DepthConvention::Reversed;
     p.depth_scale = gl ? 2.0f : 1.0f;

@@ -86,6 +86,8 @@ void save_engine_gbuffer(const std::string& path, const EngineScene& e) {
         {"offsetmap:eye", numbers(e.camera.eye.data(), 3)},
         {"offsetmap:depth", depth_name(e.camera.depth)},
         {"offsetmap:firstRow", e.camera.first_row == FirstRow::Top ? "top" : "bottom"}};
+    // Written only for an orthographic view, so a perspective frame's file is as it was.
+    if (e.camera.orthographic) attributes["offsetmap:projection"] = "orthographic";
     if (e.light.kind != LightKind::None)
         attributes["offsetmap:light"] =
             std::string(e.light.kind == LightKind::Point ? "point " : "directional ") +
@@ -218,6 +220,14 @@ EngineScene read_engine_form(GBufferFile& g, size_t max_bytes) {
         throw Error(file + ": attribute offsetmap:firstRow must be top or bottom, got '" + row +
                     "'");
     e.camera.first_row = row == "top" ? FirstRow::Top : FirstRow::Bottom;
+    if (const std::string proj = spec.get_string_attribute("offsetmap:projection"); !proj.empty()) {
+        if (proj != "orthographic" && proj != "perspective")
+            throw Error(file +
+                        ": attribute offsetmap:projection must be perspective or orthographic, "
+                        "got '" +
+                        proj + "'");
+        e.camera.orthographic = proj == "orthographic";
+    }
     if (const std::string light = spec.get_string_attribute("offsetmap:light"); !light.empty()) {
         const size_t space = light.find(' ');
         const std::string kind = light.substr(0, space);

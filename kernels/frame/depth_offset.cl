@@ -26,8 +26,9 @@ __kernel void om_depth_offset(const OmDepthOffsetParams P, __global const float*
         const float px = (m[0] * nx + m[4] * ny + m[8] * nz + m[12]) / w;
         const float py = (m[1] * nx + m[5] * ny + m[9] * nz + m[13]) / w;
         const float pz = (m[2] * nx + m[6] * ny + m[10] * nz + m[14]) / w;
-        const float ex = P.eye[0] - px, ey = P.eye[1] - py, ez = P.eye[2] - pz;
-        // Along the unit eye ray, away from the eye for t > 0.
+        const float ex = P.eye[0] - P.eye_w * px, ey = P.eye[1] - P.eye_w * py,
+                    ez = P.eye[2] - P.eye_w * pz;
+        // Along the unit eye ray, away from the eye for t > 0 (orthographic: along -eye).
         const float step = (keep ? 0.0f : t * density[k]) / sqrt(ex * ex + ey * ey + ez * ez);
         const float qx = px - step * ex, qy = py - step * ey, qz = pz - step * ez;
         const float* c = P.view_proj;

@@ -168,7 +168,8 @@ __kernel void om_reconstruct(const OmReconstructParams P, OM_INPUT_ARG(depth_in,
     OM_FETCH(frame_in, OM_IMAGE_FRAME, OM_STORAGE_FRAME, 4, f);
     const OmF d = depth0;
 
-    // The pixel centre in NDC, then p = (M ndc).xyz / (M ndc).w and V = (eye - p) / |eye - p|.
+    // The pixel centre in NDC, then p = (M ndc).xyz / (M ndc).w and V = (eye - p) / |eye - p|
+    // (an orthographic view: eye / |eye|, with eye_w 0).
     const OmF fx = OM_TO_FLOAT(2 * (x0 + OM_LANE_IDS) + 1);
     const OmF nx = fx / (float)P.width - 1.0f;
     const float ny = P.row0_ndc_y * (1.0f - (float)(2 * y + 1) / (float)P.height);
@@ -178,7 +179,7 @@ __kernel void om_reconstruct(const OmReconstructParams P, OM_INPUT_ARG(depth_in,
     const OmF px = (m[0] * nx + m[4] * ny + m[8] * nz + m[12]) / cw;
     const OmF py = (m[1] * nx + m[5] * ny + m[9] * nz + m[13]) / cw;
     const OmF pz = (m[2] * nx + m[6] * ny + m[10] * nz + m[14]) / cw;
-    OmF vx = P.eye[0] - px, vy = P.eye[1] - py, vz = P.eye[2] - pz;
+    OmF vx = P.eye[0] - P.eye_w * px, vy = P.eye[1] - P.eye_w * py, vz = P.eye[2] - P.eye_w * pz;
     const OmF iv = rsqrt(OM_DOT3(v, v));
     vx *= iv;
     vy *= iv;

@@ -9,13 +9,14 @@ namespace offsetmap::renderer {
 
 OmDepthOffsetParams depth_offset_params(const std::array<float, 16>& view_projection,
                                         const std::array<float, 16>& inverse_view_projection,
-                                        const Vec3& eye, int width, int height) {
+                                        const Vec3& eye, int width, int height, bool orthographic) {
     OmDepthOffsetParams p{};
     p.width = width;
     p.height = height;
     std::copy(view_projection.begin(), view_projection.end(), p.view_proj);
     std::copy(inverse_view_projection.begin(), inverse_view_projection.end(), p.inv_view_proj);
     std::copy(eye.begin(), eye.end(), p.eye);
+    p.eye_w = orthographic ? 0.0f : 1.0f;
     return p;
 }
 

@@ -34,6 +34,9 @@ struct EngineCamera {
     std::array<float, 16> inverse_view_projection = {1, 0, 0, 0, 0, 1, 0, 0,
                                                      0, 0, 1, 0, 0, 0, 0, 1};
     std::array<float, 3> eye = {0, 0, 0};  // world position
+    // An orthographic view (a directional light's, for a shadow map): every pixel's view is the
+    // one direction `eye`, toward the viewer (any length but zero).
+    bool orthographic = false;
     DepthConvention depth = DepthConvention::ZeroToOne;
     FirstRow first_row = FirstRow::Top;
 };

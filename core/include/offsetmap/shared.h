@@ -124,6 +124,9 @@ typedef struct {
     om_float far_sign;      // sky where far_sign (d - far_depth) >= 0: +1, or -1 (reversed)
     om_float row0_ndc_y;    // NDC y of pixel row 0's edge: +1 (D3D) or -1 (GL, Vulkan)
     om_float light_vec[3];  // world direction toward the light (unit), or its position
+    // 1: eye is a position (a perspective view); 0: an orthographic view (a directional light's),
+    // eye the direction toward the viewer. V = eye - eye_w p, normalized.
+    om_float eye_w;
 } OmReconstructParams;
 
 // The rendered frame's pixel depth offset (kernels/frame/depth_offset.cl), in GL's conventions;
@@ -133,7 +136,8 @@ typedef struct {
     om_int width, height;
     om_float view_proj[16];      // world -> clip, column-major: row r, column c at [4 c + r]
     om_float inv_view_proj[16];  // NDC -> world, the same layout
-    om_float eye[3];             // world position of the eye
+    om_float eye[3];             // world position of the eye, or (eye_w 0) direction toward it
+    om_float eye_w;              // as OmReconstructParams's: 1 a position, 0 orthographic
 } OmDepthOffsetParams;
 
 // A unorm16 height's value, as OpenImageIO converts 16-bit files (a product, not c / 65535: the
@@ -210,12 +214,12 @@ typedef struct {
 // without updating this list fails the host's build (size and the last member's offset) and every
 // kernel program's (size: C99 has no static assertion, and offsetof is not OpenCL C 1.2's), rather
 // than uploading shifted fields. Sizes and offsets in bytes.
-#define OM_LAYOUT_CHECKS(CHECK)                     \
-    CHECK(OmOffsetParams, 124, p, 92)               \
-    CHECK(OmReconstructParams, 116, light_vec, 104) \
-    CHECK(OmDepthOffsetParams, 148, eye, 136)       \
-    CHECK(OmShadeParams, 92, grazing, 88)           \
-    CHECK(OmTileParams, 40, entry_count, 36)        \
+#define OM_LAYOUT_CHECKS(CHECK)                 \
+    CHECK(OmOffsetParams, 124, p, 92)           \
+    CHECK(OmReconstructParams, 120, eye_w, 116) \
+    CHECK(OmDepthOffsetParams, 152, eye_w, 148) \
+    CHECK(OmShadeParams, 92, grazing, 88)       \
+    CHECK(OmTileParams, 40, entry_count, 36)    \
     CHECK(OmMaterialSlot, 240, albedo_offset, 236)
 #ifdef OM_OPENCL_C
 // An array of negative size does not compile.

@@ -10,10 +10,12 @@
 namespace offsetmap::renderer {
 
 // The kernel's parameters for a width x height frame (GL conventions): the view-projection and
-// its inverse (column-major) and the eye.
+// its inverse (column-major) and the eye: its position, or with `orthographic` (a directional
+// light's view) the direction toward it.
 OmDepthOffsetParams depth_offset_params(const std::array<float, 16>& view_projection,
                                         const std::array<float, 16>& inverse_view_projection,
-                                        const Vec3& eye, int width, int height);
+                                        const Vec3& eye, int width, int height,
+                                        bool orthographic = false);
 
 class DepthOffsetPass {
   public:
