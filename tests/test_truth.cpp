@@ -149,6 +149,76 @@ TEST(Renderer, TruthFlatQuadEqualsExactWithinItsBound) {
     }
 }
 
+// A directional light's view of the flat quad (orthographic, light_camera) through the deferred
+// passes is the displaced shadow map: each pixel's exact hit on the truth's uv within its bound,
+// and its depth after the offset the truth's own depth along the same ray. Two hits whose
+// footprints lie e texels apart are e t_w / cos(elevation) apart along the light's ray (t_w the
+// texel's world size), which window depth spreads over the far - near planes.
+TEST(Renderer, LightViewOfAFlatQuadIsItsDisplacedShadowMap) {
+    const FlatCase c{"sines, wrap",
+                     make_map(32, 32,
+                              [](int i, int j) {
+                                  return 0.5f + 0.35f * std::sin(0.6f * i) * std::cos(0.4f * j);
+                              }),
+                     AddressMode::Wrap,
+                     0.05f,
+                     1.0f,
+                     0.0,
+                     0.35,
+                     4.0f};
+    Scene scene = flat_scene(40.0, c.eye_height, c.tiles);
+    const double elevation = 35.0 * M_PI / 180.0, azimuth = 30.0 * M_PI / 180.0;
+    scene.camera = light_camera(
+        scene, {float(std::cos(elevation) * std::cos(azimuth)), float(std::sin(elevation)),
+                float(std::cos(elevation) * std::sin(azimuth))});
+    ASSERT_TRUE(scene.camera.orthographic);
+    EXPECT_TRUE(contains(error_of([&] {
+                             light_camera(scene, {0.0f, 0.0f, 0.0f});
+                         }),
+                         "not the zero vector"));
+    const std::vector<LoadedMaterial> table = {material(c)};
+    const int w = 192, h = 192;
+    FrameRenderer r(runtime(), scene, table, {resolve_params(find_method("exact"), {})}, w, h,
+                    ShadeSettings{});
+    const FrameRun run = r.render(FrameMode::Deferred, false, 1);
+    EXPECT_TRUE(r.gbuffer().camera.orthographic);
+    const auto [tess, truth] = draw_truth(r, scene, table, w, h);
+    const EngineScene& base = r.gbuffer();
+    const std::vector<float> bound =
+        truth_bound_texels(r.explicit_gbuffer(), base.material, table, tess);
+    const std::vector<std::uint8_t> band =
+        silhouette_band(base.material, base.depth, run.offset.flags, w, h);
+    const double texel_m = 8.0 / c.tiles / c.map.width;  // the quad: 8 m, tiles uv across
+    const double depth_range = scene.camera.far_plane - scene.camera.near_plane;
+    size_t compared = 0;
+    double worst_depth = 0.0;
+    for (size_t k = 0; k < static_cast<size_t>(w) * h; ++k) {
+        if (band[k] || base.depth[k] >= 1.0f || truth.depth[k] >= 1.0f) continue;
+        ASSERT_TRUE(traced(run.offset.flags[k])) << k;
+        const double du = (run.offset.uv[k].s[0] - truth.uv[2 * k]) * c.map.width,
+                     dv = (run.offset.uv[k].s[1] - truth.uv[2 * k + 1]) * c.map.height;
+        const double e = std::hypot(du, dv), allowed = bound[k] + kFloatTexels;
+        ASSERT_LE(e, allowed) << "pixel (" << k % w << ", " << k / w << ")";
+        // Float depth: the matrices' and the point's rounding, a few 1e-7 of the range.
+        const double depth_allowed = allowed * texel_m / std::cos(elevation) / depth_range + 2e-6;
+        const double de = std::abs(double(run.depth_after[k]) - truth.depth[k]);
+        ASSERT_LE(de, depth_allowed) << "pixel (" << k % w << ", " << k / w << ")";
+        EXPECT_GT(std::abs(double(run.depth_after[k]) - base.depth[k]), 0.0) << k;
+        worst_depth = std::max(worst_depth, de * depth_range);
+        ++compared;
+    }
+    // The quad fills 28 % of the view (its 64 m^2 at sin 35 degrees in the bounding sphere's
+    // square).
+    EXPECT_GT(compared, static_cast<size_t>(w) * h / 5);
+    std::printf("light view: %zu pixels compared, worst depth against the truth %.2e m\n", compared,
+                worst_depth);
+    Scene forward = scene;
+    FrameRenderer f(runtime(), forward, table, {resolve_params(find_method("exact"), {})}, 8, 8,
+                    ShadeSettings{});
+    EXPECT_TRUE(contains(error_of([&] { f.render(FrameMode::Forward, false, 1); }),
+                         "perspective views only"));
+}
+
 // One relief mesh of a constant height 0.6 with scale 0.05 and reference r, seen by a 160 x 120
 // view; `inside` says whether a point is on the part the test judges and gives its distance from
 // the axis or centre, which must lie in [lo(r), hi(r)].

@@ -158,7 +158,7 @@ FrameRenderer::FrameRenderer(std::shared_ptr<Runtime> runtime, const Scene& scen
     m.depth_after = buffer(n * sizeof(float), CL_MEM_WRITE_ONLY | CL_MEM_ALLOC_HOST_PTR);
     m.depth_offset = std::make_unique<DepthOffsetPass>(rt);
     m.depth_params = depth_offset_params(m.view.view_projection, m.view.inverse_view_projection,
-                                         m.view.eye, width, height);
+                                         m.view.eye, width, height, m.view.orthographic);
     m.frame = std::make_unique<MaterialFrame>(runtime, upload_materials(rt, table, methods));
     m.reconstruct = std::make_unique<ReconstructPass>(runtime);
     interop_ = "host copies (the OpenCL platform offers no cl_khr_gl_sharing)";
@@ -232,6 +232,9 @@ size_t FrameRenderer::covered_pixels() const {
 FrameRun FrameRenderer::render(FrameMode mode, bool prepass, int repeats) {
     Impl& m = *impl_;
     const bool forward = mode == FrameMode::Forward;
+    // The forward shader's view is from an eye point; a light's orthographic view is deferred's.
+    if (forward && m.view.orthographic)
+        throw Error("the forward peer draws perspective views only; the camera is orthographic");
     for (size_t s = 0; forward && s < m.methods.size(); ++s)
         if (const std::string why = forward_unsupported(m.table[s].spec, m.methods[s]);
             !why.empty())
@@ -246,6 +249,7 @@ FrameRun FrameRenderer::render(FrameMode mode, bool prepass, int repeats) {
     EngineCamera gl_camera;
     gl_camera.inverse_view_projection = m.view.inverse_view_projection;
     gl_camera.eye = m.view.eye;
+    gl_camera.orthographic = m.view.orthographic;
     gl_camera.depth = DepthConvention::GL;
     gl_camera.first_row = FirstRow::Bottom;
     FrameRun run;

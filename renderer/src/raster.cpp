@@ -80,16 +80,24 @@ void bind_forward_material(const Program& p, const ForwardMaterial* fm) {
 View make_view(const Camera& c, int width, int height) {
     const glm::vec3 eye(c.eye[0], c.eye[1], c.eye[2]),
         target(c.target[0], c.target[1], c.target[2]);
-    // Both matrices in double: the inverse is what the reconstruct pass places pixels with.
-    const glm::dmat4 view = glm::lookAt(glm::dvec3(eye), glm::dvec3(target), glm::dvec3(0, 1, 0));
-    const glm::dmat4 projection =
-        glm::perspective(glm::radians(double(c.fov_y_deg)), double(width) / double(height),
-                         double(c.near_plane), double(c.far_plane));
+    // Both matrices in double: the inverse is what the reconstruct pass places pixels with. Up is
+    // +y, or +z for a view straight up or down (a light overhead), where +y is no up.
+    const glm::dvec3 toward = glm::normalize(glm::dvec3(eye) - glm::dvec3(target));
+    const glm::dvec3 up = std::abs(toward.y) > 0.9999 ? glm::dvec3(0, 0, 1) : glm::dvec3(0, 1, 0);
+    const glm::dmat4 view = glm::lookAt(glm::dvec3(eye), glm::dvec3(target), up);
+    const double aspect = double(width) / double(height);
+    const double hh = c.ortho_half_height;
+    const glm::dmat4 projection = c.orthographic
+                                      ? glm::ortho(-hh * aspect, hh * aspect, -hh, hh,
+                                                   double(c.near_plane), double(c.far_plane))
+                                      : glm::perspective(glm::radians(double(c.fov_y_deg)), aspect,
+                                                         double(c.near_plane), double(c.far_plane));
     const glm::dmat4 vp = projection * view;
     View v;
     v.view_projection = to_array(glm::mat4(vp));
     v.inverse_view_projection = to_array(glm::mat4(glm::inverse(vp)));
-    v.eye = c.eye;
+    v.eye = c.orthographic ? Vec3{float(toward.x), float(toward.y), float(toward.z)} : c.eye;
+    v.orthographic = c.orthographic;
     return v;
 }
 

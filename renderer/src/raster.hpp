@@ -65,7 +65,8 @@ struct PlanePointers {
 struct View {
     std::array<float, 16> view_projection{};          // column-major
     std::array<float, 16> inverse_view_projection{};  // column-major
-    Vec3 eye{};
+    Vec3 eye{};  // the eye's position, or (orthographic) the unit direction toward it
+    bool orthographic = false;
 };
 View make_view(const Camera& camera, int width, int height);
 

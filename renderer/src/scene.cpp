@@ -1,5 +1,6 @@
 #include "offsetmap/renderer/scene.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 
@@ -66,6 +67,41 @@ Scene builtin_room(const std::string& data_dir) {
     s.light.kind = LightKind::Point;
     s.light.vector = {1.2f, 2.7f, 0.8f};
     return s;
+}
+
+Camera light_camera(const Scene& scene, const Vec3& toward_light) {
+    const double lx = toward_light[0], ly = toward_light[1], lz = toward_light[2];
+    const double len = std::sqrt(lx * lx + ly * ly + lz * lz);
+    if (!(len > 0.0) || !std::isfinite(len))
+        throw Error("the light's direction must be finite and not the zero vector");
+    // The bounding sphere: the box's centre and its farthest vertex.
+    double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+    for (const Mesh& m : scene.meshes)
+        for (std::uint32_t i : m.indices)
+            for (int a = 0; a < 3; ++a) {
+                lo[a] = std::min(lo[a], double(m.vertices[i].position[a]));
+                hi[a] = std::max(hi[a], double(m.vertices[i].position[a]));
+            }
+    if (!(lo[0] <= hi[0])) throw Error("scene '" + scene.name + "' has no triangles to light");
+    const double c[3] = {0.5 * (lo[0] + hi[0]), 0.5 * (lo[1] + hi[1]), 0.5 * (lo[2] + hi[2])};
+    double r2 = 0.0;
+    for (const Mesh& m : scene.meshes)
+        for (std::uint32_t i : m.indices) {
+            double d2 = 0.0;
+            for (int a = 0; a < 3; ++a) d2 += std::pow(m.vertices[i].position[a] - c[a], 2);
+            r2 = std::max(r2, d2);
+        }
+    // A margin of 1 % (at least a millimetre) keeps the sphere off the planes and the borders.
+    const double r = std::sqrt(r2) * 1.01 + 1e-3;
+    Camera cam;
+    cam.orthographic = true;
+    cam.ortho_half_height = static_cast<float>(r);
+    cam.target = {float(c[0]), float(c[1]), float(c[2])};
+    cam.eye = {float(c[0] + 2.0 * r * lx / len), float(c[1] + 2.0 * r * ly / len),
+               float(c[2] + 2.0 * r * lz / len)};
+    cam.near_plane = static_cast<float>(r);
+    cam.far_plane = static_cast<float>(3.0 * r);
+    return cam;
 }
 
 }  // namespace offsetmap::renderer

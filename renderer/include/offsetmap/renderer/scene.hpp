@@ -15,6 +15,11 @@ struct Camera {
     float fov_y_deg = 60.0f;  // vertical field of view
     float near_plane = 0.05f;
     float far_plane = 50.0f;
+    // An orthographic view (a directional light's, for a shadow map): eye - target is the
+    // direction toward the viewer, ortho_half_height the view's half height in world units (its
+    // half width by the aspect); fov_y_deg is unused.
+    bool orthographic = false;
+    float ortho_half_height = 1.0f;
 };
 
 // "ex,ey,ez,tx,ty,tz[,fov]": the eye, the point looked at (up is +y) and the vertical field of
@@ -33,5 +38,12 @@ struct Scene {
 // face mirrored), a cylinder (4; a seam down its side) and a sphere (5; a seam and two poles),
 // lit by a point light; its table is data_dir/room.json.
 Scene builtin_room(const std::string& data_dir);
+
+// A directional light's orthographic view of the whole scene: toward `toward_light` (a world
+// direction, any length but zero) from beyond the meshes' bounding sphere, its half height the
+// sphere's radius (a map at least as wide as tall sees all of it), near and far planes just
+// outside it. Throws Error for a zero or non-finite direction or a scene without
+// triangles.
+Camera light_camera(const Scene& scene, const Vec3& toward_light);
 
 }  // namespace offsetmap::renderer
