@@ -143,6 +143,8 @@ struct FrameCommand {
     int layers = 1;            // 2: also the deferred frame with the G-buffer's layer behind
     bool truth = false;        // the displaced mesh as the truth, every frame against it
     float truth_level = 0.5f;  // its lattice, texels per quad
+    std::string sun;           // "ELEVATION,AZIMUTH" (degrees): also the light's displaced view
+    int shadow_size = 1024;    // its shadow map, square
     std::string out_dir = "out/frame";
     int repeats = 3;
     std::string shadows = "none";

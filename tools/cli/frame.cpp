@@ -1,6 +1,8 @@
 // `offsetmap frame`: a rasterized deferred frame around the pass (OpenGL through EGL for the
 // G-buffer, the OpenCL passes for offset and shading, the depth offset written back), and with
 // --forward the forward peer: the same methods in the G-buffer pass's fragment shader.
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -59,6 +61,13 @@ void FrameCommand::add_to(CLI::App& app) {
                    "the truth's lattice in texels per quad (0.5: 2 x 2 quads a texel; 1, 0.25, "
                    "...)")
         ->check(CLI::Range(0.0625, 1.0))
+        ->capture_default_str();
+    app.add_option("--sun", sun,
+                   "ELEVATION,AZIMUTH (degrees; azimuth from +x toward +z): also render the "
+                   "directional light's view through the deferred passes, its displaced shadow "
+                   "map (shadow-map.exr, and shadow-map-base.exr before the offset)");
+    app.add_option("--shadow-size", shadow_size, "the light's shadow map, pixels a side")
+        ->check(CLI::Range(16, 8192))
         ->capture_default_str();
     app.add_option("-o,--out", out_dir, "output folder")->capture_default_str();
     app.add_option("--repeats", repeats, "timed frames per mode (median reported)")
@@ -337,6 +346,72 @@ nlohmann::json truth_section(const FrameCommand& cmd, const Scene& scene,
             {"notes", notes}};
 }
 
+// --sun's "ELEVATION,AZIMUTH" as the world direction toward the light (y up, azimuth from +x
+// toward +z). Throws UsageError naming --sun.
+std::array<float, 3> sun_direction(const std::string& text, double& elevation, double& azimuth) {
+    const size_t comma = text.find(',');
+    size_t used_e = 0, used_a = 0;
+    try {
+        if (comma == std::string::npos) throw std::invalid_argument("no comma");
+        elevation = std::stod(text.substr(0, comma), &used_e);
+        azimuth = std::stod(text.substr(comma + 1), &used_a);
+    } catch (const std::exception&) {
+        used_e = 0;
+    }
+    if (used_e == 0 || used_e != comma || used_a != text.size() - comma - 1 ||
+        !(elevation > 0.0 && elevation <= 90.0) || !std::isfinite(azimuth))
+        throw UsageError(
+            "--sun: expected ELEVATION,AZIMUTH in degrees, elevation in (0, 90], got '" + text +
+            "'");
+    const double e = elevation * M_PI / 180.0, a = azimuth * M_PI / 180.0;
+    return {float(std::cos(e) * std::cos(a)), float(std::sin(e)), float(std::cos(e) * std::sin(a))};
+}
+
+// The sun's view of the scene through the deferred passes (light_camera: orthographic over the
+// scene): the displaced shadow map and the base's, written beside the frame; its sheet tile.
+nlohmann::json light_view(const FrameCommand& cmd, const Scene& scene,
+                          const std::vector<LoadedMaterial>& table,
+                          const std::vector<MethodParams>& methods,
+                          const std::shared_ptr<Runtime>& rt, const ShadeSettings& shading,
+                          std::vector<std::pair<std::string, Rgb8> >& tiles) {
+    double elevation = 0, azimuth = 0;
+    const std::array<float, 3> toward = sun_direction(cmd.sun, elevation, azimuth);
+    Scene lit = scene;
+    lit.camera = light_camera(scene, toward);
+    const int n = cmd.shadow_size;
+    FrameRenderer light(rt, lit, table, methods, n, n, shading);
+    const FrameRun run = light.render(FrameMode::Deferred, false, cmd.repeats);
+    const std::vector<float>& base = light.depth_before();
+    const std::string d = cmd.out_dir + "/";
+    write_depth_exr(d + "shadow-map.exr", n, n, run.depth_after);
+    write_depth_exr(d + "shadow-map-base.exr", n, n, base);
+    // The relief's depth below the base along the light's ray, in world units.
+    const double range = lit.camera.far_plane - lit.camera.near_plane;
+    std::vector<double> moved;
+    for (size_t k = 0; k < base.size(); ++k)
+        if (base[k] < 1.0f) moved.push_back((run.depth_after[k] - base[k]) * range);
+    std::sort(moved.begin(), moved.end());
+    const double p95 =
+        moved.empty() ? 0.0 : moved[std::min(moved.size() - 1, moved.size() * 95 / 100)];
+    std::printf(
+        "sun at %.1f, %.1f degrees: %dx%d shadow map over %zu covered pixels in %.2f ms (offset "
+        "%.2f); the relief moves it by up to %.4g m (p95 %.4g)\n",
+        elevation, azimuth, n, n, moved.size(), run.ms.total, run.ms.offset,
+        moved.empty() ? 0.0 : moved.back(), p95);
+    tiles.push_back(
+        {"the sun's view: displaced shadow map against the base's (log, white = "
+         "16e-4 of its depth range)",
+         depth_change_image(n, n, base, run.depth_after)});
+    return {{"sun_deg", {elevation, azimuth}},
+            {"toward_light", toward},
+            {"size", n},
+            {"half_extent_m", lit.camera.ortho_half_height},
+            {"depth_range_m", range},
+            {"covered_pixels", moved.size()},
+            {"passes", pass_json(run)},
+            {"relief_depth_m", {{"p95", p95}, {"max", moved.empty() ? 0.0 : moved.back()}}}};
+}
+
 }  // namespace
 
 int run_frame(const FrameCommand& cmd) {
@@ -348,6 +423,10 @@ int run_frame(const FrameCommand& cmd) {
                          "' is neither the built-in 'room' nor a .gltf or .glb file");
     Camera camera;
     if (!cmd.camera.empty()) camera = as_usage([&] { return parse_camera(cmd.camera); });
+    if (!cmd.sun.empty()) {
+        double elevation = 0, azimuth = 0;
+        sun_direction(cmd.sun, elevation, azimuth);
+    }
     MethodParams override_params;
     if (!cmd.method.empty()) {
         override_params = as_usage([&] {
@@ -573,6 +652,8 @@ int run_frame(const FrameCommand& cmd) {
                          to_srgb8(w, h, runs[forward_at].color)});
         tiles.push_back({"forward uv error vs exact", heat_map(w, h, errors[forward_at], 16.0f)});
     }
+    nlohmann::json sun_doc;
+    if (!cmd.sun.empty()) sun_doc = light_view(cmd, scene, table, methods, rt, shading, tiles);
     tiles.insert(tiles.end(), truth_tiles.begin(), truth_tiles.end());
     write_image(d + "frame-sheet.png", contact_sheet(tiles, 2));
     if (!truth_tiles.empty()) write_image(d + "truth-sheet.png", contact_sheet(truth_tiles, 2));
@@ -587,6 +668,7 @@ int run_frame(const FrameCommand& cmd) {
                           {"table", table_file},
                           {"modes", modes}};
     if (cmd.truth) doc["truth"] = truth_doc;
+    if (!cmd.sun.empty()) doc["shadow_map"] = sun_doc;
     std::ofstream(d + "frame.json") << doc.dump(2) << "\n";
     const bool measured = cmd.truth && truth_doc.contains("modes");
     if (measured) run_chart_script("plot_truth.py", {d + "frame.json", d + "truth-pareto.png"});
