@@ -103,6 +103,7 @@ std::vector<ProgramVariant> program_variants() {
     out.push_back({"frame/classify", classify_program_files(), ""});
     out.push_back({"frame/behind", behind_program_files(), ""});
     out.push_back({"frame/depth_offset", {"frame/depth_offset.cl"}, ""});
+    out.push_back({"frame/shadow_mask", {"frame/shadow_mask.cl"}, ""});
     for (int lanes : {1, 8, 16})
         out.push_back(
             {"shade/lanes" + std::to_string(lanes), shade_program_files(), lanes_define(lanes)});

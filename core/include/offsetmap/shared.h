@@ -140,6 +140,21 @@ typedef struct {
     om_float eye_w;              // as OmReconstructParams's: 1 a position, 0 orthographic
 } OmDepthOffsetParams;
 
+// The receivers' shadow test (kernels/frame/shadow_mask.cl): each pixel's point after the depth
+// offset against the light's displaced shadow map (its view orthographic or perspective), both in
+// GL's conventions with rows bottom first. The receiver's plane through the point and its
+// neighbours in the frame gives its depth at each tap's texel centre, so a lit plane compares with
+// itself at any light angle; the slack allows for what is not planar over a texel.
+typedef struct {
+    om_int width, height;          // the camera's frame
+    om_int map_width, map_height;  // the light's shadow map
+    om_float inv_view_proj[16];    // the camera's NDC -> world, column-major
+    om_float light_view_proj[16];  // world -> the light's clip space, column-major
+    om_float slack_texels;         // lit within the plane's depth change over this many texels
+    om_float slack_depth;          // and this much window depth (the float rounding of points)
+    om_int pcf_radius;             // (2 r + 1)^2 taps around the point's texel
+} OmShadowMaskParams;
+
 // A unorm16 height's value, as OpenImageIO converts 16-bit files (a product, not c / 65535: the
 // two differ in the last bit for 512 of the 65536 values), so a 16-bit map rounds to itself.
 #define OM_UNORM16_STEP (1.0f / 65535.0f)
@@ -214,12 +229,13 @@ typedef struct {
 // without updating this list fails the host's build (size and the last member's offset) and every
 // kernel program's (size: C99 has no static assertion, and offsetof is not OpenCL C 1.2's), rather
 // than uploading shifted fields. Sizes and offsets in bytes.
-#define OM_LAYOUT_CHECKS(CHECK)                 \
-    CHECK(OmOffsetParams, 124, p, 92)           \
-    CHECK(OmReconstructParams, 120, eye_w, 116) \
-    CHECK(OmDepthOffsetParams, 152, eye_w, 148) \
-    CHECK(OmShadeParams, 92, grazing, 88)       \
-    CHECK(OmTileParams, 40, entry_count, 36)    \
+#define OM_LAYOUT_CHECKS(CHECK)                     \
+    CHECK(OmOffsetParams, 124, p, 92)               \
+    CHECK(OmReconstructParams, 120, eye_w, 116)     \
+    CHECK(OmDepthOffsetParams, 152, eye_w, 148)     \
+    CHECK(OmShadowMaskParams, 156, pcf_radius, 152) \
+    CHECK(OmShadeParams, 92, grazing, 88)           \
+    CHECK(OmTileParams, 40, entry_count, 36)        \
     CHECK(OmMaterialSlot, 240, albedo_offset, 236)
 #ifdef OM_OPENCL_C
 // An array of negative size does not compile.
