@@ -212,6 +212,23 @@ TEST(Renderer, LightViewOfAFlatQuadIsItsDisplacedShadowMap) {
     EXPECT_GT(compared, static_cast<size_t>(w) * h / 5);
     std::printf("light view: %zu pixels compared, worst depth against the truth %.2e m\n", compared,
                 worst_depth);
+    // A single-sided wall the light sees from behind (facing -x, the light from +x) still casts:
+    // the light's view keeps back faces.
+    Scene walled = scene;
+    walled.meshes.push_back(make_quad("wall", 2, {2.0f, 0.0f, -5.0f}, {0.0f, 0.0f, 2.0f},
+                                      {0.0f, 2.0f, 0.0f}, 1.0f, 1.0f));
+    walled.camera = light_camera(walled, {1.0f, 0.6f, 0.0f});
+    std::vector<LoadedMaterial> two = table;
+    two.push_back(table[0]);
+    two[1].spec.id = 2;
+    FrameRenderer lw(
+        runtime(), walled, two,
+        {resolve_params(find_method("exact"), {}), resolve_params(find_method("exact"), {})}, 64,
+        64, ShadeSettings{});
+    lw.render(FrameMode::Deferred, false, 1);
+    const std::vector<float>& ids = lw.gbuffer().material;
+    EXPECT_GT(std::count(ids.begin(), ids.end(), 2.0f), 16)
+        << "the wall's back in the light's view";
     Scene forward = scene;
     FrameRenderer f(runtime(), forward, table, {resolve_params(find_method("exact"), {})}, 8, 8,
                     ShadeSettings{});

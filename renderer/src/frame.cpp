@@ -223,6 +223,8 @@ std::string FrameRenderer::gl_renderer() const {
     return impl_->gl->renderer();
 }
 
+std::array<float, 16> FrameRenderer::view_projection() const { return impl_->view.view_projection; }
+
 size_t FrameRenderer::covered_pixels() const {
     size_t c = 0;
     for (float d : engine_.depth) c += d < 1.0f;

@@ -231,7 +231,12 @@ void Raster::draw_with(const View& view, const std::vector<ForwardMaterial>* for
         glClearNamedFramebufferfv(fbo_.get(), GL_COLOR, i, i == 2 || i == 5 ? sky_uv : zero);
     glClearNamedFramebufferfi(fbo_.get(), GL_DEPTH_STENCIL, 0, 1.0f, 0);
     glEnable(GL_DEPTH_TEST);
-    glEnable(GL_CULL_FACE);
+    // A light's (orthographic) view keeps back faces: a single-sided wall the light sees from
+    // behind still casts its shadow (the offset pass flags them BACKFACING and leaves their depth).
+    if (view.orthographic)
+        glDisable(GL_CULL_FACE);
+    else
+        glEnable(GL_CULL_FACE);
     glCullFace(GL_BACK);
     glFrontFace(GL_CCW);
     auto draw_meshes = [&](const Program& p, bool with_materials) {

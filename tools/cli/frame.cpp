@@ -14,6 +14,7 @@
 #ifdef OFFSETMAP_HAVE_RENDERER
 #include "offsetmap/renderer/frame.hpp"
 #include "offsetmap/renderer/gltf.hpp"
+#include "offsetmap/renderer/shadow_mask.hpp"
 #include "offsetmap/renderer/truth.hpp"
 #endif
 
@@ -373,6 +374,7 @@ nlohmann::json light_view(const FrameCommand& cmd, const Scene& scene,
                           const std::vector<LoadedMaterial>& table,
                           const std::vector<MethodParams>& methods,
                           const std::shared_ptr<Runtime>& rt, const ShadeSettings& shading,
+                          const EngineCamera& camera, const std::vector<float>& frame_depth,
                           std::vector<std::pair<std::string, Rgb8> >& tiles) {
     double elevation = 0, azimuth = 0;
     const std::array<float, 3> toward = sun_direction(cmd.sun, elevation, azimuth);
@@ -402,6 +404,51 @@ nlohmann::json light_view(const FrameCommand& cmd, const Scene& scene,
         {"the sun's view: displaced shadow map against the base's (log, white = "
          "16e-4 of its depth range)",
          depth_change_image(n, n, base, run.depth_after)});
+    // The receivers' test of the shown frame's points (after its depth offset) against the map,
+    // 3 x 3 taps; the kernel takes GL's rows, bottom first.
+    const int w = cmd.width, h = cmd.height;
+    auto flip = [](const std::vector<float>& v, int width, int height) {
+        std::vector<float> o(v.size());
+        for (int y = 0; y < height; ++y)
+            std::copy_n(v.begin() + size_t(height - 1 - y) * width, width,
+                        o.begin() + size_t(y) * width);
+        return o;
+    };
+    auto upload = [&](const std::vector<float>& v) {
+        return cl::Buffer(rt->context(), CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR,
+                          v.size() * sizeof(float), const_cast<float*>(v.data()));
+    };
+    const std::vector<float> depth_rows = flip(frame_depth, w, h);
+    const std::vector<float> map_rows = flip(run.depth_after, n, n);
+    const cl::Buffer depth_buffer = upload(depth_rows), map_buffer = upload(map_rows);
+    const cl::Buffer mask_buffer(rt->context(), CL_MEM_WRITE_ONLY, size_t(w) * h * sizeof(float));
+    ShadowMaskPass mask_pass(*rt);
+    mask_pass
+        .enqueue(
+            rt->queue(),
+            shadow_mask_params(camera.inverse_view_projection, w, h, light.view_projection(), n, n),
+            depth_buffer, map_buffer, mask_buffer)
+        .wait();
+    std::vector<float> mask(size_t(w) * h);
+    rt->queue().enqueueReadBuffer(mask_buffer, CL_TRUE, 0, mask.size() * sizeof(float),
+                                  mask.data());
+    mask = flip(mask, w, h);
+    size_t covered = 0, shadowed = 0;
+    Rgb8 picture{w, h, std::vector<std::uint8_t>(mask.size() * 3)};
+    for (size_t k = 0; k < mask.size(); ++k) {
+        const bool drawn = frame_depth[k] < 1.0f;
+        covered += drawn;
+        shadowed += drawn && mask[k] < 0.5f;
+        const std::uint8_t g = drawn ? std::uint8_t(40 + 215 * mask[k]) : 0;
+        picture.rgb[3 * k] = picture.rgb[3 * k + 1] = picture.rgb[3 * k + 2] = g;
+    }
+    std::printf("the frame's points against it (3 x 3 taps): %zu of %zu in shadow\n", shadowed,
+                covered);
+    write_image(d + "shadow-mask.png", picture);
+    tiles.push_back(
+        {"the frame's points against the sun's displaced map (white lit, dark in "
+         "shadow; not yet in the shading)",
+         picture});
     return {{"sun_deg", {elevation, azimuth}},
             {"toward_light", toward},
             {"size", n},
@@ -409,7 +456,8 @@ nlohmann::json light_view(const FrameCommand& cmd, const Scene& scene,
             {"depth_range_m", range},
             {"covered_pixels", moved.size()},
             {"passes", pass_json(run)},
-            {"relief_depth_m", {{"p95", p95}, {"max", moved.empty() ? 0.0 : moved.back()}}}};
+            {"relief_depth_m", {{"p95", p95}, {"max", moved.empty() ? 0.0 : moved.back()}}},
+            {"frame_pixels_in_shadow", shadowed}};
 }
 
 }  // namespace
@@ -653,7 +701,9 @@ int run_frame(const FrameCommand& cmd) {
         tiles.push_back({"forward uv error vs exact", heat_map(w, h, errors[forward_at], 16.0f)});
     }
     nlohmann::json sun_doc;
-    if (!cmd.sun.empty()) sun_doc = light_view(cmd, scene, table, methods, rt, shading, tiles);
+    if (!cmd.sun.empty())
+        sun_doc = light_view(cmd, scene, table, methods, rt, shading, engine.camera,
+                             shown.depth_after, tiles);
     tiles.insert(tiles.end(), truth_tiles.begin(), truth_tiles.end());
     write_image(d + "frame-sheet.png", contact_sheet(tiles, 2));
     if (!truth_tiles.empty()) write_image(d + "truth-sheet.png", contact_sheet(truth_tiles, 2));

@@ -3,6 +3,7 @@
 // the pixel depth offset written back into the depth buffer. Or the forward peer: the same scene
 // with each material's method in the G-buffer pass's fragment shader and the same shading.
 #pragma once
+#include <array>
 #include <cstdint>
 #include <memory>
 #include <string>
@@ -101,6 +102,9 @@ class FrameRenderer {
     const GBuffer& explicit_gbuffer() const { return explicit_; }
     const std::vector<float>& depth_before() const { return engine_.depth; }
     size_t covered_pixels() const;
+    // The camera's world -> clip matrix (column-major, GL conventions): a shadow map's light view
+    // for the receivers' test (ShadowMaskPass).
+    std::array<float, 16> view_projection() const;
     // "host copies" (and why) or the sharing used between GL and CL.
     const std::string& interop() const { return interop_; }
     std::string gl_renderer() const;
