@@ -92,6 +92,9 @@ for part in "${parts[@]}"; do
             "$tmp/box-false/final.png" "deferred, no tile mask" \
             "$tmp/box-true/final.png" "deferred, tile mask" \
             "$tmp/box-true/final-forward.png" "forward, tile mask (discard)"
+        # The sun's displaced shadow map and the frame's points tested against it.
+        $OM frame --width 640 --height 360 --sun 40,60 --shadow-size 2048 --repeats 1 -o "$tmp/sun"
+        cp "$tmp/sun/shadow-mask.png" "$IMG/frame-sun-mask.png"
         $OM frame --scene data/pillars.gltf --width 640 --height 360 --shadows soft -o "$tmp/pillars"
         cp "$tmp/pillars/final.png" "$IMG/frame-pillars.png"
         $OM frame --width 640 --height 360 --repeats 1 -o "$tmp/room"
