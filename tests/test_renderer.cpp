@@ -239,6 +239,41 @@ TEST(Renderer, DepthOffsetIsTheHitsDepth) {
     std::printf("%zu pixels, worst depth difference %.2e\n", checked, worst);
 }
 
+// The kernel's float matrices: vp and its inverse as the kernel takes them, and those floats in
+// double (what the expected values are computed with).
+struct KernelMatrices {
+    std::array<float, 16> vp, inv;
+    glm::dmat4 vp32, inv32;
+};
+KernelMatrices kernel_matrices(const glm::dmat4& vp) {
+    KernelMatrices m;
+    const glm::dmat4 inv = glm::inverse(vp);
+    for (int c = 0; c < 4; ++c)
+        for (int r = 0; r < 4; ++r) {
+            m.vp[4 * c + r] = static_cast<float>(vp[c][r]);
+            m.inv[4 * c + r] = static_cast<float>(inv[c][r]);
+            m.vp32[c][r] = m.vp[4 * c + r];
+            m.inv32[c][r] = m.inv[4 * c + r];
+        }
+    return m;
+}
+
+// The depth offset kernel over one frame's planes (one float a pixel): the depth after.
+std::vector<float> depth_offset(Runtime& rt, const OmDepthOffsetParams& p,
+                                const std::vector<float>& depth, const std::vector<float>& t,
+                                const std::vector<float>& density) {
+    const size_t bytes = depth.size() * sizeof(float);
+    auto in = [&](const std::vector<float>& v) {
+        return cl::Buffer(rt.context(), CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, bytes,
+                          const_cast<float*>(v.data()));
+    };
+    cl::Buffer out(rt.context(), CL_MEM_WRITE_ONLY, bytes);
+    DepthOffsetPass(rt).enqueue(rt.queue(), p, in(depth), in(t), in(density), out).wait();
+    std::vector<float> after(depth.size());
+    rt.queue().enqueueReadBuffer(out, CL_TRUE, 0, bytes, after.data());
+    return after;
+}
+
 // The pixel depth offset's kernel alone (no GL context: it also runs under Oclgrind), against the
 // same steps in double with the same (float) matrices, on a 37 x 23 frame: points 0.5 to 8 m away
 // in the room's camera (near 0.05, far 50), moved by t in [-0.05, 0.05] uv times a density in
@@ -255,15 +290,8 @@ TEST(DepthOffset, KernelMovesEachPointAlongItsEyeRay) {
     const glm::dmat4 vp = glm::perspective(glm::radians(double(cam.fov_y_deg)), double(w) / h,
                                            double(cam.near_plane), double(cam.far_plane)) *
                           glm::lookAt(eye, g(cam.target), glm::dvec3(0, 1, 0));
-    std::array<float, 16> fvp, finv;
-    glm::dmat4 vp32, inv32;  // the kernel's float matrices, in double
-    for (int c = 0; c < 4; ++c)
-        for (int r = 0; r < 4; ++r) {
-            fvp[4 * c + r] = static_cast<float>(vp[c][r]);
-            finv[4 * c + r] = static_cast<float>(glm::inverse(vp)[c][r]);
-            vp32[c][r] = fvp[4 * c + r];
-            inv32[c][r] = finv[4 * c + r];
-        }
+    const KernelMatrices km = kernel_matrices(vp);
+    const glm::dmat4 &vp32 = km.vp32, &inv32 = km.inv32;
     std::mt19937 rng(41);
     std::uniform_real_distribution<double> unit(0.0, 1.0);
     std::vector<float> depth(n), t(n), density(n);
@@ -279,16 +307,8 @@ TEST(DepthOffset, KernelMovesEachPointAlongItsEyeRay) {
                 inf = std::numeric_limits<float>::infinity();
     depth[3] = 1.0f;  // sky
     t[5] = 0.0f, t[6] = nan, t[7] = inf, t[8] = -inf;
-    auto in = [&](std::vector<float>& v) {
-        return cl::Buffer(rt->context(), CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, n * sizeof(float),
-                          v.data());
-    };
-    cl::Buffer d = in(depth), tb = in(t), db = in(density);
-    cl::Buffer out(rt->context(), CL_MEM_WRITE_ONLY, n * sizeof(float));
-    DepthOffsetPass pass(*rt);
-    pass.enqueue(rt->queue(), depth_offset_params(fvp, finv, cam.eye, w, h), d, tb, db, out).wait();
-    std::vector<float> after(n);
-    rt->queue().enqueueReadBuffer(out, CL_TRUE, 0, n * sizeof(float), after.data());
+    const std::vector<float> after =
+        depth_offset(*rt, depth_offset_params(km.vp, km.inv, cam.eye, w, h), depth, t, density);
     double worst = 0.0;
     for (int y = 0; y < h; ++y)
         for (int x = 0; x < w; ++x) {
@@ -319,15 +339,8 @@ TEST(DepthOffset, OrthographicViewMovesEveryPointAlongTheLight) {
     const glm::dvec3 L = glm::normalize(glm::dvec3(-0.3, 0.8, 0.5));
     const glm::dmat4 vp = glm::ortho(-3.0, 3.0, -2.0, 2.0, 1.0, 12.0) *
                           glm::lookAt(6.0 * L, glm::dvec3(0), glm::dvec3(0, 0, 1));
-    std::array<float, 16> fvp, finv;
-    glm::dmat4 vp32, inv32;
-    for (int c = 0; c < 4; ++c)
-        for (int r = 0; r < 4; ++r) {
-            fvp[4 * c + r] = static_cast<float>(vp[c][r]);
-            finv[4 * c + r] = static_cast<float>(glm::inverse(vp)[c][r]);
-            vp32[c][r] = fvp[4 * c + r];
-            inv32[c][r] = finv[4 * c + r];
-        }
+    const KernelMatrices km = kernel_matrices(vp);
+    const glm::dmat4 &vp32 = km.vp32, &inv32 = km.inv32;
     std::mt19937 rng(7);
     std::uniform_real_distribution<double> unit(0.0, 1.0);
     std::vector<float> depth(n), t(n), density(n);
@@ -336,18 +349,9 @@ TEST(DepthOffset, OrthographicViewMovesEveryPointAlongTheLight) {
         t[k] = static_cast<float>(0.1 * unit(rng) - 0.05);
         density[k] = static_cast<float>(0.5 + 1.5 * unit(rng));
     }
-    auto in = [&](std::vector<float>& v) {
-        return cl::Buffer(rt->context(), CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, n * sizeof(float),
-                          v.data());
-    };
-    cl::Buffer d = in(depth), tb = in(t), db = in(density);
-    cl::Buffer out(rt->context(), CL_MEM_WRITE_ONLY, n * sizeof(float));
     const Vec3 toward = {float(L.x), float(L.y), float(L.z)};
-    DepthOffsetPass(*rt)
-        .enqueue(rt->queue(), depth_offset_params(fvp, finv, toward, w, h, true), d, tb, db, out)
-        .wait();
-    std::vector<float> after(n);
-    rt->queue().enqueueReadBuffer(out, CL_TRUE, 0, n * sizeof(float), after.data());
+    const std::vector<float> after = depth_offset(
+        *rt, depth_offset_params(km.vp, km.inv, toward, w, h, true), depth, t, density);
     // Window depth runs over the 11 m between the planes: a move of t density m along L changes
     // it by t density / 11 exactly; float rounding of the matrices and the point, a few 1e-7.
     for (int y = 0; y < h; ++y)

@@ -30,7 +30,8 @@ float3 om_light_point(const OmShadowMaskParams* P, int x, int y, float d) {
                     (0.5f * cy / cw + 0.5f) * (float)P->map_height - 0.5f, 0.5f * cz / cw + 0.5f);
 }
 
-// The neighbour along one axis on the side whose depth is nearer d (-1: none drawn).
+// The side (+1 or -1) of the neighbour along one axis whose depth is nearer d; 0: neither is
+// drawn.
 int om_receiver_neighbour(__global const float* depth, int k, int step, int lo_ok, int hi_ok,
                           float d) {
     const float lo = lo_ok ? depth[k - step] : 2.0f, hi = hi_ok ? depth[k + step] : 2.0f;
@@ -58,7 +59,7 @@ __kernel void om_shadow_mask(const OmShadowMaskParams P, __global const float* d
         const float3 e2 = om_light_point(&P, x, y + sy, depth[k + sy * P.width]) - p;
         const float det = e1.x * e2.y - e1.y * e2.x;
         // A plane seen edge-on by the light (its texels do not span it) keeps no gradient.
-        if (fabs(det) > 1.0e-6f * (fabs(e1.x * e2.y) + fabs(e1.y * e2.x)) && det != 0.0f) {
+        if (fabs(det) > 1.0e-6f * (fabs(e1.x * e2.y) + fabs(e1.y * e2.x))) {
             a = (e1.z * e2.y - e2.z * e1.y) / det;
             b = (e2.z * e1.x - e1.z * e2.x) / det;
         }

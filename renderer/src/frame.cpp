@@ -527,6 +527,9 @@ OffsetResult FrameRenderer::exact() const {
 #include "exr.hpp"
 
 namespace offsetmap::renderer {
+std::vector<float> flip_row_order(const std::vector<float>& in, int width, int height, int c) {
+    return flip_rows(in, width, height, c);
+}
 void write_depth_exr(const std::string& path, int width, int height,
                      const std::vector<float>& depth) {
     write_float_exr(path, "depth", width, height, {"depth"}, depth, {{"offsetmap:depth", "gl"}});

@@ -392,14 +392,12 @@ nlohmann::json light_view(const FrameCommand& cmd, const Scene& scene,
     std::vector<double> moved;
     for (size_t k = 0; k < base.size(); ++k)
         if (base[k] < 1.0f) moved.push_back((run.depth_after[k] - base[k]) * range);
-    std::sort(moved.begin(), moved.end());
-    const double p95 =
-        moved.empty() ? 0.0 : moved[std::min(moved.size() - 1, moved.size() * 95 / 100)];
+    const ErrorStats relief = error_stats(moved);
     std::printf(
         "sun at %.1f, %.1f degrees: %dx%d shadow map over %zu covered pixels in %.2f ms (offset "
         "%.2f); the relief moves it by up to %.4g m (p95 %.4g)\n",
-        elevation, azimuth, n, n, moved.size(), run.ms.total, run.ms.offset,
-        moved.empty() ? 0.0 : moved.back(), p95);
+        elevation, azimuth, n, n, moved.size(), run.ms.total, run.ms.offset, relief.max,
+        relief.p95);
     tiles.push_back(
         {"the sun's view: displaced shadow map against the base's (log, white = "
          "16e-4 of its depth range)",
@@ -407,19 +405,12 @@ nlohmann::json light_view(const FrameCommand& cmd, const Scene& scene,
     // The receivers' test of the shown frame's points (after its depth offset) against the map,
     // 3 x 3 taps; the kernel takes GL's rows, bottom first.
     const int w = cmd.width, h = cmd.height;
-    auto flip = [](const std::vector<float>& v, int width, int height) {
-        std::vector<float> o(v.size());
-        for (int y = 0; y < height; ++y)
-            std::copy_n(v.begin() + size_t(height - 1 - y) * width, width,
-                        o.begin() + size_t(y) * width);
-        return o;
-    };
     auto upload = [&](const std::vector<float>& v) {
         return cl::Buffer(rt->context(), CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR,
                           v.size() * sizeof(float), const_cast<float*>(v.data()));
     };
-    const std::vector<float> depth_rows = flip(frame_depth, w, h);
-    const std::vector<float> map_rows = flip(run.depth_after, n, n);
+    const std::vector<float> depth_rows = flip_row_order(frame_depth, w, h);
+    const std::vector<float> map_rows = flip_row_order(run.depth_after, n, n);
     const cl::Buffer depth_buffer = upload(depth_rows), map_buffer = upload(map_rows);
     const cl::Buffer mask_buffer(rt->context(), CL_MEM_WRITE_ONLY, size_t(w) * h * sizeof(float));
     ShadowMaskPass mask_pass(*rt);
@@ -432,7 +423,7 @@ nlohmann::json light_view(const FrameCommand& cmd, const Scene& scene,
     std::vector<float> mask(size_t(w) * h);
     rt->queue().enqueueReadBuffer(mask_buffer, CL_TRUE, 0, mask.size() * sizeof(float),
                                   mask.data());
-    mask = flip(mask, w, h);
+    mask = flip_row_order(mask, w, h);
     size_t covered = 0, shadowed = 0;
     Rgb8 picture{w, h, std::vector<std::uint8_t>(mask.size() * 3)};
     for (size_t k = 0; k < mask.size(); ++k) {
@@ -456,7 +447,7 @@ nlohmann::json light_view(const FrameCommand& cmd, const Scene& scene,
             {"depth_range_m", range},
             {"covered_pixels", moved.size()},
             {"passes", pass_json(run)},
-            {"relief_depth_m", {{"p95", p95}, {"max", moved.empty() ? 0.0 : moved.back()}}},
+            {"relief_depth_m", {{"p95", relief.p95}, {"max", relief.max}}},
             {"frame_pixels_in_shadow", shadowed}};
 }
 

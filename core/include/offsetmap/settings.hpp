@@ -90,10 +90,10 @@ GrazingRule grazing_rule(const PassSettings& settings, int map_w, int map_h);
 // The kernel parameters a pass with these settings uses over a hf_w x hf_h height map (grazing
 // rule, march cap, LOD) and a gb_w x gb_h G-buffer (0 x 0 for kernels that read none); method
 // parameters and mip levels are the caller's to fill in.
-// The tile bounds as the kernels and shaders take them: an open side as -+FLT_MAX.
-std::array<float, 4> kernel_tile_bounds(const PassSettings& settings);
-
 OmOffsetParams offset_params(const PassSettings& settings, int hf_w, int hf_h, int gb_w = 0,
                              int gb_h = 0);
+
+// The tile bounds as the kernels and shaders take them: an open side as -+FLT_MAX.
+std::array<float, 4> kernel_tile_bounds(const PassSettings& settings);
 
 }  // namespace offsetmap

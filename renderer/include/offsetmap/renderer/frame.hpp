@@ -131,6 +131,9 @@ std::string forward_unsupported(const MaterialSpec& material, const MethodParams
 }  // namespace offsetmap::renderer
 
 namespace offsetmap::renderer {
+// Rows top first to bottom first (GL's, as the kernels of this library take them) or back, `c`
+// values a pixel.
+std::vector<float> flip_row_order(const std::vector<float>& in, int width, int height, int c = 1);
 // One float channel "depth" (rows top first); throws Error naming the file.
 void write_depth_exr(const std::string& path, int width, int height,
                      const std::vector<float>& depth);
