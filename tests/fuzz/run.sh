@@ -7,8 +7,10 @@
 # (the readers' limit in the harnesses is 64 MiB). The input that caused it is
 # OUT/<target>/crash-* (or leak-, timeout-, oom-): fix the reader, then add the input to the
 # corpus as found-<what> so that the suite replays it (FuzzCorpus.*).
-# OFFSETMAP_FUZZ_SEED fixes libFuzzer's seed (default: a random one): CI's run is then a prefix of
-# the same-seeded longer run here.
+# OFFSETMAP_FUZZ_SEED fixes libFuzzer's seed (default: a random one); how far a seeded run gets
+# in its seconds depends on the machine, so a finding in CI's minute may come later here: its input
+# is printed below (base64) with the report, which reaches the log even from a decoder's call
+# (-close_fd_mask=2 keeps libFuzzer's own stream; the harness keeps the sanitizers').
 set -euo pipefail
 cd "$(dirname "$0")/../.."
 seconds=${1:-60}
@@ -27,7 +29,8 @@ one() {
     UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
     LSAN_OPTIONS=suppressions=tests/sanitize/lsan.supp:print_suppressions=0 \
         "$bin/fuzz_$t" -seed="${OFFSETMAP_FUZZ_SEED:-0}" -max_total_time="$seconds" -timeout=60 -malloc_limit_mb=256 \
-        -rss_limit_mb=4096 -print_final_stats=1 -artifact_prefix="$out/$t/" \
+        -rss_limit_mb=4096 -print_final_stats=1 -close_fd_mask=2 -report_slow_units=60 \
+        -artifact_prefix="$out/$t/" \
         "$out/$t/corpus" "tests/fuzz/corpus/$t" >"$out/$t.log" 2>&1
     echo $? >"$out/$t.rc"
 }
@@ -42,10 +45,10 @@ for t in "${targets[@]}"; do
     speed=$(sed -n 's/^stat::average_exec_per_sec: *//p' "$out/$t.log" | tail -1)
     units=$(find "$out/$t/corpus" -type f | wc -l)
     found=$(find "$out/$t" -maxdepth 1 -type f \( -name 'crash-*' -o -name 'leak-*' -o \
-        -name 'timeout-*' -o -name 'oom-*' -o -name 'slow-unit-*' \) | wc -l)
+        -name 'timeout-*' -o -name 'oom-*' \) | wc -l)
     result="nothing found"
     if [ "$rc" != 0 ] || [ "$found" != 0 ]; then
-        result="FOUND (exit $rc): $(ls "$out/$t" | grep -E '^(crash|leak|timeout|oom)-' | head -3 | tr '\n' ' ')"
+        result="FOUND (exit $rc): $(ls "$out/$t" | { grep -E '^(crash|leak|timeout|oom)-' || true; } | head -3 | tr '\n' ' ')"
         status=1
     fi
     printf '%-16s %12s %10s %8s  %s\n' "$t" "${runs:-?}" "${speed:-?}" "$units" "$result"
@@ -53,6 +56,13 @@ done
 if [ $status != 0 ]; then
     for t in "${targets[@]}"; do
         [ "$(cat "$out/$t.rc")" = 0 ] || { echo "== $out/$t.log"; grep -v '^#' "$out/$t.log" | tail -40; }
+        # The inputs themselves, so that a finding on a machine whose files are gone can be
+        # replayed: base64 -d into a file, then build/fuzz/tests/fuzz/fuzz_<target> FILE.
+        for a in $(find "$out/$t" -maxdepth 1 -type f \( -name 'crash-*' -o -name 'leak-*' -o \
+            -name 'timeout-*' -o -name 'oom-*' \) | head -3); do
+            echo "== $a ($(stat -c %s "$a") bytes, base64)"
+            head -c 65536 "$a" | base64 -w 100
+        done
     done
 fi
 exit $status
