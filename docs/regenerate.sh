@@ -95,6 +95,15 @@ for part in "${parts[@]}"; do
         # The sun's displaced shadow map and the frame's points tested against it.
         $OM frame --width 640 --height 360 --sun 40,60 --shadow-size 2048 --repeats 1 -o "$tmp/sun"
         cp "$tmp/sun/shadow-mask.png" "$IMG/frame-sun-mask.png"
+        # The pillars shaded with the sun's displaced map, and their shadows against the truth's.
+        $OM frame --scene data/pillars.gltf --width 640 --height 360 --sun 20,60 --curvature \
+            --shadows map+soft --shadow-size 2048 --repeats 1 -o "$tmp/sun-pillars"
+        cp "$tmp/sun-pillars/final.png" "$IMG/frame-sun-shadows.png"
+        $OM frame --scene data/pillars.gltf --width 480 --height 270 --sun 20,60 --curvature \
+            --shadows map --shadow-size 1024 --truth --repeats 1 -o "$tmp/sun-truth"
+        /usr/bin/python3 docs/crop_figure.py "$IMG/frame-sun-truth.png" 100 40 400 220 1.5 \
+            "$tmp/sun-truth/shadow-truth-flat.png" "flat map" \
+            "$tmp/sun-truth/shadow-truth-displaced.png" "displaced map"
         $OM frame --scene data/pillars.gltf --width 640 --height 360 --shadows soft -o "$tmp/pillars"
         cp "$tmp/pillars/final.png" "$IMG/frame-pillars.png"
         $OM frame --width 640 --height 360 --repeats 1 -o "$tmp/room"

@@ -145,10 +145,13 @@ OM_INLINE OmF om_light_visibility(const OmField* f, OmF u, OmF v, OmF lx, OmF ly
 // The colour of the lanes of `active` at uv' (the rest get the background). Without normals the
 // surface is flat (n = z), without heights it casts no shadows (the material frame's id 0: no
 // relief).
+// With a shadow map (has_mask), `mask` is the lit fraction its test gave the pixel; *visibility
+// is what the diffuse term was scaled by.
 OM_INLINE void om_shade_lanes(const OmShadeParams* P, OmI active, OmF u, OmF v, OmI flags, OmF vx,
                               OmF vy, OmF vz, OmF lx, OmF ly, OmF lz,
                               __global const float4* normals, __global const float* heights,
-                              __global const float4* albedo, OmF* r, OmF* g, OmF* b, OmF* a) {
+                              __global const float4* albedo, int has_mask, OmF mask, OmF* r,
+                              OmF* g, OmF* b, OmF* a, OmF* visibility) {
     const OmI surface = active && (flags & (int)OM_FLAGS_NOT_SHOWN) == 0 &&
                         isfinite(u) && isfinite(v);
     u = OM_SEL((OmF)0.0f, u, surface);
@@ -168,20 +171,28 @@ OM_INLINE void om_shade_lanes(const OmShadeParams* P, OmI active, OmF u, OmF v, 
     om_unit_or(&vx, &vy, &vz, (OmF)0.0f, (OmF)0.0f, (OmF)1.0f);
     // A light below the polygon lights nothing on it, whatever the relief normal says.
     OmF ndl = OM_SEL((OmF)0.0f, fmax(nx * lx + ny * ly + nz * lz, 0.0f), lz > 0.0f);
+    // The march sees the relief's own occlusion within the height field, the shadow map every
+    // caster at its displaced depth, the relief's own included (docs/design.md): a blocker both
+    // see darkens once, so the light reaches a pixel as far as the stricter of the two lets it.
+    OmF vis = 1.0f;
     if (heights && P->shadow_mode != OM_SHADOW_NONE) {
         const OmI shadowed = surface && ndl > 0.0f;
         if (OM_ANY(shadowed)) {
             const OmField f = om_field_of(heights, P->hf_width, P->hf_height, wrap);
-            ndl *= om_light_visibility(&f, u, v, lx, ly, lz, P, shadowed);
+            vis = om_light_visibility(&f, u, v, lx, ly, lz, P, shadowed);
         }
     }
+    if (has_mask) vis = fmin(vis, mask);
+    ndl *= vis;
+    *visibility = OM_SEL((OmF)0.0f, OM_SEL((OmF)0.0f, vis, lz > 0.0f), surface);
     OmF hx = lx + vx, hy = ly + vy, hz = lz + vz;
     om_unit_or(&hx, &hy, &hz, nx, ny, nz);
     // (n.h)^shininess as exp2(shininess log2(n.h)): n.h is never negative here, and the general
     // pow took a fifth of the shade's time without shadows. n.h = 0 gives 0 (FLT_MIN's log2 is
     // -126), and 1 with shininess 0, as pow does.
     const OmF ndh = fmax(nx * hx + ny * hy + nz * hz, FLT_MIN);
-    const OmF spec = OM_SEL((OmF)0.0f, exp2(P->shininess * log2(ndh)), ndl > 0.0f);
+    OmF spec = OM_SEL((OmF)0.0f, exp2(P->shininess * log2(ndh)), ndl > 0.0f);
+    if (has_mask) spec *= mask;  // a map's penumbra dims the glint too
     const OmF lit = P->ambient + P->diffuse * ndl, glint = P->specular * spec;
     // The background: no surface here.
     *r = OM_SEL((OmF)0.16f, br * lit + glint, surface);
@@ -193,14 +204,15 @@ OM_INLINE void om_shade_lanes(const OmShadeParams* P, OmI active, OmF u, OmF v, 
 // A block's inputs: uv' and flags from the offset pass, V and L from the G-buffer (L from the
 // parameters where the G-buffer has none).
 typedef struct {
-    OmF u, v, vx, vy, vz, lx, ly, lz;
+    OmF u, v, vx, vy, vz, lx, ly, lz, mask;
     OmI flags;
 } OmShadeIn;
 
 OM_INLINE OmShadeIn om_shade_in(const OmShadeParams* P, OmBlock blk, __global const float2* uv_in,
                                 __global const uint* flags_in, __global const float4* gb_view,
-                                __global const float4* gb_light) {
+                                __global const float4* gb_light, __global const float* mask) {
     OmShadeIn in;
+    in.mask = mask ? om_load_block_f(mask, blk) : (OmF)1.0f;
     om_load_block2((__global const float*)uv_in, blk, &in.u, &in.v);
     in.flags = flags_in ? OM_AS_INT(om_load_block_f((__global const float*)flags_in, blk)) : (OmI)0;
     om_load_block3((__global const float*)gb_view, blk, &in.vx, &in.vy, &in.vz);
@@ -218,15 +230,17 @@ __kernel void om_shade(const OmShadeParams P, __global const float2* uv_in,
                        __global const uint* flags_in, __global const float4* gb_view,
                        __global const float4* gb_light, __global const float4* normals,
                        __global const float* heights, __global const float4* albedo,
-                       __global float4* out_rgba) {
+                       __global const float* shadow_mask, __global float4* out_rgba,
+                       __global float* out_visibility) {
     const int group = (int)get_global_id(0);
     if (group >= om_image_blocks(P.gb_width, P.gb_height, OM_LANES)) return;
     const OmBlock blk = om_block(P.gb_width, P.gb_height, group);
-    const OmShadeIn in = om_shade_in(&P, blk, uv_in, flags_in, gb_view, gb_light);
-    OmF r, g, b, a;
+    const OmShadeIn in = om_shade_in(&P, blk, uv_in, flags_in, gb_view, gb_light, shadow_mask);
+    OmF r, g, b, a, vis;
     om_shade_lanes(&P, (OmI)(-1), in.u, in.v, in.flags, in.vx, in.vy, in.vz, in.lx, in.ly, in.lz,
-                   normals, heights, albedo, &r, &g, &b, &a);
+                   normals, heights, albedo, shadow_mask != 0, in.mask, &r, &g, &b, &a, &vis);
     om_store_block4((__global float*)out_rgba, blk, r, g, b, a);
+    if (out_visibility) om_store_block_f(out_visibility, blk, vis);
 }
 
 // The material frame's shading: each pixel with its material's normals, albedo and relief (the
@@ -240,17 +254,18 @@ __kernel void om_shade_materials(const OmShadeParams F, __global const OmMateria
                                  __global const uint* flags_in, __global const float4* gb_view,
                                  __global const float4* gb_light, __global const float4* normals,
                                  __global const float* heights, __global const float4* albedo,
-                                 __global float4* out_rgba) {
+                                 __global const float* shadow_mask, __global float4* out_rgba,
+                                 __global float* out_visibility) {
     const int group = (int)get_global_id(0);
     if (group >= om_image_blocks(F.gb_width, F.gb_height, OM_LANES)) return;
     const OmBlock blk = om_block(F.gb_width, F.gb_height, group);
-    const OmShadeIn in = om_shade_in(&F, blk, uv_in, flags_in, gb_view, gb_light);
+    const OmShadeIn in = om_shade_in(&F, blk, uv_in, flags_in, gb_view, gb_light, shadow_mask);
     float ids[OM_LANES];
     int slot[OM_LANES];
     OM_VSTORE(om_load_block_f(material, blk), ids);
     for (int k = 0; k < OM_LANES; ++k) slot[k] = om_slot_of(ids[k], id_limit, slot_of_id);
     const OmI slots_v = OM_VLOAD(slot);
-    OmF r = 0.0f, g = 0.0f, b = 0.0f, a = 0.0f;
+    OmF r = 0.0f, g = 0.0f, b = 0.0f, a = 0.0f, vis = 0.0f;
     uint taken = 0u;  // lanes a pass has shaded
     for (int k = 0; k < OM_LANES; ++k) {
         if (taken & (1u << k)) continue;
@@ -268,13 +283,15 @@ __kernel void om_shade_materials(const OmShadeParams F, __global const OmMateria
             c = P.has_albedo ? albedo + S->albedo_offset : 0;
         }
         const OmI mine = slots_v == s;
-        OmF pr, pg, pb, pa;
+        OmF pr, pg, pb, pa, pv;
         om_shade_lanes(&P, mine, in.u, in.v, in.flags, in.vx, in.vy, in.vz, in.lx, in.ly, in.lz, n,
-                       h, c, &pr, &pg, &pb, &pa);
+                       h, c, shadow_mask != 0, in.mask, &pr, &pg, &pb, &pa, &pv);
         r = OM_SEL(r, pr, mine);
         g = OM_SEL(g, pg, mine);
         b = OM_SEL(b, pb, mine);
         a = OM_SEL(a, pa, mine);
+        vis = OM_SEL(vis, pv, mine);
     }
     om_store_block4((__global float*)out_rgba, blk, r, g, b, a);
+    if (out_visibility) om_store_block_f(out_visibility, blk, vis);
 }

@@ -121,8 +121,12 @@ struct BoxScene {
         });
     }
 
+    // With `mask` (one value a floor pixel): a shadow map's test beside the march; `visibility`
+    // takes what the diffuse term was scaled by.
     std::vector<cl_float4> shade_floor(double alpha_deg, ShadowMode mode, float size_deg = 8.0f,
-                                       int steps = 64) {
+                                       int steps = 64, const std::vector<float>* mask = nullptr,
+                                       std::vector<float>* visibility = nullptr,
+                                       float specular = 0.0f) {
         std::vector<std::array<float, 5>> px;
         us.clear();
         for (double u = 0.05; u < u_foot - 1.0 / n; u += 0.25 / n) {
@@ -130,7 +134,7 @@ struct BoxScene {
             px.push_back({static_cast<float>(u), 0.5f, 0, 0, 1});
         }
         ShadeSettings ss;
-        ss.specular = 0.0f;
+        ss.specular = specular;
         auto L = view_dir(alpha_deg, 0);
         std::copy(L.begin(), L.end(), ss.light);
         ss.shadow = mode;
@@ -146,7 +150,32 @@ struct BoxScene {
         OffsetResult r = run_offset(*rt, pass, g, f, ps, 1);
         ShadePass sp(rt);
         DeviceImage da = upload(*rt, white);
-        return run_shade(*rt, sp, r, g, f, &da, ps, ss);
+        if (!mask && !visibility) return run_shade(*rt, sp, r, g, f, &da, ps, ss);
+        const size_t count = px.size();
+        auto floats = [&](const std::vector<float>* v, cl_mem_flags flags) {
+            return v ? cl::Buffer(rt->context(), flags | CL_MEM_COPY_HOST_PTR,
+                                  count * sizeof(float), const_cast<float*>(v->data()))
+                     : cl::Buffer();
+        };
+        ShadeInputs in;
+        in.albedo = &da;
+        in.uv = cl::Buffer(rt->context(), CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR,
+                           count * sizeof(cl_float2), r.uv.data());
+        in.flags = cl::Buffer(rt->context(), CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR,
+                              count * sizeof(std::uint32_t), r.flags.data());
+        in.shadow_mask = floats(mask, CL_MEM_READ_ONLY);
+        ShadeTargets out{cl::Buffer(rt->context(), CL_MEM_WRITE_ONLY, count * sizeof(cl_float4))};
+        if (visibility) {
+            visibility->assign(count, -1.0f);
+            out.visibility = floats(visibility, CL_MEM_READ_WRITE);
+        }
+        sp.enqueue(g, f, in, ps, ss, out).wait();
+        std::vector<cl_float4> rgba(count);
+        rt->queue().enqueueReadBuffer(out.rgba, CL_TRUE, 0, count * sizeof(cl_float4), rgba.data());
+        if (visibility)
+            rt->queue().enqueueReadBuffer(out.visibility, CL_TRUE, 0, count * sizeof(float),
+                                          visibility->data());
+        return rgba;
     }
 
     // The light's visible share on the floor, from the shaded colour (white albedo, flat floor:
@@ -187,6 +216,66 @@ TEST(Shadows, HardShadowOfABoxHasTheAnalyticLength) {
         auto none = box.shade_floor(alpha, ShadowMode::None);
         for (size_t k = 0; k < box.us.size(); ++k) EXPECT_NEAR(none[k].s[0], lit, 1e-4);
     }
+}
+
+bool same_bits(const std::vector<cl_float4>& a, const std::vector<cl_float4>& b) {
+    return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof a[0]) == 0;
+}
+
+// The shadow map's test and the march combine by the smaller visibility: a pixel both shadow is
+// darkened once, as the stricter says, never by their product. A mask of ones gives the march's
+// frame bit for bit; a mask of zeros leaves the ambient term alone, the glint gone with the
+// diffuse.
+TEST(Shadows, AShadowMapAndTheMarchDarkenAPixelOnceByTheStricter) {
+    BoxScene box;
+    const double alpha = 40.0;
+    const float size = 8.0f;
+    ShadeSettings ss;
+    std::vector<float> march;
+    const std::vector<cl_float4> plain =
+        box.shade_floor(alpha, ShadowMode::Soft, size, 64, nullptr, &march, ss.specular);
+    ASSERT_TRUE(same_bits(
+        plain, box.shade_floor(alpha, ShadowMode::Soft, size, 64, nullptr, nullptr, ss.specular)))
+        << "writing the visibility changes no bit";
+    const size_t n = box.us.size();
+    size_t lit = 0, dark = 0, penumbra = 0;
+    for (float v : march) {
+        lit += v == 1.0f;
+        dark += v == 0.0f;
+        penumbra += v > 0.0f && v < 1.0f;
+    }
+    ASSERT_GT(lit, 10u);
+    ASSERT_GT(dark, 10u);
+    ASSERT_GT(penumbra, 3u) << "the march's penumbra";
+
+    const std::vector<float> ones(n, 1.0f);
+    std::vector<float> vis;
+    EXPECT_TRUE(same_bits(
+        box.shade_floor(alpha, ShadowMode::Soft, size, 64, &ones, &vis, ss.specular), plain))
+        << "a mask of ones changes no bit";
+    EXPECT_EQ(vis, march);
+
+    // A mask that steps through 0, 0.3, 0.6 and 1 along the floor, across the march's lit,
+    // penumbra and shadowed pixels.
+    std::vector<float> mask(n);
+    for (size_t k = 0; k < n; ++k) mask[k] = std::array<float, 4>{0.0f, 0.3f, 0.6f, 1.0f}[k % 4];
+    const std::vector<cl_float4> both =
+        box.shade_floor(alpha, ShadowMode::Soft, size, 64, &mask, &vis, ss.specular);
+    const double ndl = std::sin(alpha * M_PI / 180);
+    for (size_t k = 0; k < n; ++k) {
+        const float expected = std::min(march[k], mask[k]);
+        EXPECT_EQ(vis[k], expected) << "u " << box.us[k];
+        // White albedo, flat floor: ambient + diffuse N.L v (+ the glint, scaled by the mask).
+        const double diffuse = ss.ambient + ss.diffuse * ndl * expected;
+        EXPECT_GE(both[k].s[0], diffuse - 1e-5) << "u " << box.us[k];
+        if (mask[k] == 0.0f) EXPECT_NEAR(both[k].s[0], ss.ambient, 1e-6) << "u " << box.us[k];
+        const double glint = plain[k].s[0] - (ss.ambient + ss.diffuse * ndl * march[k]);
+        if (march[k] > 0.0f && mask[k] > 0.0f)
+            EXPECT_NEAR(both[k].s[0], diffuse + glint * mask[k], 1e-5) << "u " << box.us[k];
+    }
+    // Without the march (ShadowMode::None) the mask alone is the visibility.
+    box.shade_floor(alpha, ShadowMode::None, size, 64, &mask, &vis, ss.specular);
+    EXPECT_EQ(vis, mask);
 }
 
 TEST(Shadows, TheLightsMarchObeysTheViewsGrazingRule) {

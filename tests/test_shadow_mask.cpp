@@ -160,8 +160,9 @@ TEST(ShadowMask, RoofCastsItsEdgeWhereTheLightPutsIt) {
                     ++shadowed;
                 } else {
                     ++between;
-                    if (radius > 0 && std::abs(p.x - edge) < 0.2 * ground_texel(s))
+                    if (radius > 0 && std::abs(p.x - edge) < 0.2 * ground_texel(s)) {
                         EXPECT_GT(mask[k], 0.0f) << "the filter's penumbra at " << p.x;
+                    }
                 }
             }
             EXPECT_GT(lit, 500u);

@@ -236,6 +236,88 @@ TEST(Renderer, LightViewOfAFlatQuadIsItsDisplacedShadowMap) {
                          "perspective views only"));
 }
 
+// Relief that shadows itself: a quad of sines under a sun at 20 degrees. The displaced shadow map
+// shadows what the displaced quad's own map shadows (renderer::shadow_truth: its tessellation
+// drawn from the same light at the same size and tested with the same filter): a pixel counts as
+// a mismatch where the two lit fractions differ by half or more. The flat map (the base quad,
+// which shadows nothing) misses every self-shadowed pixel; the target is at most a fifth of its
+// mismatch. Without a map the frame comes out as before, bit for bit.
+TEST(Renderer, ADisplacedShadowMapShadowsWhatTheDisplacedMeshShadows) {
+    const FlatCase c{"sines, wrap",
+                     make_map(32, 32,
+                              [](int i, int j) {
+                                  return 0.5f + 0.45f * std::sin(0.6f * i) * std::cos(0.4f * j);
+                              }),
+                     AddressMode::Wrap,
+                     0.08f,
+                     1.0f,
+                     35.0,
+                     0.6,
+                     4.0f};
+    Scene scene = flat_scene(c.elevation_deg, c.eye_height, c.tiles);
+    const double elevation = 20.0 * M_PI / 180.0, azimuth = 60.0 * M_PI / 180.0;
+    const std::array<float, 3> toward = {float(std::cos(elevation) * std::cos(azimuth)),
+                                         float(std::sin(elevation)),
+                                         float(std::cos(elevation) * std::sin(azimuth))};
+    const std::vector<LoadedMaterial> table = {material(c)};
+    const std::vector<MethodParams> methods = {resolve_params(find_method("exact"), {})};
+    const int w = 192, h = 108, size = 512;
+    {
+        FrameRenderer point(runtime(), scene, table, methods, 8, 8, ShadeSettings{});
+        EXPECT_TRUE(
+            contains(error_of([&] { point.set_shadow_map(ShadowMapSettings()); }), "directional"));
+    }
+    scene.light = {LightKind::Directional, toward};
+    FrameRenderer r(runtime(), scene, table, methods, w, h, ShadeSettings{});
+    const FrameRun plain = r.render(FrameMode::Deferred, false, 1);
+    EXPECT_TRUE(plain.shadow_mask.empty());
+    ShadowMapSettings map;
+    map.size = size;
+    EXPECT_TRUE(contains(error_of([&] {
+                             ShadowMapSettings bad = map;
+                             bad.size = 8;
+                             r.set_shadow_map(bad);
+                         }),
+                         "size"));
+    r.set_shadow_map(map);
+    const FrameRun displaced = r.render(FrameMode::Deferred, false, 1);
+    map.displaced = false;
+    r.set_shadow_map(map);
+    const FrameRun flat = r.render(FrameMode::Deferred, false, 1);
+    r.set_shadow_map(std::nullopt);
+    const FrameRun again = r.render(FrameMode::Deferred, false, 1);
+    ASSERT_EQ(again.color.size(), plain.color.size());
+    EXPECT_EQ(
+        std::memcmp(again.color.data(), plain.color.data(), plain.color.size() * sizeof(cl_float4)),
+        0)
+        << "no map, no change";
+
+    const ShadowTruth t = shadow_truth(runtime(), r, scene, table, methods, w, h, size,
+                                       ShadowMapSettings().pcf_radius, 0.5f);
+    size_t truth_shadowed = 0, flat_shadowed = 0;
+    for (size_t k = 0; k < t.lit.size(); ++k) {
+        truth_shadowed += t.lit[k] < 0.5f;
+        flat_shadowed += flat.depth_after[k] < 1.0f && flat.light_visibility[k] < 0.5f;
+    }
+    EXPECT_EQ(flat_shadowed, 0u) << "a flat quad casts nothing on itself";
+    const ShadowMismatch mf = shadow_mismatch(t, flat.light_visibility, flat.depth_after, toward);
+    const ShadowMismatch md =
+        shadow_mismatch(t, displaced.light_visibility, displaced.depth_after, toward);
+    std::printf(
+        "self-shadows at 20 degrees: %zu of %zu pixels shadowed in the truth; mismatch flat %zu, "
+        "displaced %zu\n",
+        truth_shadowed, mf.compared, mf.mismatch, md.mismatch);
+    EXPECT_GT(truth_shadowed, mf.compared / 20) << "the relief shadows itself";
+    EXPECT_EQ(mf.mismatch, truth_shadowed);
+    EXPECT_LE(5 * md.mismatch, mf.mismatch);
+    // The visibility the shading used is the map's test (no march).
+    for (size_t k = 0; k < displaced.shadow_mask.size(); ++k) {
+        if (displaced.depth_after[k] < 1.0f) {
+            ASSERT_EQ(displaced.light_visibility[k], displaced.shadow_mask[k]) << k;
+        }
+    }
+}
+
 // One relief mesh of a constant height 0.6 with scale 0.05 and reference r, seen by a 160 x 120
 // view; `inside` says whether a point is on the part the test judges and gives its distance from
 // the axis or centre, which must lie in [lo(r), hi(r)].

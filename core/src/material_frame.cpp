@@ -523,12 +523,21 @@ cl::Event MaterialFrame::take_behind(const cl::Buffer& flags, const cl::Buffer& 
 cl::Event MaterialFrame::shade(const cl::Buffer& uv, const cl::Buffer& flags,
                                const DeviceGBuffer& g, const ShadeSettings& s,
                                const cl::Buffer& out_rgba, const std::vector<cl::Event>& wait,
+                               const cl::CommandQueue& queue) {
+    return shade(uv, flags, g, s, out_rgba, cl::Buffer(), cl::Buffer(), wait, queue);
+}
+
+cl::Event MaterialFrame::shade(const cl::Buffer& uv, const cl::Buffer& flags,
+                               const DeviceGBuffer& g, const ShadeSettings& s,
+                               const cl::Buffer& out_rgba, const cl::Buffer& shadow_mask,
+                               const cl::Buffer& out_visibility, const std::vector<cl::Event>& wait,
                                const cl::CommandQueue& queue_given) {
     Runtime& rt = *runtime_;
     const cl::Context& context = rt.context();
     const cl::CommandQueue& queue = checked_queue(g, queue_given);
     const size_t n = g.pixels();
     check_shade_buffers(context, uv, flags, out_rgba, n);
+    check_shadow_buffers(context, shadow_mask, out_visibility, n);
     // The frame's parameters (id 0: flat, the checker, no shadows), then each slot's.
     PassSettings flat;
     OmShadeParams frame = shade_params(flat, s, 1, 1, nullptr);
@@ -566,7 +575,9 @@ cl::Event MaterialFrame::shade(const cl::Buffer& uv, const cl::Buffer& flags,
         set_optional(shade_, 8, g.light);
         set_args_from(shade_, 9, normals_, heights_);
         set_optional(shade_, 11, albedo_);
-        shade_.setArg(12, out_rgba);
+        set_optional(shade_, 12, shadow_mask);
+        shade_.setArg(13, out_rgba);
+        set_optional(shade_, 14, out_visibility);
         queue.enqueueNDRangeKernel(shade_, cl::NullRange,
                                    shade_grid(shade_lanes_, g.width, g.height),
                                    cl::NDRange(kLocalSize), &deps, &last_shade_);

@@ -13,6 +13,9 @@ OmShadeParams shade_params(const PassSettings& settings, const ShadeSettings& sh
 // The checks of a shade pass's uv input, optional flags and colour output for n pixels.
 void check_shade_buffers(const cl::Context& context, const cl::Buffer& uv, const cl::Buffer& flags,
                          const cl::Buffer& out_rgba, size_t n);
+// The optional shadow mask (read) and visibility (written), float per pixel.
+void check_shadow_buffers(const cl::Context& context, const cl::Buffer& mask,
+                          const cl::Buffer& visibility, size_t n);
 
 // The shade program's kernel `name` (kernels/shade.cl) at the runtime's lanes, and the grid of
 // its blocks over a width x height G-buffer.

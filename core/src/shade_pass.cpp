@@ -65,6 +65,14 @@ void check_shade_buffers(const cl::Context& context, const cl::Buffer& uv, const
                  {"the shade pass's colour output", "float4", sizeof(cl_float4), n, true});
 }
 
+void check_shadow_buffers(const cl::Context& context, const cl::Buffer& mask,
+                          const cl::Buffer& visibility, size_t n) {
+    check_buffer(context, mask,
+                 {"the shade pass's shadow mask", "float", sizeof(float), n, false, true});
+    check_buffer(context, visibility,
+                 {"the shade pass's visibility output", "float", sizeof(float), n, true, true});
+}
+
 cl::Kernel shade_kernel(Runtime& rt, const std::string& name) {
     return rt.kernel(rt.program(shade_program_files(), lanes_define(rt.lanes())), name);
 }
@@ -90,6 +98,7 @@ cl::Event ShadePass::enqueue(const DeviceGBuffer& g, const DeviceHeightField& f,
     check_field(context, f, true);
     const size_t n = g.pixels();
     check_shade_buffers(context, uv, flags, out_rgba, n);
+    check_shadow_buffers(context, in.shadow_mask, out.visibility, n);
     if (albedo) {
         if (albedo->width <= 0 || albedo->height <= 0)
             throw Error("the albedo image's size is " + std::to_string(albedo->width) + "x" +
@@ -114,7 +123,9 @@ cl::Event ShadePass::enqueue(const DeviceGBuffer& g, const DeviceHeightField& f,
     kernel_.setArg(5, f.normals);
     kernel_.setArg(6, f.heights);
     set_optional(kernel_, 7, albedo ? albedo->texels : cl::Buffer());
-    kernel_.setArg(8, out_rgba);
+    set_optional(kernel_, 8, in.shadow_mask);
+    kernel_.setArg(9, out_rgba);
+    set_optional(kernel_, 10, out.visibility);
     cl::Event event;
     try {
         std::vector<cl::Event> deps = wait;  // and the field's upload or last change

@@ -237,6 +237,22 @@ OM_INLINE void om_load_block3(__global const float* p, OmBlock b, OmF* x, OmF* y
     om_load_block4(p, b, x, y, z, &w);
 }
 
+// One float a pixel, the lanes whose pixels lie in the block.
+OM_INLINE void om_store_block_f(__global float* p, OmBlock b, OmF x) {
+#if OM_LANES == 1
+    if (om_block_has(b, 0)) p[om_block_pixel(b, 0)] = x;
+#else
+    if (b.full) {
+        for (int r = 0; r < OM_LANES / 4; ++r) vstore4(OM_ROW4(x, r), 0, p + OM_RUN4(b, r));
+        return;
+    }
+    float t[OM_LANES];
+    OM_VSTORE(x, t);
+    for (int k = 0; k < OM_LANES; ++k)
+        if (om_block_has(b, k)) p[om_block_pixel(b, k)] = t[k];
+#endif
+}
+
 // Stores a float4 plane (colour) from four lane vectors, for the lanes whose pixels lie in the
 // block: a row of 4 pixels as one 16-float store when the block is whole.
 OM_INLINE void om_store_block4(__global float* p, OmBlock b, OmF x, OmF y, OmF z, OmF w) {

@@ -10,6 +10,7 @@
 #include "offsetmap/material_eval.hpp"
 #include "offsetmap/renderer/context.hpp"
 #include "offsetmap/renderer/depth_offset.hpp"
+#include "offsetmap/renderer/shadow_mask.hpp"
 #include "offsetmap/settings.hpp"
 #include "raster.hpp"
 
@@ -109,6 +110,16 @@ struct FrameRenderer::Impl {
     cl::Buffer rgba, depth_after;
     std::unique_ptr<DepthOffsetPass> depth_offset;
     OmDepthOffsetParams depth_params{};
+    // The shadow map (set_shadow_map): the light's own frame, whose device depth is the map, the
+    // receivers' test and its per-pixel outputs.
+    struct Shadows {
+        ShadowMapSettings settings;
+        std::unique_ptr<FrameRenderer> light;
+        std::unique_ptr<ShadowMaskPass> test;
+        OmShadowMaskParams params{};
+        cl::Buffer mask, visibility;
+    };
+    std::unique_ptr<Shadows> shadows;
 };
 
 FrameRenderer::FrameRenderer(std::shared_ptr<Runtime> runtime, const Scene& scene,
@@ -166,7 +177,16 @@ FrameRenderer::FrameRenderer(std::shared_ptr<Runtime> runtime, const Scene& scen
         interop_ = "host copies (cl_khr_gl_sharing is offered; sharing is not implemented yet)";
 }
 
-FrameRenderer::~FrameRenderer() = default;
+// GL names are the context's own: each renderer's objects are deleted with its context current
+// (another's current would lose its objects of the same names), the light's renderer first.
+FrameRenderer::~FrameRenderer() {
+    if (!impl_ || !impl_->gl) return;
+    impl_->shadows.reset();
+    try {
+        impl_->gl->make_current();
+    } catch (const Error&) {  // its objects then go with the context
+    }
+}
 
 std::pair<double, double> FrameRenderer::rerun_kernels(int repeats) {
     Impl& m = *impl_;
@@ -185,6 +205,8 @@ void FrameRenderer::set_shading(const ShadeSettings& shading) { impl_->shading =
 
 void FrameRenderer::set_curvature(bool on) {
     impl_->dg.curvature = on ? impl_->curvature : cl::Buffer();
+    // The light's view traces over the same curved base.
+    if (impl_->shadows) impl_->shadows->light->set_curvature(on);
 }
 
 void FrameRenderer::set_layers(int layers) {
@@ -216,6 +238,38 @@ void FrameRenderer::set_layers(int layers) {
     b->targets.fetches = buffer(n, CL_MEM_READ_WRITE);
     b->targets.flags = buffer(n, CL_MEM_READ_WRITE);
     m.behind = std::move(b);
+}
+
+void FrameRenderer::set_shadow_map(const std::optional<ShadowMapSettings>& settings) {
+    Impl& m = *impl_;
+    m.shadows.reset();
+    if (!settings) return;
+    const ShadowMapSettings& s = *settings;
+    if (m.light.kind != LightKind::Directional)
+        throw Error("a shadow map needs the scene's light to be directional");
+    if (s.size < 16 || s.size > 8192)
+        throw Error("the shadow map's size must be in [16, 8192] texels, got " +
+                    std::to_string(s.size));
+    if (s.pcf_radius < 0 || s.pcf_radius > 8)
+        throw Error("the shadow map's filter radius must be in [0, 8] texels, got " +
+                    std::to_string(s.pcf_radius));
+    auto sh = std::make_unique<Impl::Shadows>();
+    sh->settings = s;
+    Scene lit = m.scene;
+    const std::array<float, 3>& l = m.light.vector;
+    lit.camera = light_camera(m.scene, {l[0], l[1], l[2]});
+    ShadeSettings unshaded = m.shading;  // the light's colour is not used: no march for it
+    unshaded.shadow = ShadowMode::None;
+    sh->light =
+        std::make_unique<FrameRenderer>(m.rt, lit, m.table, m.methods, s.size, s.size, unshaded);
+    sh->light->set_curvature(m.dg.curvature() != nullptr);
+    sh->test = std::make_unique<ShadowMaskPass>(*m.rt);
+    sh->params = shadow_mask_params(m.view.inverse_view_projection, m.width, m.height,
+                                    sh->light->view_projection(), s.size, s.size, s.pcf_radius);
+    const size_t n = static_cast<size_t>(m.width) * m.height;
+    sh->mask = cl::Buffer(m.rt->context(), CL_MEM_READ_WRITE, n * sizeof(float));
+    sh->visibility = cl::Buffer(m.rt->context(), CL_MEM_READ_WRITE, n * sizeof(float));
+    m.shadows = std::move(sh);
 }
 
 std::string FrameRenderer::gl_renderer() const {
@@ -267,6 +321,21 @@ FrameRun FrameRenderer::render(FrameMode mode, bool prepass, int repeats) {
     std::vector<std::uint32_t> forward_fetches;
     std::vector<PassTimes> times;
     std::vector<double> kernel, shade_kernel;
+    // The shadow map, once for the frames below (the light's view does not move with the
+    // camera): the light's device depth after its offset, or its base depth for a flat map.
+    Impl::Shadows* shadows = forward ? nullptr : m.shadows.get();
+    cl::Buffer shadow_map;
+    if (shadows) {
+        Impl& l = *shadows->light->impl_;
+        const FrameRun lr = shadows->light->render(FrameMode::Deferred, false, repeats);
+        run.shadow_map_ms = lr.ms;
+        run.shadow_map_ms.shade = run.shadow_map_ms.to_gl = 0;
+        const PassTimes& t = run.shadow_map_ms;
+        run.shadow_map_ms.total =
+            t.gbuffer + t.to_device + t.reconstruct + t.offset + t.depth_offset;
+        shadow_map = shadows->settings.displaced ? l.depth_after : l.depth;
+        m.gl->make_current();
+    }
     for (int rep = 0; rep <= std::max(1, repeats); ++rep) {
         PassTimes t;
         const auto start = Clock::now();
@@ -359,19 +428,30 @@ FrameRun FrameRenderer::render(FrameMode mode, bool prepass, int repeats) {
             kernel.push_back(m.frame->kernel_ms());
         }
 
-        t0 = Clock::now();
-        const cl::Event shaded = m.frame->shade(
-            m.targets.uv, forward ? cl::Buffer() : m.targets.flags, m.dg, m.shading, m.rgba);
-        q.finish();
-        t.shade = ms_since(t0);
-        if (rt.profiling()) shade_kernel.push_back(event_ms(shaded));
-
-        // The pixel depth offset, from the depth, t and the uv density already on the device.
+        // The pixel depth offset, from the depth, t and the uv density already on the device:
+        // before the shading, whose shadow test takes the depth it writes.
         t0 = Clock::now();
         m.depth_offset->enqueue(q, m.depth_params, m.depth, m.targets.depth, m.density,
                                 m.depth_after);
         q.finish();
         t.depth_offset = ms_since(t0);
+
+        if (shadows) {
+            t0 = Clock::now();
+            shadows->test->enqueue(q, shadows->params,
+                                   shadows->settings.displaced ? m.depth_after : m.depth,
+                                   shadow_map, shadows->mask);
+            q.finish();
+            t.shadow_mask = ms_since(t0);
+        }
+
+        t0 = Clock::now();
+        const cl::Event shaded = m.frame->shade(
+            m.targets.uv, forward ? cl::Buffer() : m.targets.flags, m.dg, m.shading, m.rgba,
+            shadows ? shadows->mask : cl::Buffer(), shadows ? shadows->visibility : cl::Buffer());
+        q.finish();
+        t.shade = ms_since(t0);
+        if (rt.profiling()) shade_kernel.push_back(event_ms(shaded));
 
         // What GL takes back: the colour and the depth, from the mapped buffers.
         t0 = Clock::now();
@@ -427,6 +507,15 @@ FrameRun FrameRenderer::render(FrameMode mode, bool prepass, int repeats) {
     }
     run.color = flip_rows(run.color, w, h, 1);
     run.depth_after = flip_rows(m.raster->depth_after(), w, h, 1);
+    if (shadows) {
+        run.shadow_mask.resize(n);
+        run.light_visibility.resize(n);
+        q.enqueueReadBuffer(shadows->mask, CL_TRUE, 0, n * sizeof(float), run.shadow_mask.data());
+        q.enqueueReadBuffer(shadows->visibility, CL_TRUE, 0, n * sizeof(float),
+                            run.light_visibility.data());
+        run.shadow_mask = flip_rows(run.shadow_mask, w, h, 1);
+        run.light_visibility = flip_rows(run.light_visibility, w, h, 1);
+    }
     run.shaded_fragments =
         m.raster->count_fragments(m.view, forward ? &m.forward : nullptr, prepass, run.curved);
 
@@ -461,7 +550,8 @@ FrameRun FrameRenderer::render(FrameMode mode, bool prepass, int repeats) {
     };
     for (double PassTimes::*f :
          {&PassTimes::gbuffer, &PassTimes::to_device, &PassTimes::reconstruct, &PassTimes::offset,
-          &PassTimes::shade, &PassTimes::to_gl, &PassTimes::depth_offset, &PassTimes::total})
+          &PassTimes::shade, &PassTimes::to_gl, &PassTimes::depth_offset, &PassTimes::shadow_mask,
+          &PassTimes::total})
         run.ms.*f = med(f);
     run.offset_kernel_ms = median(kernel);
     // Depth, normal, tangent, uv, material id and uv density (forward: and the offset plane;

@@ -62,8 +62,13 @@ double max_twist(const HeightMap& m, AddressMode address) {
 class Builder {
   public:
     Builder(const Mesh& base, const HeightMap& map, const PassSettings& s, double k,
-            const glm::dmat4* view_projection)
-        : base_(base), map_(map), s_(s), k_(k), vp_(view_projection) {
+            const glm::dmat4* view_projection, bool keep_back_faces)
+        : base_(base),
+          map_(map),
+          s_(s),
+          k_(k),
+          vp_(view_projection),
+          keep_back_faces_(keep_back_faces) {
         out_.name = base.name;
         out_.material = base.material;
     }
@@ -77,6 +82,7 @@ class Builder {
     PassSettings s_;
     double k_;
     const glm::dmat4* vp_;
+    bool keep_back_faces_;
     Mesh out_;
     const Vertex* v_[3] = {nullptr, nullptr, nullptr};
     std::vector<Point> pts_;
@@ -135,7 +141,7 @@ void Builder::emit(int a, int b, int c) {
                              s1 = glm::dvec2(p[1]->clip) / p[1]->clip.w,
                              s2 = glm::dvec2(p[2]->clip) / p[2]->clip.w;
             const double area = (s1.x - s0.x) * (s2.y - s0.y) - (s2.x - s0.x) * (s1.y - s0.y);
-            if (area <= 0.0) return;  // facing away (front faces are counter-clockwise)
+            if (area <= 0.0 && !keep_back_faces_) return;  // facing away (front: CCW)
         }
     }
     for (Point* q : p) {
@@ -358,7 +364,7 @@ Tessellation displace_scene(const Scene& scene, const std::vector<LoadedMaterial
                             std::to_string(static_cast<long long>(needed)) + " triangles at " +
                             std::to_string(tpq) + " texels per quad before culling; the limit is " +
                             std::to_string(o.max_triangles) + " kept");
-            Builder builder(base, material->map, s, k, cull ? &vp : nullptr);
+            Builder builder(base, material->map, s, k, cull ? &vp : nullptr, o.keep_back_faces);
             for (size_t t = 0; t + 2 < base.indices.size(); t += 3) {
                 builder.triangle(base.indices[t], base.indices[t + 1], base.indices[t + 2]);
                 if (out.triangles + builder.mesh().indices.size() / 3 > o.max_triangles)

@@ -27,6 +27,12 @@ nlohmann::json bench_curved_frame(std::shared_ptr<Runtime>, const Resolution&, c
     return {{"skipped", "built without the renderer (EGL, OpenGL or TinyGLTF missing)"}};
 }
 
+nlohmann::json bench_shadow_map(std::shared_ptr<Runtime>, const Resolution&, const std::string&,
+                                int, int) {
+    std::printf("\nshadow map: skipped (built without the renderer)\n");
+    return {{"skipped", "built without the renderer (EGL, OpenGL or TinyGLTF missing)"}};
+}
+
 #else
 
 namespace {
@@ -283,6 +289,64 @@ nlohmann::json bench_curved_frame(std::shared_ptr<Runtime> rt, const Resolution&
     }
     std::printf("\n");
     out["curvature_read"] = read;
+    return out;
+}
+
+nlohmann::json bench_shadow_map(std::shared_ptr<Runtime> rt, const Resolution& res,
+                                const std::string& data_dir, int rounds, int map_size) {
+    Scene scene = builtin_room(data_dir);
+    const double e = 20.0 * M_PI / 180.0, a = 60.0 * M_PI / 180.0;
+    scene.light = {
+        LightKind::Directional,
+        {float(std::cos(e) * std::cos(a)), float(std::sin(e)), float(std::cos(e) * std::sin(a))}};
+    const std::vector<LoadedMaterial> table =
+        load_materials(read_material_table(data_dir + "/room.json"));
+    std::vector<MethodParams> methods;
+    for (const LoadedMaterial& m : table)
+        methods.push_back(resolve_params(find_method(m.spec.method), m.spec.params));
+    FrameRenderer plain(rt, scene, table, methods, res.w, res.h, ShadeSettings{});
+    FrameRenderer mapped(rt, scene, table, methods, res.w, res.h, ShadeSettings{});
+    ShadowMapSettings settings;
+    settings.size = map_size;
+    mapped.set_shadow_map(settings);
+    // The passes a shadow map needs: G-buffer, the planes' move, reconstruct, offset, depth offset.
+    auto passes = [](const PassTimes& t) {
+        return t.gbuffer + t.to_device + t.reconstruct + t.offset + t.depth_offset;
+    };
+    std::vector<double> camera_px, light_px, ratio, light_ms, mask_ms, shade_plain, shade_mapped;
+    for (int round = 0; round < rounds; ++round) {
+        const FrameRun p = plain.render(FrameMode::Deferred, false, 1);
+        const FrameRun m = mapped.render(FrameMode::Deferred, false, 1);
+        const double cam = passes(p.ms) / (double(res.w) * res.h);
+        const double light = passes(m.shadow_map_ms) / (double(map_size) * map_size);
+        camera_px.push_back(cam * 1e6);
+        light_px.push_back(light * 1e6);
+        ratio.push_back(light / cam);
+        light_ms.push_back(passes(m.shadow_map_ms));
+        mask_ms.push_back(m.ms.shadow_mask);
+        shade_plain.push_back(p.ms.shade);
+        shade_mapped.push_back(m.ms.shade);
+    }
+    nlohmann::json out = {{"resolution", {res.w, res.h}},
+                          {"map_size", map_size},
+                          {"rounds", rounds},
+                          {"sun_deg", {20.0, 60.0}},
+                          {"camera_ns_per_pixel", median_of(camera_px)},
+                          {"light_ns_per_pixel", median_of(light_px)},
+                          {"light_over_camera_per_pixel", median_of(ratio)},
+                          {"light_passes_ms", median_of(light_ms)},
+                          {"receivers_test_ms", median_of(mask_ms)},
+                          {"shade_ms", median_of(shade_plain)},
+                          {"shade_with_mask_ms", median_of(shade_mapped)}};
+    std::printf(
+        "\nthe room under a sun at 20 degrees, %dx%d with a %d^2 displaced shadow map (medians of "
+        "%d rounds in turns):\n  light's passes %.1f ms, %.1f ns a map pixel; camera's %.1f ns a "
+        "frame pixel: %.2fx a pixel\n  receivers' test %.2f ms; shade %.2f ms without the mask, "
+        "%.2f ms with it\n",
+        res.w, res.h, map_size, rounds, out["light_passes_ms"].get<double>(),
+        out["light_ns_per_pixel"].get<double>(), out["camera_ns_per_pixel"].get<double>(),
+        out["light_over_camera_per_pixel"].get<double>(), out["receivers_test_ms"].get<double>(),
+        out["shade_ms"].get<double>(), out["shade_with_mask_ms"].get<double>());
     return out;
 }
 

@@ -27,4 +27,11 @@ nlohmann::json bench_frame(std::shared_ptr<Runtime> runtime, const Resolution& r
 nlohmann::json bench_curved_frame(std::shared_ptr<Runtime> runtime, const Resolution& res,
                                   const std::string& data_dir, int rounds, double target_ms);
 
+// The room under a sun at 20 degrees (azimuth 60) at `res`: its deferred frame without a shadow map
+// and with a displaced map of `map_size`^2, `rounds` frames each in turns. Reports the light's
+// passes (G-buffer to depth offset) per map pixel against the camera's same passes per frame pixel
+// (the same methods), the receivers' test, and the shade pass with and without the mask.
+nlohmann::json bench_shadow_map(std::shared_ptr<Runtime> runtime, const Resolution& res,
+                                const std::string& data_dir, int rounds, int map_size);
+
 }  // namespace offsetmap::bench

@@ -139,12 +139,13 @@ struct FrameCommand {
     std::string method;
     std::vector<std::string> sets;
     bool forward = false;
-    bool curvature = false;    // also the deferred frame over the curved base (its final.png)
-    int layers = 1;            // 2: also the deferred frame with the G-buffer's layer behind
-    bool truth = false;        // the displaced mesh as the truth, every frame against it
-    float truth_level = 0.5f;  // its lattice, texels per quad
-    std::string sun;           // "ELEVATION,AZIMUTH" (degrees): also the light's displaced view
-    int shadow_size = 1024;    // its shadow map, square
+    bool curvature = false;     // also the deferred frame over the curved base (its final.png)
+    int layers = 1;             // 2: also the deferred frame with the G-buffer's layer behind
+    bool truth = false;         // the displaced mesh as the truth, every frame against it
+    float truth_level = 0.5f;   // its lattice, texels per quad
+    std::string sun;            // "ELEVATION,AZIMUTH" (degrees): also the light's displaced view
+    int shadow_size = 1024;     // its shadow map, square
+    int shadow_truth_size = 0;  // --truth's own shadow map (0: shadow_size)
     std::string out_dir = "out/frame";
     int repeats = 3;
     std::string shadows = "none";

@@ -12,6 +12,7 @@
 
 #include "cli.hpp"
 #ifdef OFFSETMAP_HAVE_RENDERER
+#include "frame_shadows.hpp"
 #include "offsetmap/renderer/frame.hpp"
 #include "offsetmap/renderer/gltf.hpp"
 #include "offsetmap/renderer/shadow_mask.hpp"
@@ -70,12 +71,18 @@ void FrameCommand::add_to(CLI::App& app) {
     app.add_option("--shadow-size", shadow_size, "the light's shadow map, pixels a side")
         ->check(CLI::Range(16, 8192))
         ->capture_default_str();
+    app.add_option("--shadow-truth-size", shadow_truth_size,
+                   "with --truth and --sun: the displaced meshes' own shadow map, pixels a side "
+                   "(default: --shadow-size; finer measures what the map's resolution misses)")
+        ->check(CLI::Range(16, 8192));
     app.add_option("-o,--out", out_dir, "output folder")->capture_default_str();
     app.add_option("--repeats", repeats, "timed frames per mode (median reported)")
         ->check(CLI::Range(1, 100))
         ->capture_default_str();
-    app.add_option("--shadows", shadows, "self-shadows of the relief in the shading")
-        ->check(CLI::IsMember({"none", "hard", "soft"}))
+    app.add_option("--shadows", shadows,
+                   "shadows in the shading: the relief's self-shadows (hard, soft), the sun's "
+                   "displaced shadow map (map, with --sun), or both (map+hard, map+soft)")
+        ->check(CLI::IsMember({"none", "hard", "soft", "map", "map+hard", "map+soft"}))
         ->capture_default_str();
     app.add_option("--device", device, "OpenCL device (substring of its name)");
     app.add_option("--data", data_dir,
@@ -105,15 +112,23 @@ std::string run_name(const FrameRun& r) {
     return r.prepass ? "forward-prepass" : "forward";
 }
 
+nlohmann::json pass_json(const PassTimes& t) {
+    return {{"gbuffer_ms", t.gbuffer},
+            {"to_device_ms", t.to_device},
+            {"reconstruct_ms", t.reconstruct},
+            {"offset_ms", t.offset},
+            {"shade_ms", t.shade},
+            {"to_gl_ms", t.to_gl},
+            {"depth_offset_ms", t.depth_offset},
+            {"shadow_mask_ms", t.shadow_mask},
+            {"total_ms", t.total}};
+}
+
 nlohmann::json pass_json(const FrameRun& r) {
-    return {{"gbuffer_ms", r.ms.gbuffer},
-            {"to_device_ms", r.ms.to_device},
-            {"reconstruct_ms", r.ms.reconstruct},
-            {"offset_ms", r.ms.offset},
-            {"shade_ms", r.ms.shade},
-            {"to_gl_ms", r.ms.to_gl},
-            {"depth_offset_ms", r.ms.depth_offset},
-            {"total_ms", r.ms.total}};
+    nlohmann::json j = pass_json(r.ms);
+    // With the sun's shadow map: the light's passes that drew it, once before the frames.
+    if (!r.shadow_mask.empty()) j["shadow_map"] = pass_json(r.shadow_map_ms);
+    return j;
 }
 
 // Depth offset as a picture: grey where unchanged, darker where pushed away from the eye.
@@ -462,10 +477,14 @@ int run_frame(const FrameCommand& cmd) {
                          "' is neither the built-in 'room' nor a .gltf or .glb file");
     Camera camera;
     if (!cmd.camera.empty()) camera = as_usage([&] { return parse_camera(cmd.camera); });
+    std::array<float, 3> sun{};
     if (!cmd.sun.empty()) {
         double elevation = 0, azimuth = 0;
-        sun_direction(cmd.sun, elevation, azimuth);
+        sun = sun_direction(cmd.sun, elevation, azimuth);
     }
+    const ShadowChoice shadows = parse_shadows(cmd.shadows);
+    if (shadows.map && cmd.sun.empty())
+        throw UsageError("--shadows " + cmd.shadows + ": a shadow map needs the sun (--sun)");
     MethodParams override_params;
     if (!cmd.method.empty()) {
         override_params = as_usage([&] {
@@ -492,6 +511,8 @@ int run_frame(const FrameCommand& cmd) {
         scene.camera.target = camera.target;
         scene.camera.fov_y_deg = camera.fov_y_deg;
     }
+    // The sun lights the frame it casts shadows in.
+    if (!cmd.sun.empty()) scene.light = {LightKind::Directional, sun};
     std::vector<MethodParams> methods;
     std::vector<size_t> auto_slots;  // chosen on the frame's own G-buffer, below
     for (const MaterialSpec& s : specs) {
@@ -525,7 +546,7 @@ int run_frame(const FrameCommand& cmd) {
     auto rt = Runtime::create(cmd.device);
     show_progress(*rt);
     ShadeSettings shading;
-    shading.shadow = shadow_mode(cmd.shadows);
+    shading.shadow = shadow_mode(shadows.march);
     if (!auto_slots.empty()) {
         // auto calibrates each material on its own pixels of this frame, so the G-buffer is
         // drawn once first (its materials traced with none).
@@ -551,6 +572,12 @@ int run_frame(const FrameCommand& cmd) {
         }
     }
     FrameRenderer renderer(rt, scene, table, methods, cmd.width, cmd.height, shading);
+    std::optional<ShadowMapSettings> shown_map;
+    if (shadows.map) {
+        shown_map = ShadowMapSettings();
+        shown_map->size = cmd.shadow_size;
+        renderer.set_shadow_map(shown_map);
+    }
     const FrameRun deferred = renderer.render(FrameMode::Deferred, false, cmd.repeats);
     const int w = cmd.width, h = cmd.height;
     const OffsetResult exact = renderer.exact();
@@ -664,6 +691,9 @@ int run_frame(const FrameCommand& cmd) {
     if (cmd.truth) {
         truth_doc = truth_section(cmd, scene, table, rt, renderer, gb, engine, runs, shown_ids,
                                   truth_tiles);
+        if (!cmd.sun.empty() && truth_doc.contains("modes"))
+            truth_doc["shadow_mismatch"] = shadow_truth_section(
+                cmd, scene, table, methods, rt, renderer, shading, shown_map, truth_tiles);
     }
     const FrameRun& shown = runs[shown_at];
     write_image(d + "final.png", to_srgb8(w, h, shown.color));

@@ -37,8 +37,10 @@ struct ShadeArgs {
     const void* light;
     const void* normals;  // float4 per texel
     const float* heights;
-    const void* albedo;  // float4 per texel
-    void* out_rgba;      // float4 per pixel
+    const void* albedo;                  // float4 per texel
+    void* out_rgba;                      // float4 per pixel
+    const float* shadow_mask = nullptr;  // the lit fraction a pixel (a shadow map's), or null
+    float* out_visibility = nullptr;     // the diffuse term's light visibility a pixel, or null
 };
 // om_shade over its work-items [begin, end): one pixel each (one lane).
 void shade(const ShadeArgs& args, int begin, int end);

@@ -17,8 +17,8 @@ void shade(const ShadeArgs& a, int begin, int end) {
                              reinterpret_cast<const ::clc::float4*>(a.view),
                              reinterpret_cast<const ::clc::float4*>(a.light),
                              reinterpret_cast<const ::clc::float4*>(a.normals), a.heights,
-                             reinterpret_cast<const ::clc::float4*>(a.albedo),
-                             reinterpret_cast<::clc::float4*>(a.out_rgba));
+                             reinterpret_cast<const ::clc::float4*>(a.albedo), a.shadow_mask,
+                             reinterpret_cast<::clc::float4*>(a.out_rgba), a.out_visibility);
     }
 }
 

@@ -93,6 +93,13 @@ class MaterialFrame {
                     const ShadeSettings& shade, const cl::Buffer& out_rgba,
                     const std::vector<cl::Event>& wait = {},
                     const cl::CommandQueue& queue = cl::CommandQueue());
+    // The same with a shadow map's test (`shadow_mask`, float per pixel, or null) and the light's
+    // visibility written (`out_visibility`, or null), as ShadeInputs and ShadeTargets say.
+    cl::Event shade(const cl::Buffer& uv, const cl::Buffer& flags, const DeviceGBuffer& gbuffer,
+                    const ShadeSettings& shade, const cl::Buffer& out_rgba,
+                    const cl::Buffer& shadow_mask, const cl::Buffer& out_visibility,
+                    const std::vector<cl::Event>& wait = {},
+                    const cl::CommandQueue& queue = cl::CommandQueue());
 
     // The last enqueue's dispatches, one per method present on screen (with a layer behind, the
     // first layer's and then the second's).

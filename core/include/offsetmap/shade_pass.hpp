@@ -38,6 +38,11 @@ struct ShadeInputs {
     cl::Buffer uv;                        // float2 per pixel, uv' (OffsetTargets::uv)
     cl::Buffer flags;                     // uint per pixel (OffsetTargets::flags), or null
     const DeviceImage* albedo = nullptr;  // null: a neutral procedural checker
+    // float per pixel, rows as the G-buffer's: the lit fraction a shadow map's test gave each
+    // pixel (renderer::ShadowMaskPass), or null. With one, the diffuse term takes the smaller of
+    // it and the self-shadow march, and the specular term is scaled by it; without one the
+    // shading is as it was, bit for bit.
+    cl::Buffer shadow_mask{};
 };
 // An offset pass's targets as the shade pass's inputs.
 inline ShadeInputs shade_inputs(const OffsetTargets& offsets, const DeviceImage* albedo = nullptr) {
@@ -47,6 +52,9 @@ inline ShadeInputs shade_inputs(const OffsetTargets& offsets, const DeviceImage*
 // What it writes.
 struct ShadeTargets {
     cl::Buffer rgba;  // float4 per pixel, linear RGBA (alpha 0 where the pixel is empty)
+    // Optional, float per pixel: the light's visibility the diffuse term was scaled by (the
+    // march's, the shadow map's or the smaller; 1 unshadowed, 0 where no surface or no light).
+    cl::Buffer visibility{};
 };
 
 // Blinn-Phong at uv' with the field's normals (and the relief's self-shadows). Knows nothing of

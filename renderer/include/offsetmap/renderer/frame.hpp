@@ -6,6 +6,7 @@
 #include <array>
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -28,6 +29,7 @@ struct PassTimes {
     double offset = 0;        // the material frame (classification, count read-back, dispatches)
     double shade = 0;         // per-material shading
     double depth_offset = 0;  // the pixel depth offset (a CL kernel)
+    double shadow_mask = 0;   // with a shadow map: the receivers' test (a CL kernel)
     double to_gl = 0;         // colour and depth written to GL from mapped CL buffers
     double total = 0;         // the whole frame, end to end
 };
@@ -52,6 +54,22 @@ struct FrameRun {
     std::vector<float> depth_after;  // window depth after the offset (GL convention)
     // The material id each pixel shows: the G-buffer's, the layer behind's where BEHIND.
     std::vector<float> material;
+    // With a shadow map (set_shadow_map): the light's passes that drew it (the G-buffer, the
+    // planes' move, reconstruct, offset and depth offset; total their sum), and per pixel the lit
+    // fraction its test gave and the visibility the shading used (the smaller of it and the
+    // self-shadow march). Empty without one.
+    PassTimes shadow_map_ms;
+    std::vector<float> shadow_mask, light_visibility;
+};
+
+// A shadow map of the scene's directional light, drawn through the same deferred passes from
+// the light's orthographic view over the scene (light_camera).
+struct ShadowMapSettings {
+    int size = 2048;     // texels a side, [16, 8192]
+    int pcf_radius = 1;  // the receivers' filter: (2 r + 1)^2 taps, [0, 8]
+    // The relief in the map (the light's offset and depth offset) and in the receivers' depth;
+    // false: both the base meshes' (a renderer whose shadows know nothing of the relief).
+    bool displaced = true;
 };
 
 // A scene drawn by the G-buffer raster alone (the truth's displaced meshes, a tessellation level),
@@ -95,6 +113,12 @@ class FrameRenderer {
     // and trace it where the first shows nothing of its relief (MaterialFrame's LayerBehind); 1
     // goes back to one layer. Throws Error for another count.
     void set_layers(int layers);
+    // Deferred frames rendered after this call with settings test each pixel's point against a
+    // shadow map of the scene's light (ShadowMaskPass), drawn once a render before its frames,
+    // and shade with it beside the self-shadow march (ShadeInputs::shadow_mask); the forward peer
+    // has no shadow map. Without settings (the default) frames are as before, bit for bit. Throws
+    // Error when the scene's light is not directional or a setting is out of range.
+    void set_shadow_map(const std::optional<ShadowMapSettings>& settings);
 
     // After a render: the G-buffer as the engine wrote it (depth GL, rows top first, with ids and
     // uv derivatives), its reconstruction, and the depth before the offset.

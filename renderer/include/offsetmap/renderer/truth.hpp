@@ -7,6 +7,7 @@
 #include <array>
 #include <cstddef>
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -26,6 +27,8 @@ struct TessellationOptions {
     // Cull what the camera of a width x height frame cannot see (outside the frustum, facing
     // away): the tessellation of one view. 0 x 0: keep everything.
     int width = 0, height = 0;
+    // Keep the triangles facing away from that camera (a light's view: their backs cast shadows).
+    bool keep_back_faces = false;
 };
 
 struct TessellatedMesh {
@@ -112,5 +115,34 @@ TruthComparison compare_to_truth(const GeometryFrame& truth, const ShownFrame& f
 std::vector<float> truth_bound_texels(const GBuffer& gbuffer, const std::vector<float>& material,
                                       const std::vector<LoadedMaterial>& table,
                                       const Tessellation& truth);
+
+// The shadows of the surface the relief describes: the displaced meshes tessellated at one lattice
+// for both views (culled to the camera's, and to the light's with their backs kept: they cast),
+// drawn from the camera (`camera`'s view, width x height, the receivers) and from the scene's
+// directional light into their own shadow map of map_size^2 texels (the casters), each receiver
+// tested against it as a frame's are (ShadowMaskPass, pcf_radius). One lattice for both, since
+// two would disagree by their tessellation errors and shadow each other. Per pixel (rows top
+// first) the lit fraction, NaN where the truth shows nothing, and the base normal (3 a pixel).
+struct ShadowTruth {
+    std::vector<float> lit, normal;
+    size_t triangles = 0;  // the light's view's
+    double ms = 0;         // tessellation, raster and test, wall clock
+};
+ShadowTruth shadow_truth(const std::shared_ptr<Runtime>& runtime, FrameRenderer& camera,
+                         const Scene& scene, const std::vector<LoadedMaterial>& table,
+                         const std::vector<MethodParams>& methods, int width, int height,
+                         int map_size, int pcf_radius, float texels_per_quad);
+
+// A frame's light visibility (rows top first) against the truth's: the pixels where one is lit
+// (visibility >= 1/2) and the other not, among those both show (the frame's window depth below 1,
+// the truth's lit not NaN) whose base normal faces the light (n . toward > 0: a surface facing
+// away is dark whatever the shadows say). `mismatched` marks them, if given.
+struct ShadowMismatch {
+    size_t compared = 0, mismatch = 0;
+};
+ShadowMismatch shadow_mismatch(const ShadowTruth& truth, const std::vector<float>& visibility,
+                               const std::vector<float>& depth,
+                               const std::array<float, 3>& toward_light,
+                               std::vector<std::uint8_t>* mismatched = nullptr);
 
 }  // namespace offsetmap::renderer
