@@ -268,10 +268,13 @@ TEST(Shadows, AShadowMapAndTheMarchDarkenAPixelOnceByTheStricter) {
         // White albedo, flat floor: ambient + diffuse N.L v (+ the glint, scaled by the mask).
         const double diffuse = ss.ambient + ss.diffuse * ndl * expected;
         EXPECT_GE(both[k].s[0], diffuse - 1e-5) << "u " << box.us[k];
-        if (mask[k] == 0.0f) EXPECT_NEAR(both[k].s[0], ss.ambient, 1e-6) << "u " << box.us[k];
+        if (mask[k] == 0.0f) {
+            EXPECT_NEAR(both[k].s[0], ss.ambient, 1e-6) << "u " << box.us[k];
+        }
         const double glint = plain[k].s[0] - (ss.ambient + ss.diffuse * ndl * march[k]);
-        if (march[k] > 0.0f && mask[k] > 0.0f)
+        if (march[k] > 0.0f && mask[k] > 0.0f) {
             EXPECT_NEAR(both[k].s[0], diffuse + glint * mask[k], 1e-5) << "u " << box.us[k];
+        }
     }
     // Without the march (ShadowMode::None) the mask alone is the visibility.
     box.shade_floor(alpha, ShadowMode::None, size, 64, &mask, &vis, ss.specular);
