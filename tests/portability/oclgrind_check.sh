@@ -117,6 +117,11 @@ run_case shade-soft-lanes16 16 render --method relief "${frame[@]}" --shadows so
 # The receivers' shadow test (its receiver plane, filter taps past the map's edges).
 [ -n "$tests" ] && bin=$tests run_case shadow-mask 1 \
     --gtest_filter=ShadowMask.SmallFrameWithTapsPastTheMapsEdges
+# The shade pass with a shadow mask beside the march, and the visibility it writes.
+for lanes in 1 16; do
+    [ -n "$tests" ] && bin=$tests run_case shade-shadow-mask-$lanes $lanes \
+        --gtest_filter=Shadows.AShadowMapAndTheMarchDarkenAPixelOnceByTheStricter
+done
 run_case engine-form-lanes16 16 render --gbuffer "$work/e.exr" --height-map "$map" --method pom
 # Over a curved base (the G-buffer's curvature channels, a sphere of a quarter tile's radius with a
 # stretched uv and a saddle): the cell walks, a march and the material frame's tiles, at 1 and 16

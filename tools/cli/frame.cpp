@@ -453,7 +453,7 @@ nlohmann::json light_view(const FrameCommand& cmd, const Scene& scene,
     write_image(d + "shadow-mask.png", picture);
     tiles.push_back(
         {"the frame's points against the sun's displaced map (white lit, dark in "
-         "shadow; not yet in the shading)",
+         "shadow; in the shading with --shadows map)",
          picture});
     return {{"sun_deg", {elevation, azimuth}},
             {"toward_light", toward},
