@@ -224,14 +224,14 @@ std::vector<float> read_float_pixels(OIIO::ImageInput& in, const std::string& pa
                                       spec.z + 1, chbegin, chend, OIIO::TypeDesc::FLOAT, rows)
                       : in.read_scanlines(0, 0, y, y1, spec.z, chbegin, chend,
                                           OIIO::TypeDesc::FLOAT, rows);
+            // libjpeg fills a truncated file's missing rows with grey and reports success;
+            // OpenImageIO records its "premature end" message as an error all the same.
             ok = ok && !in.has_error();
         }
     } catch (const std::exception& e) {
         throw Error("cannot decode " + describe_file(what, path) + ": " + e.what());
     }
-    // libjpeg fills a truncated file's missing rows with grey and reports success; OpenImageIO
-    // records its "premature end" message as an error all the same.
-    if (!ok || in.has_error()) {
+    if (!ok) {
         std::string why = one_line(in.geterror());
         throw Error("cannot decode " + describe_file(what, path) + ": " +
                     (why.empty() ? std::string("corrupt or truncated data") : why));
