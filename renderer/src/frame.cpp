@@ -242,8 +242,10 @@ void FrameRenderer::set_layers(int layers) {
 
 void FrameRenderer::set_shadow_map(const std::optional<ShadowMapSettings>& settings) {
     Impl& m = *impl_;
-    m.shadows.reset();
-    if (!settings) return;
+    if (!settings) {
+        m.shadows.reset();
+        return;
+    }
     const ShadowMapSettings& s = *settings;
     if (m.light.kind != LightKind::Directional)
         throw Error("a shadow map needs the scene's light to be directional");
@@ -253,6 +255,14 @@ void FrameRenderer::set_shadow_map(const std::optional<ShadowMapSettings>& setti
     if (s.pcf_radius < 0 || s.pcf_radius > 8)
         throw Error("the shadow map's filter radius must be in [0, 8] texels, got " +
                     std::to_string(s.pcf_radius));
+    // The light's renderer and the buffers depend on the map's size alone: another filter, or a
+    // flat map for a displaced one, keeps them.
+    if (m.shadows && m.shadows->settings.size == s.size) {
+        m.shadows->settings = s;
+        m.shadows->params.pcf_radius = s.pcf_radius;
+        return;
+    }
+    m.shadows.reset();
     auto sh = std::make_unique<Impl::Shadows>();
     sh->settings = s;
     Scene lit = m.scene;
