@@ -142,16 +142,54 @@ OM_INLINE OmF om_light_visibility(const OmField* f, OmF u, OmF v, OmF lx, OmF ly
     return OM_SEL((OmF)1.0f, vis, active && lxy > 1.0e-6f && h0 < 1.0f);
 }
 
+// Reoriented normal mapping (Barre-Brisebois and Hill): the relief's normal d, given over a flat
+// surface (z up), turned by the rotation that takes z to the base normal b. A sum or a "whiteout"
+// blend adds d's slope to b's and flattens steep relief on a tilted base; the rotation keeps d's
+// angle to b, and is d itself, bit for bit, where b is z. b.z > -1 (it is at least 0 here: each
+// projection's axis takes the sign of the normal's component on it).
+OM_INLINE void om_reorient(OmF bx, OmF by, OmF bz, OmF* dx, OmF* dy, OmF* dz) {
+    const OmF tz = bz + 1.0f, ux = -*dx, uy = -*dy, uz = *dz;
+    const OmF k = (bx * ux + by * uy + tz * uz) / tz;
+    const OmI flat = (bx == 0.0f) & (by == 0.0f) & (bz == 1.0f);
+    *dx = OM_SEL(bx * k - ux, *dx, flat);
+    *dy = OM_SEL(by * k - uy, *dy, flat);
+    *dz = OM_SEL(tz * k - uz, *dz, flat);
+}
+
+// A block's triplanar inputs (common/triplanar.cl): which lanes are triplanar, their projections
+// (the first is the G-buffer's: its uv', V and L), weights and uv', and the world normal.
+typedef struct {
+    OmI on;
+    OmI p[3];
+    OmF w[3], u[3], v[3];
+    OmF nx, ny, nz;
+} OmTriShade;
+
+// Projection j's relief normal at its uv' (the lanes' sampled normal given for j = 0), reoriented
+// onto the surface's normal and expressed in the first projection's frame.
+OM_INLINE void om_tri_normal(const OmTriShade* T, int j, OmF* x, OmF* y, OmF* z) {
+    OmF bx, by, bz;
+    om_tri_into(T->p[j], T->nx, T->ny, T->nz, &bx, &by, &bz);
+    om_reorient(bx, by, bz, x, y, z);
+    if (j == 0) return;
+    OmF wx, wy, wz;
+    om_tri_out(T->p[j], *x, *y, *z, &wx, &wy, &wz);
+    om_tri_into(T->p[0], wx, wy, wz, x, y, z);
+}
+
 // The colour of the lanes of `active` at uv' (the rest get the background). Without normals the
 // surface is flat (n = z), without heights it casts no shadows (the material frame's id 0: no
 // relief).
 // With a shadow map (has_mask), `mask` is the lit fraction its test gave the pixel; *visibility
 // is what the diffuse term was scaled by.
+// Triplanar lanes (T, or null) blend their projections' albedo, normals and self-shadows by their
+// weights; a lane of one projection takes its own, reoriented.
 OM_INLINE void om_shade_lanes(const OmShadeParams* P, OmI active, OmF u, OmF v, OmI flags, OmF vx,
                               OmF vy, OmF vz, OmF lx, OmF ly, OmF lz,
                               __global const float4* normals, __global const float* heights,
-                              __global const float4* albedo, int has_mask, OmF mask, OmF* r,
-                              OmF* g, OmF* b, OmF* a, OmF* visibility) {
+                              __global const float4* albedo, int has_mask, OmF mask,
+                              const OmTriShade* T, OmF* r, OmF* g, OmF* b, OmF* a,
+                              OmF* visibility) {
     const OmI surface = active && (flags & (int)OM_FLAGS_NOT_SHOWN) == 0 &&
                         isfinite(u) && isfinite(v);
     u = OM_SEL((OmF)0.0f, u, surface);
@@ -170,16 +208,81 @@ OM_INLINE void om_shade_lanes(const OmShadeParams* P, OmI active, OmF u, OmF v, 
     om_unit_or(&lx, &ly, &lz, (OmF)0.0f, (OmF)0.0f, (OmF)1.0f);
     om_unit_or(&vx, &vy, &vz, (OmF)0.0f, (OmF)0.0f, (OmF)1.0f);
     // A light below the polygon lights nothing on it, whatever the relief normal says.
-    OmF ndl = OM_SEL((OmF)0.0f, fmax(nx * lx + ny * ly + nz * lz, 0.0f), lz > 0.0f);
+    OmI facing = lz > 0.0f;
+    const OmI tri = T ? T->on & surface : (OmI)0;
+    OmI blended = 0;
+    if (OM_ANY(tri)) {
+        // Below the surface, not below the projection's plane, which the surface only leans on.
+        OmF bx, by, bz;
+        om_tri_into(T->p[0], T->nx, T->ny, T->nz, &bx, &by, &bz);
+        facing = OM_SEL(facing, bx * lx + by * ly + bz * lz > 0.0f, tri);
+        OmF x = nx, y = ny, z = nz;
+        om_tri_normal(T, 0, &x, &y, &z);
+        nx = OM_SEL(nx, x, tri);
+        ny = OM_SEL(ny, y, tri);
+        nz = OM_SEL(nz, z, tri);
+        blended = tri & (T->w[0] < 1.0f);
+        if (OM_ANY(blended)) {
+            OmF sx = T->w[0] * nx, sy = T->w[0] * ny, sz = T->w[0] * nz;
+            OmF sr = T->w[0] * br, sg = T->w[0] * bg, sb = T->w[0] * bb;
+            for (int j = 1; j < 3; ++j) {
+                const OmI here = blended & (T->w[j] > 0.0f);
+                if (!OM_ANY(here)) continue;
+                const OmF uj = OM_SEL((OmF)0.0f, T->u[j], here);
+                const OmF vj = OM_SEL((OmF)0.0f, T->v[j], here);
+                OmF jx = 0.0f, jy = 0.0f, jz = 1.0f, cr, cg, cb;
+                if (normals) {
+                    om_sample3(normals, P->hf_width, P->hf_height, wrap, uj, vj, &jx, &jy, &jz);
+                    om_unit_or(&jx, &jy, &jz, (OmF)0.0f, (OmF)0.0f, (OmF)1.0f);
+                }
+                om_tri_normal(T, j, &jx, &jy, &jz);
+                if (P->has_albedo)
+                    om_sample3(albedo, P->albedo_width, P->albedo_height, wrap, uj, vj, &cr, &cg,
+                               &cb);
+                else
+                    om_checker(uj, vj, &cr, &cg, &cb);
+                const OmF w = OM_SEL((OmF)0.0f, T->w[j], here);
+                sx += w * jx;
+                sy += w * jy;
+                sz += w * jz;
+                sr += w * cr;
+                sg += w * cg;
+                sb += w * cb;
+            }
+            om_unit_or(&sx, &sy, &sz, nx, ny, nz);
+            nx = OM_SEL(nx, sx, blended);
+            ny = OM_SEL(ny, sy, blended);
+            nz = OM_SEL(nz, sz, blended);
+            br = OM_SEL(br, sr, blended);
+            bg = OM_SEL(bg, sg, blended);
+            bb = OM_SEL(bb, sb, blended);
+        }
+    }
+    OmF ndl = OM_SEL((OmF)0.0f, fmax(nx * lx + ny * ly + nz * lz, 0.0f), facing);
     // The march sees the relief's own occlusion within the height field, the shadow map every
     // caster at its displaced depth, the relief's own included (docs/design.md): a blocker both
     // see darkens once, so the light reaches a pixel as far as the stricter of the two lets it.
     OmF vis = 1.0f;
     if (heights && P->shadow_mode != OM_SHADOW_NONE) {
-        const OmI shadowed = surface && ndl > 0.0f;
-        if (OM_ANY(shadowed)) {
-            const OmField f = om_field_of(heights, P->hf_width, P->hf_height, wrap);
-            vis = om_light_visibility(&f, u, v, lx, ly, lz, P, shadowed);
+        // A projection's march needs the light above its plane; below it, it sees no blocker.
+        const OmI shadowed = surface && ndl > 0.0f && lz > 0.0f;
+        const OmField f = om_field_of(heights, P->hf_width, P->hf_height, wrap);
+        if (OM_ANY(shadowed)) vis = om_light_visibility(&f, u, v, lx, ly, lz, P, shadowed);
+        if (OM_ANY(blended)) {
+            OmF sum = T->w[0] * vis;
+            OmF wx, wy, wz;
+            om_tri_out(T->p[0], lx, ly, lz, &wx, &wy, &wz);
+            for (int j = 1; j < 3; ++j) {
+                const OmI here = blended & (T->w[j] > 0.0f) & (ndl > 0.0f);
+                OmF ljx, ljy, ljz;
+                om_tri_into(T->p[j], wx, wy, wz, &ljx, &ljy, &ljz);
+                const OmI march = here & (ljz > 0.0f);
+                const OmF vj = OM_ANY(march) ? om_light_visibility(&f, T->u[j], T->v[j], ljx, ljy,
+                                                                   ljz, P, march)
+                                             : (OmF)1.0f;
+                sum += OM_SEL((OmF)0.0f, T->w[j] * vj, blended & (T->w[j] > 0.0f));
+            }
+            vis = OM_SEL(vis, sum, blended);
         }
     }
     if (has_mask) vis = fmin(vis, mask);
@@ -238,7 +341,7 @@ __kernel void om_shade(const OmShadeParams P, __global const float2* uv_in,
     const OmShadeIn in = om_shade_in(&P, blk, uv_in, flags_in, gb_view, gb_light, shadow_mask);
     OmF r, g, b, a, vis;
     om_shade_lanes(&P, (OmI)(-1), in.u, in.v, in.flags, in.vx, in.vy, in.vz, in.lx, in.ly, in.lz,
-                   normals, heights, albedo, shadow_mask != 0, in.mask, &r, &g, &b, &a, &vis);
+                   normals, heights, albedo, shadow_mask != 0, in.mask, 0, &r, &g, &b, &a, &vis);
     om_store_block4((__global float*)out_rgba, blk, r, g, b, a);
     if (out_visibility) om_store_block_f(out_visibility, blk, vis);
 }
@@ -255,11 +358,35 @@ __kernel void om_shade_materials(const OmShadeParams F, __global const OmMateria
                                  __global const float4* gb_light, __global const float4* normals,
                                  __global const float* heights, __global const float4* albedo,
                                  __global const float* shadow_mask, __global float4* out_rgba,
-                                 __global float* out_visibility) {
+                                 __global float* out_visibility, __global const float4* tri_blend,
+                                 __global const float4* tri_normal, __global const float2* uv2,
+                                 __global const float2* uv3) {
     const int group = (int)get_global_id(0);
     if (group >= om_image_blocks(F.gb_width, F.gb_height, OM_LANES)) return;
     const OmBlock blk = om_block(F.gb_width, F.gb_height, group);
     const OmShadeIn in = om_shade_in(&F, blk, uv_in, flags_in, gb_view, gb_light, shadow_mask);
+    OmTriShade tri;
+    const OmTriShade* T = 0;
+    if (tri_blend) {
+        OmF code;
+        om_load_block4((__global const float*)tri_blend, blk, &tri.w[0], &tri.w[1], &tri.w[2],
+                       &code);
+        tri.on = code >= 0.0f;
+        if (OM_ANY(tri.on)) {
+            T = &tri;
+            const OmI c = OM_TO_INT(fmax(code, 0.0f));
+            tri.p[0] = c % 6;
+            tri.p[1] = (c / 6) % 6;
+            tri.p[2] = c / 36;
+            OmF unused;
+            om_load_block4((__global const float*)tri_normal, blk, &tri.nx, &tri.ny, &tri.nz,
+                           &unused);
+            tri.u[0] = in.u;
+            tri.v[0] = in.v;
+            om_load_block2((__global const float*)uv2, blk, &tri.u[1], &tri.v[1]);
+            om_load_block2((__global const float*)uv3, blk, &tri.u[2], &tri.v[2]);
+        }
+    }
     float ids[OM_LANES];
     int slot[OM_LANES];
     OM_VSTORE(om_load_block_f(material, blk), ids);
@@ -285,7 +412,7 @@ __kernel void om_shade_materials(const OmShadeParams F, __global const OmMateria
         const OmI mine = slots_v == s;
         OmF pr, pg, pb, pa, pv;
         om_shade_lanes(&P, mine, in.u, in.v, in.flags, in.vx, in.vy, in.vz, in.lx, in.ly, in.lz, n,
-                       h, c, shadow_mask != 0, in.mask, &pr, &pg, &pb, &pa, &pv);
+                       h, c, shadow_mask != 0, in.mask, T, &pr, &pg, &pb, &pa, &pv);
         r = OM_SEL(r, pr, mine);
         g = OM_SEL(g, pg, mine);
         b = OM_SEL(b, pb, mine);

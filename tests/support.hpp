@@ -176,6 +176,14 @@ struct Soak {
     }
 };
 
+// A device buffer's first n elements, read on the runtime's queue.
+template <typename T>
+std::vector<T> read_plane(Runtime& rt, const cl::Buffer& b, size_t n) {
+    std::vector<T> v(n);
+    rt.queue().enqueueReadBuffer(b, CL_TRUE, 0, n * sizeof(T), v.data());
+    return v;
+}
+
 inline HeightMap make_map(int w, int h, const std::function<float(int, int)>& f) {
     HeightMap m;
     m.width = w;

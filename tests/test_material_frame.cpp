@@ -324,13 +324,6 @@ OffsetTargets read_write_targets(Runtime& rt, size_t n) {
     return t;
 }
 
-template <typename T>
-std::vector<T> read_plane(Runtime& rt, const cl::Buffer& b, size_t n) {
-    std::vector<T> v(n);
-    rt.queue().enqueueReadBuffer(b, CL_TRUE, 0, n * sizeof(T), v.data());
-    return v;
-}
-
 // A frame with a layer behind: the first layer's tile-masked material over a curved base (rays
 // that leave it, uv' off its tile), the second layer other rays and materials with id 0 and empty
 // pixels. A pixel the first layer shows is its frame alone's, bit for bit, its planes untouched;
@@ -357,8 +350,7 @@ TEST(MaterialFrame, LayerBehindShowsWhatTheFirstLayerDoesNot) {
     std::set<std::pair<size_t, float> > wanted;
     for (size_t k = 0; k < n; ++k)
         if ((alone1.flags[k] & OM_FLAGS_SEE_BEHIND) && second.material[k] != 0.0f)
-            wanted.insert({k % first.width / OM_TILE_W +
-                               k / first.width / kDefaultTileRows * 1000,
+            wanted.insert({k % first.width / OM_TILE_W + k / first.width / kDefaultTileRows * 1000,
                            second.material[k]});
     size_t entries = 0;
     for (const MaterialFrame::Dispatch& d : frame.dispatches()) entries += d.entries;

@@ -43,6 +43,10 @@ void check_material(const cl::Context& context, const FrameMaterial& m) {
     }
     if (m.settings.lod.enabled)
         throw Error(label(m) + ": the LOD system is not available in a material frame");
+    validate(m.triplanar, label(m));
+    if (m.triplanar.enabled && m.settings.address != AddressMode::Wrap)
+        throw Error(label(m) +
+                    ": a triplanar projection tiles the world, so it needs wrap addressing");
     if (!m.params.method || m.params.values.size() != m.params.method->params.size())
         throw Error(label(m) + ": its method parameters are not resolved (resolve_params)");
     if (m.albedo.texels() &&
@@ -157,6 +161,18 @@ MaterialFrame::MaterialFrame(std::shared_ptr<Runtime> runtime, std::vector<Frame
                 gathered_[s].albedo_copied = copied;
             }
         }
+        std::vector<cl_float4> triplanar(id_limit_, cl_float4{{0, 0, 0, 0}});
+        for (const FrameMaterial& m : materials_) {
+            if (!m.triplanar.enabled) continue;
+            const Triplanar& t = m.triplanar;
+            triplanar[m.id] = cl_float4{{t.world_scale, t.sharpness, t.cutoff, 1.0f}};
+            if (!triplanar_table_.any) triplanar_table_.name = label(m);
+            triplanar_table_.any = true;
+        }
+        triplanar_table_.of_id = device_buffer(
+            context, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, triplanar.size() * sizeof(cl_float4),
+            "the material table's projections", triplanar.data());
+        triplanar_table_.id_limit = id_limit_;
         std::vector<cl_int> slot_of_id(id_limit_, -1), method_of_slot(n_slots);
         for (size_t s = 0; s < n_slots; ++s) {
             slot_of_id[materials_[s].id] = static_cast<int>(s);
@@ -187,6 +203,7 @@ MaterialFrame::MaterialFrame(std::shared_ptr<Runtime> runtime, std::vector<Frame
     behind_mask_ = rt.kernel(behind, "om_behind_mask");
     behind_choose_ = rt.kernel(behind, "om_behind_choose");
     behind_take_ = rt.kernel(behind, "om_behind_take");
+    triplanar_merge_ = rt.kernel(rt.program({"frame/triplanar.cl"}), "om_triplanar_merge");
     shade_lanes_ = rt.lanes();
     shade_ = shade_kernel(rt, "om_shade_materials");
     // Compile the usual variant now, so a method's build errors surface here.
@@ -281,6 +298,7 @@ double MaterialFrame::kernel_ms() const {
     double ms = event_ms(classify_event_);
     for (const Dispatch& d : dispatches_) ms += event_ms(d.event);
     for (const cl::Event& e : behind_events_) ms += event_ms(e);
+    for (const cl::Event& e : triplanar_events_) ms += event_ms(e);
     return ms;
 }
 
@@ -302,6 +320,7 @@ cl::Event MaterialFrame::enqueue(const DeviceGBuffer& g, const OffsetTargets& t,
     const cl::CommandQueue& queue = checked_queue(g, queue_given);
     check_targets(context, t, g.pixels());
     behind_events_.clear();
+    triplanar_events_.clear();
 
     OmTileParams T{};
     T.width = g.width;
@@ -498,6 +517,65 @@ cl::Event MaterialFrame::enqueue(const DeviceGBuffer& g, const OffsetTargets& t,
     }
 }
 
+cl::Event MaterialFrame::enqueue(const DeviceGBuffer& g, const OffsetTargets& t,
+                                 const TriplanarPlanes& planes, const std::vector<cl::Event>& wait,
+                                 const cl::CommandQueue& queue_given) {
+    if (!triplanar_table_.any) return enqueue(g, t, wait, queue_given);
+    const cl::Context& context = runtime_->context();
+    const cl::CommandQueue& queue = checked_queue(g, queue_given);
+    const size_t n = g.pixels();
+    check_triplanar_planes(context, planes, g);
+    const cl::Event first = enqueue(g, t, wait, queue);
+    std::vector<Dispatch> all = dispatches_;
+    std::vector<cl::Event> events{classify_event_};
+    const cl::Event second = enqueue(planes.second, planes.second_targets, {first}, queue);
+    all.insert(all.end(), dispatches_.begin(), dispatches_.end());
+    events.push_back(classify_event_);
+    const cl::Event third = enqueue(planes.third, planes.third_targets, {second}, queue);
+    all.insert(all.end(), dispatches_.begin(), dispatches_.end());
+    dispatches_ = all;
+    try {
+        set_args(triplanar_merge_, static_cast<cl_int>(n), planes.blend);
+        set_optional(triplanar_merge_, 2, t.depth);
+        set_optional(triplanar_merge_, 3, t.fetches);
+        set_args_from(triplanar_merge_, 4, planes.second_targets.depth,
+                      planes.second_targets.fetches, planes.third_targets.depth,
+                      planes.third_targets.fetches);
+        cl::Event merged;
+        const std::vector<cl::Event> after{third};
+        queue.enqueueNDRangeKernel(triplanar_merge_, cl::NullRange, padded(n),
+                                   cl::NDRange(kLocalSize), &after, &merged);
+        // The third classification's event is classify_event_.
+        events.push_back(merged);
+        triplanar_events_ = events;
+        return merged;
+    } catch (const cl::Error& e) {
+        throw Error("cannot merge the triplanar projections: " + describe_cl_error(e.err()));
+    }
+}
+
+void MaterialFrame::check_triplanar_planes(const cl::Context& context, const TriplanarPlanes& p,
+                                           const DeviceGBuffer& g) const {
+    const size_t n = g.pixels();
+    for (const DeviceGBuffer* b : {&p.second, &p.third}) {
+        if (b->width != g.width || b->height != g.height)
+            throw Error("the triplanar planes are " + std::to_string(b->width) + "x" +
+                        std::to_string(b->height) + "; the G-buffer is " + std::to_string(g.width) +
+                        "x" + std::to_string(g.height));
+        if (static_cast<bool>(b->light()) != static_cast<bool>(g.light()))
+            throw Error("the triplanar planes must carry a light plane where the G-buffer does");
+    }
+    for (const OffsetTargets* o : {&p.second_targets, &p.third_targets}) {
+        check_targets(context, *o, n);
+        if (!o->depth() || !o->fetches() || !o->flags())
+            throw Error(
+                "the triplanar projections' targets need every output (uv, depth, "
+                "fetches, flags)");
+    }
+    check_buffer(context, p.blend, {"the triplanar weights", "float4", sizeof(cl_float4), n});
+    check_buffer(context, p.normal, {"the triplanar normals", "float4", sizeof(cl_float4), n});
+}
+
 cl::Event MaterialFrame::take_behind(const cl::Buffer& flags, const cl::Buffer& from,
                                      const cl::Buffer& to, size_t pixels, int words,
                                      const std::vector<cl::Event>& wait,
@@ -524,13 +602,22 @@ cl::Event MaterialFrame::shade(const cl::Buffer& uv, const cl::Buffer& flags,
                                const DeviceGBuffer& g, const ShadeSettings& s,
                                const cl::Buffer& out_rgba, const std::vector<cl::Event>& wait,
                                const cl::CommandQueue& queue) {
-    return shade(uv, flags, g, s, out_rgba, cl::Buffer(), cl::Buffer(), wait, queue);
+    return shade(uv, flags, g, s, out_rgba, cl::Buffer(), cl::Buffer(), nullptr, wait, queue);
 }
 
 cl::Event MaterialFrame::shade(const cl::Buffer& uv, const cl::Buffer& flags,
                                const DeviceGBuffer& g, const ShadeSettings& s,
                                const cl::Buffer& out_rgba, const cl::Buffer& shadow_mask,
                                const cl::Buffer& out_visibility, const std::vector<cl::Event>& wait,
+                               const cl::CommandQueue& queue) {
+    return shade(uv, flags, g, s, out_rgba, shadow_mask, out_visibility, nullptr, wait, queue);
+}
+
+cl::Event MaterialFrame::shade(const cl::Buffer& uv, const cl::Buffer& flags,
+                               const DeviceGBuffer& g, const ShadeSettings& s,
+                               const cl::Buffer& out_rgba, const cl::Buffer& shadow_mask,
+                               const cl::Buffer& out_visibility, const TriplanarPlanes* planes,
+                               const std::vector<cl::Event>& wait,
                                const cl::CommandQueue& queue_given) {
     Runtime& rt = *runtime_;
     const cl::Context& context = rt.context();
@@ -538,6 +625,8 @@ cl::Event MaterialFrame::shade(const cl::Buffer& uv, const cl::Buffer& flags,
     const size_t n = g.pixels();
     check_shade_buffers(context, uv, flags, out_rgba, n);
     check_shadow_buffers(context, shadow_mask, out_visibility, n);
+    if (planes && triplanar_table_.any) check_triplanar_planes(context, *planes, g);
+    const bool blend = planes && triplanar_table_.any;
     // The frame's parameters (id 0: flat, the checker, no shadows), then each slot's.
     PassSettings flat;
     OmShadeParams frame = shade_params(flat, s, 1, 1, nullptr);
@@ -578,6 +667,10 @@ cl::Event MaterialFrame::shade(const cl::Buffer& uv, const cl::Buffer& flags,
         set_optional(shade_, 12, shadow_mask);
         shade_.setArg(13, out_rgba);
         set_optional(shade_, 14, out_visibility);
+        set_optional(shade_, 15, blend ? planes->blend : cl::Buffer());
+        set_optional(shade_, 16, blend ? planes->normal : cl::Buffer());
+        set_optional(shade_, 17, blend ? planes->second_targets.uv : cl::Buffer());
+        set_optional(shade_, 18, blend ? planes->third_targets.uv : cl::Buffer());
         queue.enqueueNDRangeKernel(shade_, cl::NullRange,
                                    shade_grid(shade_lanes_, g.width, g.height),
                                    cl::NDRange(kLocalSize), &deps, &last_shade_);

@@ -77,6 +77,21 @@ void add_reconstruct_variants(std::vector<ProgramVariant>& out) {
                          reconstruct_program_defines(lanes, {storage, storage, storage, storage},
                                                      quaternion, light)});
                 }
+    // The triplanar split: float buffers, each frame form, lit or not, with and without uv and
+    // a tangent.
+    for (int lanes : {1, 8, 16})
+        for (bool quaternion : {false, true})
+            for (bool lit : {false, true})
+                for (bool bare : {false, true}) {
+                    const int tangent = bare ? kNoInput : 0, uv = bare ? kNoInput : 0;
+                    out.push_back({"reconstruct/triplanar/lanes" + std::to_string(lanes) +
+                                       (quaternion ? "-quaternion" : "") + (lit ? "-lit" : "") +
+                                       (bare ? "-no-uv" : ""),
+                                   reconstruct_program_files(),
+                                   reconstruct_program_defines(
+                                       lanes, {0, 0, tangent, uv}, quaternion,
+                                       lit ? LightKind::Directional : LightKind::None, true)});
+                }
 }
 
 }  // namespace
@@ -102,6 +117,7 @@ std::vector<ProgramVariant> program_variants() {
     }
     out.push_back({"frame/classify", classify_program_files(), ""});
     out.push_back({"frame/behind", behind_program_files(), ""});
+    out.push_back({"frame/triplanar", {"frame/triplanar.cl"}, ""});
     out.push_back({"frame/depth_offset", {"frame/depth_offset.cl"}, ""});
     out.push_back({"frame/shadow_mask", {"frame/shadow_mask.cl"}, ""});
     for (int lanes : {1, 8, 16})

@@ -18,6 +18,26 @@ bool finite(const float* v, size_t n) {
     return true;
 }
 
+// The planes a triplanar split reads and writes, and the engine planes it needs.
+void check_triplanar(const EngineGBuffer& in, const DeviceGBuffer& out, const TriplanarTable& table,
+                     const TriplanarPlanes& t) {
+    if (!table.of_id() || table.id_limit < 1)
+        throw Error("the triplanar table is empty (MaterialFrame::triplanar_table)");
+    if (!in.depth.bound())
+        throw Error(table.name +
+                    " is triplanar: it needs the engine G-buffer's depth (its world "
+                    "position)");
+    if (!in.normal.bound())
+        throw Error(table.name + " is triplanar: it needs the engine G-buffer's " +
+                    (in.frame == FrameForm::Quaternion ? "quaternion" : "normal") +
+                    " (its weights and its frames)");
+    if (!out.material())
+        throw Error("a triplanar split needs the reconstructed G-buffer's material ids");
+    for (const DeviceGBuffer* g : {&t.second, &t.third})
+        if (g->width != out.width || g->height != out.height || !g->material())
+            throw Error("the triplanar planes are not the G-buffer's size (allocate_triplanar)");
+}
+
 }  // namespace
 
 DeviceGBuffer allocate_gbuffer(Runtime& rt, int width, int height, bool light, bool lod) {
@@ -41,11 +61,11 @@ DeviceGBuffer allocate_gbuffer(Runtime& rt, int width, int height, bool light, b
 ReconstructPass::ReconstructPass(std::shared_ptr<Runtime> runtime) : runtime_(std::move(runtime)) {}
 
 std::vector<std::string> reconstruct_program_files() {
-    return {"common/storage.cl", "gbuffer/reconstruct.cl"};
+    return {"common/storage.cl", "common/triplanar.cl", "gbuffer/reconstruct.cl"};
 }
 
 std::string reconstruct_program_defines(int lanes, const std::array<int, 4>& inputs,
-                                        bool quaternion, LightKind light) {
+                                        bool quaternion, LightKind light, bool triplanar) {
     // Per input: an image, or a buffer of a storage the decoding is specialised for.
     std::string defines = lanes_define(lanes);
     const char* names[] = {"DEPTH", "FRAME", "TANGENT", "UV"};
@@ -60,16 +80,21 @@ std::string reconstruct_program_defines(int lanes, const std::array<int, 4>& inp
     if (quaternion) defines += "#define OM_QUATERNION_FRAME\n";
     if (light != LightKind::None) defines += "#define OM_LIT\n";
     if (light == LightKind::Point) defines += "#define OM_POINT_LIGHT\n";
+    if (triplanar) {
+        defines += "#define OM_TRIPLANAR\n";
+        if (inputs[3] == kNoInput) defines += "#define OM_NO_UV\n";
+        if (!quaternion && inputs[2] == kNoInput) defines += "#define OM_NO_TANGENT\n";
+    }
     return defines;
 }
 
-cl::Kernel& ReconstructPass::kernel(const EngineGBuffer& in) {
+cl::Kernel& ReconstructPass::kernel(const EngineGBuffer& in, bool triplanar) {
     auto code = [](const Input& i) {
         return i.image() ? kImageInput : i.buffer() ? static_cast<int>(i.storage) : kNoInput;
     };
     const std::string defines = reconstruct_program_defines(
         runtime_->lanes(), {code(in.depth), code(in.normal), code(in.tangent), code(in.uv)},
-        in.frame == FrameForm::Quaternion, in.light.kind);
+        in.frame == FrameForm::Quaternion, in.light.kind, triplanar);
     auto it = kernels_.find(defines);
     if (it == kernels_.end()) {
         cl::Program program = runtime_->program(reconstruct_program_files(), defines);
@@ -88,10 +113,20 @@ cl::Event ReconstructPass::enqueue(const EngineGBuffer& in, const DeviceGBuffer&
     return launch(in, out, wait, queue, false);
 }
 
+cl::Event ReconstructPass::enqueue(const EngineGBuffer& in, const DeviceGBuffer& out,
+                                   const TriplanarTable& table, const TriplanarPlanes& planes,
+                                   const std::vector<cl::Event>& wait,
+                                   const cl::CommandQueue& queue) {
+    return launch(in, out, wait, queue, false, &table, &planes);
+}
+
 cl::Event ReconstructPass::launch(const EngineGBuffer& in, const DeviceGBuffer& out,
                                   const std::vector<cl::Event>& wait, const cl::CommandQueue& queue,
-                                  bool no_pixels) {
+                                  bool no_pixels, const TriplanarTable* table,
+                                  const TriplanarPlanes* planes) {
     const cl::Context& context = runtime_->context();
+    const bool triplanar = table != nullptr;
+    if (triplanar) check_triplanar(in, out, *table, *planes);
     check_gbuffer_size(in.width, in.height, "the engine G-buffer");
     const bool quaternion = in.frame == FrameForm::Quaternion;
     if (!quaternion && in.frame != FrameForm::NormalTangent)
@@ -101,9 +136,11 @@ cl::Event ReconstructPass::launch(const EngineGBuffer& in, const DeviceGBuffer& 
     check_input(context, in.normal,
                 std::string("the engine G-buffer's ") + (quaternion ? "quaternion" : "normal"), 4,
                 in.width, in.height);
-    if (!quaternion)
+    // A triplanar frame may leave uv and the tangent out: its triplanar pixels need neither.
+    if (!quaternion && !(triplanar && !in.tangent.bound()))
         check_input(context, in.tangent, "the engine G-buffer's tangent", 4, in.width, in.height);
-    check_input(context, in.uv, "the engine G-buffer's uv", 2, in.width, in.height);
+    if (!(triplanar && !in.uv.bound()))
+        check_input(context, in.uv, "the engine G-buffer's uv", 2, in.width, in.height);
     const EngineCamera& cam = in.camera;
     if (!finite(cam.inverse_view_projection.data(), 16) || !finite(cam.eye.data(), 3))
         throw Error("the engine camera's inverse view-projection and eye must be finite");
@@ -174,7 +211,7 @@ cl::Event ReconstructPass::launch(const EngineGBuffer& in, const DeviceGBuffer& 
         *input = readable_input(*runtime_, *input, in.width, in.height, q, wait, copied);
         if (copied()) deps.push_back(copied);
     }
-    cl::Kernel& k = kernel(use);
+    cl::Kernel& k = kernel(use, triplanar);
     k.setArg(0, p);
     auto bind = [&](cl_uint index, const Input& input) {
         if (input.image())
@@ -189,6 +226,18 @@ cl::Event ReconstructPass::launch(const EngineGBuffer& in, const DeviceGBuffer& 
     k.setArg(5, out.uv);
     k.setArg(6, out.view);
     set_optional(k, 7, lit ? out.light : cl::Buffer());
+    if (triplanar) {
+        const TriplanarPlanes& t = *planes;
+        set_args_from(k, 8, out.material, table->of_id, static_cast<cl_int>(table->id_limit));
+        int a = 11;
+        for (const DeviceGBuffer* g : {&t.second, &t.third}) {
+            set_args_from(k, a, g->uv, g->view);
+            set_optional(k, a + 2, lit ? g->light : cl::Buffer());
+            k.setArg(a + 3, g->material);
+            a += 4;
+        }
+        set_args_from(k, a, t.blend, t.normal);
+    }
     const size_t items = (in.width + runtime_->lanes() - 1) / runtime_->lanes();  // per row
     const cl::NDRange global = no_pixels
                                    ? cl::NDRange(kGroupX, kGroupY)

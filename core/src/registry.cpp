@@ -334,7 +334,8 @@ std::vector<std::string> prep_program_files(const PrecomputeSpec& spec) {
 }
 
 std::vector<std::string> shade_program_files() {
-    return {"common/sampling.cl", "common/blocks.cl", "frame/slots.h", "shade.cl"};
+    return {"common/sampling.cl", "common/blocks.cl", "frame/slots.h", "common/triplanar.cl",
+            "shade.cl"};
 }
 
 std::vector<std::string> classify_program_files() { return {"frame/slots.h", "frame/classify.cl"}; }

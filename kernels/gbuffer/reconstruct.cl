@@ -12,6 +12,13 @@
 // build time, one program per combination: each input's form, an image where the host defines
 // OM_IMAGE_<INPUT>, else a buffer of OM_STORAGE_<INPUT> (a literal OM_STORAGE_* value); the frame's
 // form (OM_QUATERNION_FRAME) and the light (OM_LIT, with OM_POINT_LIGHT for a point light).
+// OM_TRIPLANAR (common/triplanar.cl): the pixels whose material id is triplanar in `tri_of_id`
+// (world_scale, sharpness, cutoff, 1) take their frame, uv, V and L from their dominant
+// projection; their second and third projections go to the extra planes where their weight is not
+// zero (with the id; 0 where it is, so the material frame traces only those), and every pixel gets
+// its weights and projections (`out_blend`: w0, w1, w2 and OM_TRI_CODE, -1 where it is not
+// triplanar) and its world normal (`out_normal`). Without OM_UV (OM_NO_UV) or a tangent
+// (OM_NO_TANGENT) the other pixels get an empty uv or an invalid frame.
 
 #define OM_INPUT_ARG(name, image) OM_INPUT_ARG_(name, image)
 #define OM_INPUT_ARG_(name, image) OM_INPUT_ARG_##image(name)
@@ -155,15 +162,61 @@
 
 #define OM_DOT3(a, b) (a##x * b##x + a##y * b##y + a##z * b##z)
 
+#ifdef OM_TRIPLANAR
+// One float a pixel of the work-item's row (lanes past its end repeat its last pixel).
+OM_INLINE OmF om_load_row_f(__global const float* q, size_t row, int x0, int width) {
+    float t[OM_LANES];
+    for (int l = 0; l < OM_LANES; ++l) t[l] = q[row + min(x0 + l, width - 1)];
+    return OM_VLOAD(t);
+}
+
+// A projection's planes for the lanes of `need` (its id elsewhere 0): uv, V and L in its frame.
+OM_INLINE void om_reconstruct_projection(OmI p, OmI need, OmF ws, OmF px, OmF py, OmF pz, OmF vx,
+                                         OmF vy, OmF vz, OmF lx, OmF ly, OmF lz, OmF id,
+                                         size_t row, int x0, int width, __global float2* uv,
+                                         __global float4* view, __global float4* light,
+                                         __global float* ids) {
+    float s[OM_LANES];
+    OM_VSTORE(OM_SEL((OmF)0.0f, id, need), s);
+    for (int l = 0; l < OM_LANES && x0 + l < width; ++l) ids[row + x0 + l] = s[l];
+    if (!OM_ANY(need)) return;
+    OmF a, b, c;
+    om_tri_into(p, px, py, pz, &a, &b, &c);
+    const struct {
+        int width;
+    } P = {width};  // OM_PUT's row length
+    OM_PUT(uv, 2, ws * a, ws * b, (OmF)0.0f, (OmF)0.0f);
+    om_tri_into(p, vx, vy, vz, &a, &b, &c);
+    OM_PUT(view, 4, a, b, c, (OmF)0.0f);
+    if (light) {
+        om_tri_into(p, lx, ly, lz, &a, &b, &c);
+        OM_PUT(light, 4, a, b, c, (OmF)0.0f);
+    }
+}
+#endif
+
 __kernel void om_reconstruct(const OmReconstructParams P, OM_INPUT_ARG(depth_in, OM_IMAGE_DEPTH),
                              OM_INPUT_ARG(frame_in, OM_IMAGE_FRAME),
                              OM_INPUT_ARG(tangent_in, OM_IMAGE_TANGENT),
                              OM_INPUT_ARG(uv_in, OM_IMAGE_UV), __global float2* out_uv,
-                             __global float4* out_view, __global float4* out_light) {
+                             __global float4* out_view, __global float4* out_light
+#ifdef OM_TRIPLANAR
+                             ,
+                             __global const float* material, __global const float4* tri_of_id,
+                             const int id_limit, __global float2* second_uv, __global float4* second_view,
+                             __global float4* second_light, __global float* second_ids, __global float2* third_uv,
+                             __global float4* third_view, __global float4* third_light, __global float* third_ids,
+                             __global float4* out_blend, __global float4* out_normal
+#endif
+) {
     const int x0 = get_global_id(0) * OM_LANES, y = get_global_id(1);
     if (x0 >= P.width || y >= P.height) return;
     const size_t row = (size_t)y * P.width;
+#ifdef OM_NO_UV
+    const OmF uv0 = NAN, uv1 = NAN;
+#else
     OM_FETCH(uv_in, OM_IMAGE_UV, OM_STORAGE_UV, 2, uv);
+#endif
     OM_FETCH(depth_in, OM_IMAGE_DEPTH, OM_STORAGE_DEPTH, 1, depth);
     OM_FETCH(frame_in, OM_IMAGE_FRAME, OM_STORAGE_FRAME, 4, f);
     const OmF d = depth0;
@@ -186,13 +239,14 @@ __kernel void om_reconstruct(const OmReconstructParams P, OM_INPUT_ARG(depth_in,
     vz *= iv;
 
     OmF tx, ty, tz, bx, by, bz, qnx, qny, qnz;  // the frame: tangent, bitangent, normal
-    OmI ok;
+    OmI ok, n_ok;  // the frame, and its normal alone
 #ifdef OM_QUATERNION_FRAME
     {
         // The columns of the rotation by the unit quaternion: tangent, bitangent, normal. q and -q
         // are the same rotation, so the sign of w carries the handedness.
         const OmF q2 = f0 * f0 + f1 * f1 + f2 * f2 + f3 * f3;
         ok = isfinite(q2) & (q2 > 1.0e-12f);
+        n_ok = ok;
         const OmF iq = rsqrt(q2);
         const OmF qx = f0 * iq, qy = f1 * iq, qz = f2 * iq, qw = f3 * iq;
         const OmF xx = qx * qx, yy = qy * qy, zz = qz * qz;
@@ -211,7 +265,11 @@ __kernel void om_reconstruct(const OmReconstructParams P, OM_INPUT_ARG(depth_in,
     }
 #else
     {
+#ifdef OM_NO_TANGENT
+        const OmF t0 = 0.0f, t1 = 0.0f, t2 = 0.0f, t3 = 0.0f;
+#else
         OM_FETCH(tangent_in, OM_IMAGE_TANGENT, OM_STORAGE_TANGENT, 4, t);
+#endif
         const OmF n2 = f0 * f0 + f1 * f1 + f2 * f2;
         const OmF in = rsqrt(n2);
         qnx = f0 * in;
@@ -223,7 +281,8 @@ __kernel void om_reconstruct(const OmReconstructParams P, OM_INPUT_ARG(depth_in,
         tz = t2 - qnz * nt;
         const OmF tp2 = OM_DOT3(t, t);
         // A tangent within about 0.06 degrees of the normal spans no plane.
-        ok = isfinite(n2) & (n2 > 1.0e-12f) & isfinite(tp2) &
+        n_ok = isfinite(n2) & (n2 > 1.0e-12f);
+        ok = n_ok & isfinite(tp2) &
              (tp2 > 1.0e-6f * (t0 * t0 + t1 * t1 + t2 * t2));
         const OmF it = rsqrt(tp2);
         tx *= it;
@@ -235,13 +294,54 @@ __kernel void om_reconstruct(const OmReconstructParams P, OM_INPUT_ARG(depth_in,
         bz = h * (qnx * ty - qny * tx);
     }
 #endif
-    const OmF vt = OM_DOT3(v, t), vb = OM_DOT3(v, b), vn = OM_DOT3(v, qn);
-    ok = ok & isfinite(d) & isfinite(vt) & isfinite(vb) & isfinite(vn);
-
     // Sky: d >= 1, or d <= 0 when reversed.
     const OmI sky = P.far_sign * (d - P.far_depth) >= 0.0f;
     const OmF nan = (OmF)NAN;
-    OM_PUT(out_uv, 2, OM_SEL(uv0, nan, sky), OM_SEL(uv1, nan, sky), nan, nan);
+    OmF fnx = qnx, fny = qny, fnz = qnz;  // the frame's normal
+    OmF u_out = uv0, v_out = uv1;
+#ifdef OM_TRIPLANAR
+    // Each lane's material: triplanar where its table entry says so.
+    float ws_[OM_LANES], sharp_[OM_LANES], cut_[OM_LANES];
+    int on_[OM_LANES];
+    for (int l_ = 0; l_ < OM_LANES; ++l_) {
+        const float id = material[row + min(x0 + l_, P.width - 1)];
+        const int i = (int)id;
+        const float4 e = id == (float)i && i > 0 && i < id_limit ? tri_of_id[i] : (float4)(0.0f);
+        ws_[l_] = e.x;
+        sharp_[l_] = e.y;
+        cut_[l_] = e.z;
+        on_[l_] = e.w > 0.0f ? -1 : 0;
+    }
+    const OmI tri = (OM_VLOAD(on_) != 0) & n_ok & !sky & isfinite(d);
+    OmI p0 = 4, p1 = 2, p2 = 0;
+    OmF w0 = 1.0f, w1 = 0.0f, w2 = 0.0f;
+    const OmF ws = OM_VLOAD(ws_);
+    if (OM_ANY(tri)) {
+        OmF wx, wy, wz;
+        om_tri_weights(qnx, qny, qnz, OM_VLOAD(sharp_), OM_VLOAD(cut_), &wx, &wy, &wz);
+        om_tri_order(qnx, qny, qnz, wx, wy, wz, &p0, &p1, &p2, &w0, &w1, &w2);
+        OmF at, bt, ct;  // P in the dominant projection's frame (ct unused)
+        om_tri_into(p0, px, py, pz, &at, &bt, &ct);
+        u_out = OM_SEL(u_out, ws * at, tri);
+        v_out = OM_SEL(v_out, ws * bt, tri);
+        OmF ftx, ftz, fby, fbz, fx_, fy_, fz_;
+        om_tri_frame(p0, &ftx, &ftz, &fby, &fbz, &fx_, &fy_, &fz_);
+        tx = OM_SEL(tx, ftx, tri);
+        ty = OM_SEL(ty, (OmF)0.0f, tri);
+        tz = OM_SEL(tz, ftz, tri);
+        bx = OM_SEL(bx, (OmF)0.0f, tri);
+        by = OM_SEL(by, fby, tri);
+        bz = OM_SEL(bz, fbz, tri);
+        fnx = OM_SEL(fnx, fx_, tri);
+        fny = OM_SEL(fny, fy_, tri);
+        fnz = OM_SEL(fnz, fz_, tri);
+        ok = OM_SEL(ok, n_ok, tri);
+    }
+#endif
+    const OmF vt = OM_DOT3(v, t), vb = OM_DOT3(v, b), vn = OM_DOT3(v, fn);
+    ok = ok & isfinite(d) & isfinite(vt) & isfinite(vb) & isfinite(vn);
+
+    OM_PUT(out_uv, 2, OM_SEL(u_out, nan, sky), OM_SEL(v_out, nan, sky), nan, nan);
     OM_PUT(out_view, 4, OM_SEL(OM_SEL(nan, vt, ok), (OmF)0.0f, sky),
            OM_SEL(OM_SEL(nan, vb, ok), (OmF)0.0f, sky), OM_SEL(OM_SEL(nan, vn, ok), (OmF)1.0f, sky),
            OM_SEL(nan, (OmF)0.0f, ok | sky));
@@ -256,9 +356,31 @@ __kernel void om_reconstruct(const OmReconstructParams P, OM_INPUT_ARG(depth_in,
     ly *= il;
     lz *= il;
 #endif
-    const OmF lt = OM_DOT3(l, t), lb = OM_DOT3(l, b), ln = OM_DOT3(l, qn);
+    const OmF lt = OM_DOT3(l, t), lb = OM_DOT3(l, b), ln = OM_DOT3(l, fn);
     const OmI lit = ok & isfinite(lt) & isfinite(lb) & isfinite(ln);
     OM_PUT(out_light, 4, OM_SEL((OmF)0.0f, lt, lit), OM_SEL((OmF)0.0f, lb, lit),
            OM_SEL((OmF)1.0f, ln, lit), (OmF)0.0f);
+#endif
+#ifdef OM_TRIPLANAR
+    // The second and third projections: uv, V and L in their frames where their weight is not 0.
+    const OmF id_here = OM_SEL((OmF)0.0f, om_load_row_f(material, row, x0, P.width), tri);
+    om_reconstruct_projection(p1, tri & (w1 > 0.0f), ws, px, py, pz, vx, vy, vz,
+#ifdef OM_LIT
+                              lx, ly, lz,
+#else
+                              0.0f, 0.0f, 1.0f,
+#endif
+                              id_here, row, x0, P.width, second_uv, second_view, second_light, second_ids);
+    om_reconstruct_projection(p2, tri & (w2 > 0.0f), ws, px, py, pz, vx, vy, vz,
+#ifdef OM_LIT
+                              lx, ly, lz,
+#else
+                              0.0f, 0.0f, 1.0f,
+#endif
+                              id_here, row, x0, P.width, third_uv, third_view, third_light, third_ids);
+    const OmF code = OM_TO_FLOAT(OM_TRI_CODE(p0, p1, p2));
+    OM_PUT(out_blend, 4, OM_SEL((OmF)1.0f, w0, tri), OM_SEL((OmF)0.0f, w1, tri),
+           OM_SEL((OmF)0.0f, w2, tri), OM_SEL((OmF)-1.0f, code, tri));
+    OM_PUT(out_normal, 4, qnx, qny, qnz, (OmF)0.0f);
 #endif
 }

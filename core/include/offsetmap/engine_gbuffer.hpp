@@ -13,6 +13,7 @@
 #include "offsetmap/input.hpp"
 #include "offsetmap/runtime.hpp"
 #include "offsetmap/shared.h"
+#include "offsetmap/triplanar.hpp"
 
 namespace offsetmap {
 
@@ -88,8 +89,10 @@ DeviceGBuffer allocate_gbuffer(Runtime& runtime, int width, int height, bool lig
 // tangent is never read in the quaternion form.
 constexpr int kImageInput = -1, kNoInput = -2;
 std::vector<std::string> reconstruct_program_files();
+// With `triplanar`, the variant that also splits triplanar pixels into their projections; there
+// uv and the tangent may be kNoInput.
 std::string reconstruct_program_defines(int lanes, const std::array<int, 4>& inputs,
-                                        bool quaternion, LightKind light);
+                                        bool quaternion, LightKind light, bool triplanar = false);
 
 // Reconstructs `out` (uv, view and, with a light, light) from the engine's G-buffer. Sky (depth
 // at the far plane) becomes an empty pixel (NaN uv); a degenerate frame or a depth that is not
@@ -105,16 +108,28 @@ class ReconstructPass {
                       const std::vector<cl::Event>& wait = {},
                       const cl::CommandQueue& queue = cl::CommandQueue());
 
+    // The same over a frame with triplanar materials (offsetmap/triplanar.hpp): `out.material`
+    // (the pixels' ids, read) and `table` (MaterialFrame::triplanar_table) say which pixels are
+    // triplanar. They take their dominant projection's frame, uv, V and L; `planes` the other two
+    // projections where they weigh, every pixel's weights and its world normal. uv and the
+    // tangent may be unbound (the other pixels then get an empty uv, or an invalid frame). Throws
+    // Error naming the material and the plane when the depth or the normal is missing.
+    cl::Event enqueue(const EngineGBuffer& in, const DeviceGBuffer& out,
+                      const TriplanarTable& table, const TriplanarPlanes& planes,
+                      const std::vector<cl::Event>& wait = {},
+                      const cl::CommandQueue& queue = cl::CommandQueue());
+
     // Checks the inputs, builds the program for this combination of buffers and images and the
     // driver's code for it (a launch over no pixels), and waits: the first enqueue compiles
     // nothing.
     void prepare(const EngineGBuffer& in, const DeviceGBuffer& out);
 
   private:
-    cl::Kernel& kernel(const EngineGBuffer& in);
+    cl::Kernel& kernel(const EngineGBuffer& in, bool triplanar);
     cl::Event launch(const EngineGBuffer& in, const DeviceGBuffer& out,
                      const std::vector<cl::Event>& wait, const cl::CommandQueue& queue,
-                     bool no_pixels);
+                     bool no_pixels, const TriplanarTable* table = nullptr,
+                     const TriplanarPlanes* planes = nullptr);
 
     std::shared_ptr<Runtime> runtime_;
     std::map<std::string, cl::Kernel> kernels_;

@@ -14,6 +14,7 @@
 #include "offsetmap/runtime.hpp"
 #include "offsetmap/settings.hpp"
 #include "offsetmap/shade_pass.hpp"
+#include "offsetmap/triplanar.hpp"
 
 namespace offsetmap {
 
@@ -33,6 +34,9 @@ struct FrameMaterial {
     PassSettings settings;    // scale, reference plane, address mode, grazing rule (no LOD)
     MethodParams params;      // its method, resolved (resolve_params)
     DeviceImage albedo;       // optional (null texels: the neutral checker)
+    // Projected from the world instead of the G-buffer's uv (wrap addressing only); its pixels
+    // need the triplanar split (ReconstructPass) and the enqueue and shade that take its planes.
+    Triplanar triplanar;
 };
 
 inline constexpr int kMaxMaterialId = 65535;
@@ -81,6 +85,18 @@ class MaterialFrame {
     cl::Event enqueue(const DeviceGBuffer& gbuffer, const OffsetTargets& targets,
                       const LayerBehind& behind, const std::vector<cl::Event>& wait = {},
                       const cl::CommandQueue& queue = cl::CommandQueue());
+    // The same frame with triplanar materials: `planes` as the reconstruct pass's triplanar split
+    // wrote them. The G-buffer's pass traces every pixel's dominant projection with the others;
+    // the second and third projections are traced where they weigh (their own classification, so
+    // a tile no blend crosses costs nothing more), and the blend's pixels take the weighted depth
+    // of the three and the sum of their fetches in `targets`. Without triplanar materials it is
+    // the enqueue above.
+    cl::Event enqueue(const DeviceGBuffer& gbuffer, const OffsetTargets& targets,
+                      const TriplanarPlanes& planes, const std::vector<cl::Event>& wait = {},
+                      const cl::CommandQueue& queue = cl::CommandQueue());
+    // What the reconstruct pass's triplanar split reads: per id the material's projection.
+    const TriplanarTable& triplanar_table() const { return triplanar_table_; }
+
     // After an enqueue with a layer behind: copies `words` 4-byte words a pixel from `from` (the
     // second layer's plane) to `to` (the first's) where `flags` (its targets' flags) say BEHIND.
     cl::Event take_behind(const cl::Buffer& flags, const cl::Buffer& from, const cl::Buffer& to,
@@ -99,6 +115,15 @@ class MaterialFrame {
                     const ShadeSettings& shade, const cl::Buffer& out_rgba,
                     const cl::Buffer& shadow_mask, const cl::Buffer& out_visibility,
                     const std::vector<cl::Event>& wait = {},
+                    const cl::CommandQueue& queue = cl::CommandQueue());
+
+    // The same with the triplanar planes: each triplanar pixel shaded with the blend of its
+    // projections' albedo, relief normals (reoriented onto the G-buffer's normal) and
+    // self-shadows (docs/design.md).
+    cl::Event shade(const cl::Buffer& uv, const cl::Buffer& flags, const DeviceGBuffer& gbuffer,
+                    const ShadeSettings& shade, const cl::Buffer& out_rgba,
+                    const cl::Buffer& shadow_mask, const cl::Buffer& out_visibility,
+                    const TriplanarPlanes* planes, const std::vector<cl::Event>& wait = {},
                     const cl::CommandQueue& queue = cl::CommandQueue());
 
     // The last enqueue's dispatches, one per method present on screen (with a layer behind, the
@@ -147,6 +172,8 @@ class MaterialFrame {
     // The queue to enqueue on, after the G-buffer's checks (a material buffer required).
     const cl::CommandQueue& checked_queue(const DeviceGBuffer& g,
                                           const cl::CommandQueue& queue) const;
+    void check_triplanar_planes(const cl::Context& context, const TriplanarPlanes& planes,
+                                const DeviceGBuffer& g) const;
 
     std::shared_ptr<Runtime> runtime_;
     std::vector<FrameMaterial> materials_;
@@ -164,10 +191,12 @@ class MaterialFrame {
     std::vector<Gathered> gathered_;  // per slot
     cl::Event last_shade_;            // the last shade dispatch (it reads the gathered buffers)
     cl::Kernel classify_, shade_;
-    cl::Kernel behind_mask_, behind_choose_, behind_take_;
-    cl::Buffer behind_ids_;                 // the second layer's ids, masked (behind_mask_)
-    std::vector<cl::Event> behind_events_;  // the last enqueue's mask and choice
-    int shade_lanes_ = 1;                   // shade_'s lanes, the runtime's when it was built
+    cl::Kernel behind_mask_, behind_choose_, behind_take_, triplanar_merge_;
+    TriplanarTable triplanar_table_;
+    std::vector<cl::Event> triplanar_events_;  // the last enqueue's classifications and merge
+    cl::Buffer behind_ids_;                    // the second layer's ids, masked (behind_mask_)
+    std::vector<cl::Event> behind_events_;     // the last enqueue's mask and choice
+    int shade_lanes_ = 1;                      // shade_'s lanes, the runtime's when it was built
     // Per frame size: the classification's counts, lists and their bases.
     size_t tiles_ = 0;
     cl::Buffer counts_, entries_, list_base_;

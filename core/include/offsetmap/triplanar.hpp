@@ -1,0 +1,52 @@
+// Triplanar relief (docs/design.md, "Triplanar relief"): a material without uv takes its relief
+// from three axis-aligned projections of the world, weighted by the normal. The reconstruct pass
+// gives each triplanar pixel its dominant projection in the G-buffer and the other two, where they
+// weigh, in the planes below; the material frame traces each projection with the material's method
+// and shades the blend.
+#pragma once
+#include <string>
+
+#include "offsetmap/cl.hpp"
+#include "offsetmap/gbuffer.hpp"
+#include "offsetmap/offset_pass.hpp"
+
+namespace offsetmap {
+
+class Runtime;
+
+// A material's projection. Weights: |n_a|^sharpness for each axis a of the G-buffer's normal n,
+// normalised, each lowered by `cutoff` and normalised again (a projection below the cutoff weighs
+// 0 and is not traced).
+struct Triplanar {
+    bool enabled = false;
+    float world_scale = 1.0f;  // texture tiles per world unit, in (0, 1e6]
+    float sharpness = 4.0f;    // the blend exponent, in [1, 64]
+    float cutoff = 0.05f;      // in [0, 0.3]
+};
+
+// Throws Error naming `what` (the material) and the parameter out of range.
+void validate(const Triplanar& t, const std::string& what);
+
+// A triplanar frame's planes besides the G-buffer, all width x height.
+struct TriplanarPlanes {
+    // The second and third projections (uv, view, light where the G-buffer has one, material:
+    // the pixel's id where the projection weighs, else 0), as the reconstruct pass writes them,
+    // and their traces (every output).
+    DeviceGBuffer second, third;
+    OffsetTargets second_targets, third_targets;
+    cl::Buffer blend;   // float4: the three weights, largest first, and OM_TRI_CODE (-1: none)
+    cl::Buffer normal;  // float4: the G-buffer's world normal, unit (xyz)
+};
+
+TriplanarPlanes allocate_triplanar(Runtime& runtime, int width, int height, bool light);
+
+// The table the reconstruct pass reads: per material id a float4 (world_scale, sharpness,
+// cutoff, 1 for a triplanar material; 0 otherwise). MaterialFrame::triplanar_table().
+struct TriplanarTable {
+    cl::Buffer of_id;
+    int id_limit = 0;
+    bool any = false;  // the table has a triplanar material
+    std::string name;  // the first triplanar material, for messages
+};
+
+}  // namespace offsetmap

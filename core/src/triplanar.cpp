@@ -1,0 +1,45 @@
+// Triplanar relief: the material's parameters and the planes a triplanar frame adds.
+#include "offsetmap/triplanar.hpp"
+
+#include <cmath>
+
+#include "launch.hpp"
+#include "offsetmap/engine_gbuffer.hpp"
+
+namespace offsetmap {
+
+void validate(const Triplanar& t, const std::string& what) {
+    if (!t.enabled) return;
+    auto refuse = [&](const char* name, float v, const char* range) {
+        throw Error(what + ": " + name + " " + std::to_string(v) + " is out of range " + range);
+    };
+    if (!(std::isfinite(t.world_scale) && t.world_scale > 0.0f && t.world_scale <= 1.0e6f))
+        refuse("world_scale", t.world_scale, "(0, 1e6] (texture tiles per world unit)");
+    if (!(t.sharpness >= 1.0f && t.sharpness <= 64.0f))
+        refuse("sharpness", t.sharpness, "[1, 64] (the blend exponent)");
+    // The largest weight is at least 1/3: a cutoff below it leaves every pixel a projection.
+    if (!(t.cutoff >= 0.0f && t.cutoff <= 0.3f))
+        refuse("cutoff", t.cutoff, "[0, 0.3] (the weight below which a projection is dropped)");
+}
+
+TriplanarPlanes allocate_triplanar(Runtime& rt, int width, int height, bool light) {
+    TriplanarPlanes t;
+    t.second = allocate_gbuffer(rt, width, height, light, false);
+    t.third = allocate_gbuffer(rt, width, height, light, false);
+    const size_t n = t.second.pixels();
+    const cl::Context& c = rt.context();
+    const std::string what = "the triplanar frame's ";
+    for (DeviceGBuffer* g : {&t.second, &t.third})
+        g->material = device_buffer(c, CL_MEM_READ_WRITE, n * sizeof(float), what + "ids");
+    for (OffsetTargets* o : {&t.second_targets, &t.third_targets}) {
+        o->uv = device_buffer(c, CL_MEM_READ_WRITE, n * sizeof(cl_float2), what + "uv'");
+        o->depth = device_buffer(c, CL_MEM_READ_WRITE, n * sizeof(float), what + "depth");
+        o->fetches = device_buffer(c, CL_MEM_READ_WRITE, n * sizeof(cl_uint), what + "fetches");
+        o->flags = device_buffer(c, CL_MEM_READ_WRITE, n * sizeof(cl_uint), what + "flags");
+    }
+    t.blend = device_buffer(c, CL_MEM_READ_WRITE, n * sizeof(cl_float4), what + "weights");
+    t.normal = device_buffer(c, CL_MEM_READ_WRITE, n * sizeof(cl_float4), what + "normals");
+    return t;
+}
+
+}  // namespace offsetmap

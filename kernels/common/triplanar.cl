@@ -1,0 +1,90 @@
+// Triplanar projection (docs/design.md, "Triplanar relief"): a surface without uv takes its relief
+// from up to three axis-aligned projections of the world, each a tangent frame of its own.
+// Projection p = 2 axis + (1 where the normal's component along the axis is negative) names the
+// frame (T, B, N) with N the signed axis and B = N x T (right-handed, handedness +1):
+//   +X: T = -Z, B = +Y   -X: T = +Z, B = +Y
+//   +Y: T = +X, B = -Z   -Y: T = +X, B = +Z
+//   +Z: T = +X, B = +Y   -Z: T = -X, B = +Y
+// so that a face seen head-on with +Y (or, for the floor, -Z) up shows its texture unmirrored, u to
+// the right. uv = world_scale (P.T, P.B). Components are 0 or +-1 exactly, so a vector's
+// components in a projection's frame (its dot products with T, B, N) are its world components
+// moved and negated, without rounding.
+
+// Weights of the three axes from the normal n: |n_a|^sharpness, normalised, then each lowered by
+// the cutoff, clamped at 0 and normalised again, so that a weight falls to zero continuously as it
+// reaches the cutoff and the three always sum to one (the largest is at least 1/3, above any
+// cutoff the host allows).
+OM_INLINE void om_tri_weights(OmF nx, OmF ny, OmF nz, OmF sharpness, OmF cutoff, OmF* wx,
+                              OmF* wy, OmF* wz) {
+    // |n|^k as exp2(k log2 |n|): a zero component gives exp2(-inf) = 0.
+    OmF ax = exp2(sharpness * log2(fabs(nx)));
+    OmF ay = exp2(sharpness * log2(fabs(ny)));
+    OmF az = exp2(sharpness * log2(fabs(nz)));
+    const OmF s = 1.0f / (ax + ay + az);
+    ax = fmax(ax * s - cutoff, 0.0f);
+    ay = fmax(ay * s - cutoff, 0.0f);
+    az = fmax(az * s - cutoff, 0.0f);
+    const OmF t = 1.0f / (ax + ay + az);
+    *wx = ax * t;
+    *wy = ay * t;
+    *wz = az * t;
+}
+
+// Projection p's frame, per lane.
+OM_INLINE void om_tri_frame(OmI p, OmF* tx, OmF* tz, OmF* by, OmF* bz, OmF* nx, OmF* ny,
+                            OmF* nz) {
+    const OmF one = 1.0f, zero = 0.0f, neg = -1.0f;
+    const OmF s = OM_SEL(one, neg, (p & 1) != 0);
+    // T.y = 0 and B.x = 0 in every frame.
+    *tx = OM_SEL(OM_SEL(zero, one, p >= 2), neg, p == 5);
+    *tz = OM_SEL(OM_SEL(zero, neg, p == 0), one, p == 1);
+    *by = OM_SEL(one, zero, (p == 2) | (p == 3));
+    *bz = OM_SEL(OM_SEL(zero, neg, p == 2), one, p == 3);
+    *nx = OM_SEL(zero, s, (p >> 1) == 0);
+    *ny = OM_SEL(zero, s, (p >> 1) == 1);
+    *nz = OM_SEL(zero, s, (p >> 1) == 2);
+}
+
+// (x, y, z) in projection p's frame: (v.T, v.B, v.N).
+OM_INLINE void om_tri_into(OmI p, OmF x, OmF y, OmF z, OmF* a, OmF* b, OmF* c) {
+    OmF tx, tz, by, bz, nx, ny, nz;
+    om_tri_frame(p, &tx, &tz, &by, &bz, &nx, &ny, &nz);
+    *a = x * tx + z * tz;
+    *b = y * by + z * bz;
+    *c = x * nx + y * ny + z * nz;
+}
+
+// Projection p's (a, b, c) back in the world: a T + b B + c N.
+OM_INLINE void om_tri_out(OmI p, OmF a, OmF b, OmF c, OmF* x, OmF* y, OmF* z) {
+    OmF tx, tz, by, bz, nx, ny, nz;
+    om_tri_frame(p, &tx, &tz, &by, &bz, &nx, &ny, &nz);
+    *x = a * tx + c * nx;
+    *y = b * by + c * ny;
+    *z = a * tz + b * bz + c * nz;
+}
+
+// The projections of a pixel, largest weight first (ties: z before y before x), each with the sign
+// of the normal's component on its axis (+ for 0), and their weights.
+OM_INLINE void om_tri_order(OmF nx, OmF ny, OmF nz, OmF wx, OmF wy, OmF wz, OmI* p0, OmI* p1,
+                            OmI* p2, OmF* w0, OmF* w1, OmF* w2) {
+    const OmI px = OM_SEL((OmI)0, (OmI)1, nx < 0.0f);
+    const OmI py = OM_SEL((OmI)2, (OmI)3, ny < 0.0f);
+    const OmI pz = OM_SEL((OmI)4, (OmI)5, nz < 0.0f);
+    const OmI z_first = (wz >= wy) & (wz >= wx);
+    const OmI y_first = !z_first & (wy >= wx);
+    // The first, then the other two in axis order z, y, x, swapped where the later one weighs more.
+    *p0 = OM_SEL(OM_SEL(px, py, y_first), pz, z_first);
+    *w0 = OM_SEL(OM_SEL(wx, wy, y_first), wz, z_first);
+    const OmI x_later = z_first | y_first;
+    const OmI a = OM_SEL(pz, py, z_first), b = OM_SEL(py, px, x_later);
+    const OmF wa = OM_SEL(wz, wy, z_first), wb = OM_SEL(wy, wx, x_later);
+    const OmI swap = wb > wa;
+    *p1 = OM_SEL(a, b, swap);
+    *p2 = OM_SEL(b, a, swap);
+    *w1 = OM_SEL(wa, wb, swap);
+    *w2 = OM_SEL(wb, wa, swap);
+}
+
+// A pixel's three projections as one number (exact in a float): p0 + 6 p1 + 36 p2; -1 where the
+// pixel is not triplanar.
+#define OM_TRI_CODE(p0, p1, p2) ((p0) + 6 * (p1) + 36 * (p2))
