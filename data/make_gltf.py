@@ -1,7 +1,7 @@
 #!/usr/bin/python3
-"""Writes pillars.gltf and curved.gltf, the small glTF 2.0 scenes of the demo and tests (one file
-each, its buffer embedded), and nothing else: their height maps are named by pillars.json and
-curved.json, the material tables beside them.
+"""Writes pillars.gltf, curved.gltf and terrain.gltf, the small glTF 2.0 scenes of the demo and
+tests (one file each, its buffer embedded), and nothing else: their height maps are named by pillars.json,
+curved.json and terrain.json, the material tables beside them.
 
     /usr/bin/python3 data/make_gltf.py [output folder, default: this script's folder]
 
@@ -12,6 +12,8 @@ Standard library only. The scene exercises what a loader must get right:
     transpose);
   - a box ("text") under a node with a negative x scale (a mirroring transform: winding flips);
   - a perspective camera node aimed at the scene.
+terrain.gltf has no uv at all: a terrain tile of hills cut by a cliff (material "ground") and a
+rock of every orientation ("rock"), both triplanar in terrain.json.
 curved.gltf is the curved surfaces' test scene: a sphere, a cylinder and a torus standing on
 its rim, in bricks at s of 0.06 and 0.1, on a bumpy floor: silhouettes against the background
 and against each other.
@@ -55,9 +57,11 @@ class Builder:
         return len(self.accessors) - 1
 
     def mesh(self, name, material, positions, normals, uvs, indices):
+        """uvs None: a mesh without TEXCOORD_0 (for a triplanar material)."""
         attrs = {"POSITION": self._accessor(positions, "f", 3),
-                 "NORMAL": self._accessor(normals, "f", 3),
-                 "TEXCOORD_0": self._accessor(uvs, "f", 2)}
+                 "NORMAL": self._accessor(normals, "f", 3)}
+        if uvs is not None:
+            attrs["TEXCOORD_0"] = self._accessor(uvs, "f", 2)
         prim = {"attributes": attrs, "indices": self._accessor(indices, "index", 1),
                 "material": material, "mode": 4}
         self.meshes.append({"name": name, "primitives": [prim]})
@@ -198,6 +202,82 @@ def curved(out):
         f.write("\n")
 
 
+def smooth_normals(pos, idx):
+    """Area-weighted vertex normals of counter-clockwise triangles."""
+    acc = [[0.0, 0.0, 0.0] for _ in pos]
+    for t in range(0, len(idx), 3):
+        a, b, c = (pos[idx[t + k]] for k in range(3))
+        e1 = [b[i] - a[i] for i in range(3)]
+        e2 = [c[i] - a[i] for i in range(3)]
+        n = [e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2],
+             e1[0] * e2[1] - e1[1] * e2[0]]
+        for k in range(3):
+            for i in range(3):
+                acc[idx[t + k]][i] += n[i]
+    out = []
+    for n in acc:
+        length = math.sqrt(sum(x * x for x in n))
+        out.append([x / length for x in n])
+    return out
+
+
+def terrain_tile(size, cells):
+    """A height field over [-size/2, size/2]^2 (y up): rolling hills and a cliff across it."""
+    def height(x, z):
+        hills = 0.35 * math.sin(0.9 * x + 0.4) * math.cos(0.7 * z) + 0.12 * math.sin(2.3 * x + 1.7 * z)
+        cliff = 1.1 / (1 + math.exp(-(0.8 * x - 0.6 * z + 0.9) / 0.09))
+        return hills + cliff
+    pos, idx = [], []
+    for j in range(cells + 1):
+        for i in range(cells + 1):
+            x = -size / 2 + size * i / cells
+            z = -size / 2 + size * j / cells
+            pos.append([x, height(x, z), z])
+    for j in range(cells):
+        for i in range(cells):
+            a = j * (cells + 1) + i
+            idx += [a, a + cells + 1, a + 1, a + 1, a + cells + 1, a + cells + 2]
+    return pos, smooth_normals(pos, idx), None, idx
+
+
+def rock(radius, segments, rings):
+    """A lumpy ball: every orientation, overhangs included."""
+    def r(theta, a):
+        return radius * (1 + 0.18 * math.sin(3 * a + 1) * math.sin(2 * theta)
+                         + 0.1 * math.cos(5 * theta + 2 * a))
+    pos, idx = [], []
+    for j in range(rings + 1):
+        theta = math.pi * j / rings
+        for i in range(segments):
+            a = 2 * math.pi * i / segments
+            k = r(theta, a)
+            pos.append([k * math.sin(theta) * math.cos(a), k * math.cos(theta),
+                        -k * math.sin(theta) * math.sin(a)])
+    for j in range(rings):
+        for i in range(segments):
+            a, b = j * segments + i, j * segments + (i + 1) % segments
+            c, d = a + segments, b + segments
+            idx += [a, c, b, b, c, d]
+    # The poles' rings are points: their vertices meet in one place, as one vertex would.
+    return pos, smooth_normals(pos, idx), None, idx
+
+
+def terrain(out):
+    b = Builder()
+    ground = b.mesh("ground", 0, *terrain_tile(8.0, 64))
+    stone = b.mesh("rock", 1, *rock(0.7, 48, 24))
+    nodes = [
+        {"name": "ground", "mesh": ground},
+        {"name": "rock", "mesh": stone, "translation": [-1.2, 0.75, 0.9],
+         "rotation": [0.2, 0.3, 0.0, math.sqrt(1 - 0.13)]},
+    ]
+    doc = gltf(b, "terrain", nodes, [0, 1], ["ground", "rock"],
+               ([1.6, 2.4, 4.0], [-0.6, 0.5, -0.4]))
+    with open(os.path.join(out, "terrain.gltf"), "w") as f:
+        json.dump(doc, f, indent=1)
+        f.write("\n")
+
+
 def look_rotation(eye, target):
     """The quaternion (x, y, z, w) turning a glTF camera (looking down -z, up +y) toward target."""
     f = [target[i] - eye[i] for i in range(3)]
@@ -240,6 +320,7 @@ def main():
         json.dump(doc, f, indent=1)
         f.write("\n")
     curved(out)
+    terrain(out)
 
 
 if __name__ == "__main__":

@@ -54,6 +54,20 @@ TEST(MaterialTable, ReadsEntriesWithDefaultsAndPathsBesideTheFile) {
     std::filesystem::remove_all(dir);
 }
 
+TEST(MaterialTable, ReadsATriplanarProjection) {
+    const auto dir = temp_folder("triplanar_table");
+    std::ofstream(dir / "t.json") << R"([{"id": 4, "height_map": "m.png", "projection":
+        "triplanar", "world_scale": 0.5, "sharpness": 8, "blend_cutoff": 0.1},
+        {"id": 5, "height_map": "m.png", "projection": "uv"}])";
+    const std::vector<MaterialSpec> t = read_material_table((dir / "t.json").string());
+    EXPECT_TRUE(t[0].triplanar.enabled);
+    EXPECT_EQ(t[0].triplanar.world_scale, 0.5f);
+    EXPECT_EQ(t[0].triplanar.sharpness, 8.0f);
+    EXPECT_EQ(t[0].triplanar.cutoff, 0.1f);
+    EXPECT_FALSE(t[1].triplanar.enabled);
+    std::filesystem::remove_all(dir);
+}
+
 TEST(MaterialTable, RefusesBadEntriesNamingThem) {
     const auto dir = temp_folder("bad_table");
     auto error = [&](const std::string& json) {
@@ -72,6 +86,18 @@ TEST(MaterialTable, RefusesBadEntriesNamingThem) {
                          "material 1: scale must be in [0, 1], got 2"));
     EXPECT_TRUE(contains(error(R"([{"id": 1, "address": "mirror", )" + map + "}]"),
                          "'address' must be one of clamp, wrap, got 'mirror'"));
+    EXPECT_TRUE(contains(error(R"([{"id": 1, "projection": "box", )" + map + "}]"),
+                         "'projection' must be one of triplanar, uv, got 'box'"));
+    EXPECT_TRUE(
+        contains(error(R"([{"id": 1, "world_scale": 2, )" + map + "}]"),
+                 "material 1: 'world_scale' applies to \"projection\": \"triplanar\" only"));
+    const std::string tri = R"("projection": "triplanar", )";
+    EXPECT_TRUE(contains(error(R"([{"id": 1, "sharpness": 100, )" + tri + map + "}]"),
+                         "material 1: the triplanar projection: sharpness 100 is out of range"));
+    EXPECT_TRUE(contains(error(R"([{"id": 1, "blend_cutoff": -1, )" + tri + map + "}]"),
+                         "cutoff -1 is out of range"));
+    EXPECT_TRUE(contains(error(R"([{"id": 1, "address": "clamp", )" + tri + map + "}]"),
+                         "material 1: a triplanar projection tiles the world"));
     EXPECT_TRUE(contains(error(R"([{"id": 1, "method": "auto", )" + map + "}]"),
                          "method auto needs an 'error_budget'"));
     EXPECT_TRUE(contains(

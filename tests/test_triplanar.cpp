@@ -110,6 +110,9 @@ struct TriRun {
     std::vector<cl_float4> view, view2, light, rgba, blend;
     std::vector<float> depth, ids2, ids3;
     std::vector<cl_uint> fetches, flags;
+    // Triplanar: each projection's own trace (the dominant's again without the planes).
+    std::vector<float> depth1, depth2, depth3;
+    std::vector<cl_uint> fetches1, fetches2, fetches3, flags2;
 };
 
 struct FrameSetup {
@@ -160,6 +163,19 @@ TriRun run_frame(const EngineFrame& f, const FrameSetup& s, bool triplanar,
         r.view2 = read_plane<cl_float4>(*rt, planes.second.view, n);
         r.ids2 = read_plane<float>(*rt, planes.second.material, n);
         r.ids3 = read_plane<float>(*rt, planes.third.material, n);
+        r.depth2 = read_plane<float>(*rt, planes.second_targets.depth, n);
+        r.depth3 = read_plane<float>(*rt, planes.third_targets.depth, n);
+        r.fetches2 = read_plane<cl_uint>(*rt, planes.second_targets.fetches, n);
+        r.fetches3 = read_plane<cl_uint>(*rt, planes.third_targets.fetches, n);
+        r.flags2 = read_plane<cl_uint>(*rt, planes.second_targets.flags, n);
+        OffsetTargets alone = t;
+        alone.depth = cl::Buffer(ctx, CL_MEM_READ_WRITE, n * sizeof(float));
+        alone.fetches = cl::Buffer(ctx, CL_MEM_READ_WRITE, n * sizeof(cl_uint));
+        alone.uv = cl::Buffer(ctx, CL_MEM_READ_WRITE, n * sizeof(cl_float2));
+        alone.flags = cl::Buffer(ctx, CL_MEM_READ_WRITE, n * sizeof(cl_uint));
+        frame.enqueue(g, alone);
+        r.depth1 = read_plane<float>(*rt, alone.depth, n);
+        r.fetches1 = read_plane<cl_uint>(*rt, alone.fetches, n);
     } else {
         reconstruct.enqueue(in, g);
         frame.enqueue(g, t);
@@ -372,6 +388,43 @@ TEST(Triplanar, AFlatReliefShadesAsItsNormal) {
     EXPECT_GT(blended, f.pixels() / 4);
     // The normals' float rounding through two frames and a normalisation.
     EXPECT_LT(worst, 2e-5);
+}
+
+// Where a pixel blends, its depth is the weighted depth of its projections' traces and its fetches
+// their sum; where one projection covers it, its dominant trace's alone, bit for bit. A
+// projection whose plane the view meets from behind (V.z <= 0 in its frame: random normals face
+// every way) is the pass's BACKFACING pixel: uv passed through, nothing fetched.
+TEST(Triplanar, ABlendMergesDepthAndFetches) {
+    EngineFrame f = small_plane();
+    random_normals(f, 23);
+    FrameSetup s;
+    s.triplanar.enabled = true;
+    s.triplanar.world_scale = 3.0f;
+    const TriRun r = run_frame(f, s, true, sun());
+    size_t blended = 0, traced = 0;
+    for (size_t k = 0; k < f.pixels(); ++k) {
+        const cl_float4 b = r.blend[k];
+        if (!(b.s[1] > 0)) {
+            ASSERT_EQ(std::memcmp(&r.depth[k], &r.depth1[k], sizeof(float)), 0) << k;
+            ASSERT_EQ(r.fetches[k], r.fetches1[k]) << k;
+            continue;
+        }
+        ++blended;
+        const double want = double(b.s[0]) * r.depth1[k] + double(b.s[1]) * r.depth2[k] +
+                            (b.s[2] > 0 ? double(b.s[2]) * r.depth3[k] : 0.0);
+        const double mag = std::abs(b.s[0] * r.depth1[k]) + std::abs(b.s[1] * r.depth2[k]) +
+                           std::abs(b.s[2] * r.depth3[k]);
+        ASSERT_NEAR(r.depth[k], want, 4e-7 * mag + 1e-12) << k;
+        ASSERT_EQ(r.fetches[k], r.fetches1[k] + r.fetches2[k] + (b.s[2] > 0 ? r.fetches3[k] : 0u))
+            << k;
+        const bool behind = (r.flags2[k] & OM_FLAG_BACKFACING) != 0;
+        ASSERT_EQ(r.fetches2[k] == 0, behind) << k;
+        traced += !behind;
+    }
+    std::printf("[ blend ] %zu pixels blended, %zu of them traced in their second projection\n",
+                blended, traced);
+    EXPECT_GT(blended, f.pixels() / 4);
+    EXPECT_GT(traced, blended / 4);
 }
 
 // A parameter out of range, clamp addressing, or an engine G-buffer without the planes a

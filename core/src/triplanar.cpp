@@ -2,6 +2,7 @@
 #include "offsetmap/triplanar.hpp"
 
 #include <cmath>
+#include <sstream>
 
 #include "launch.hpp"
 #include "offsetmap/engine_gbuffer.hpp"
@@ -11,7 +12,9 @@ namespace offsetmap {
 void validate(const Triplanar& t, const std::string& what) {
     if (!t.enabled) return;
     auto refuse = [&](const char* name, float v, const char* range) {
-        throw Error(what + ": " + name + " " + std::to_string(v) + " is out of range " + range);
+        std::ostringstream text;
+        text << what << ": " << name << " " << v << " is out of range " << range;
+        throw Error(text.str());
     };
     if (!(std::isfinite(t.world_scale) && t.world_scale > 0.0f && t.world_scale <= 1.0e6f))
         refuse("world_scale", t.world_scale, "(0, 1e6] (texture tiles per world unit)");

@@ -35,7 +35,11 @@ const std::set<std::string> kKeys = {"id",
                                      "error_budget",
                                      "normal_map",
                                      "flip_green",
-                                     "albedo"};
+                                     "albedo",
+                                     "projection",
+                                     "world_scale",
+                                     "sharpness",
+                                     "blend_cutoff"};
 
 // One entry's reader: every complaint names the file and the entry.
 struct Entry {
@@ -173,6 +177,22 @@ MaterialSpec read_entry(const Entry& e, const std::filesystem::path& folder,
     if (e.has("normal_map")) m.normal_map = resolve(folder, e.text("normal_map"));
     if (e.has("flip_green")) m.flip_green = e.boolean("flip_green");
     if (e.has("albedo")) m.albedo = resolve(folder, e.text("albedo"));
+    Triplanar& t = m.triplanar;
+    if (e.has("projection")) t.enabled = e.choice("projection", {"uv", "triplanar"}) == "triplanar";
+    for (const char* key : {"world_scale", "sharpness", "blend_cutoff"})
+        if (e.has(key) && !t.enabled)
+            e.fail("'" + std::string(key) + "' applies to \"projection\": \"triplanar\" only");
+    if (e.has("world_scale")) t.world_scale = static_cast<float>(e.number("world_scale"));
+    if (e.has("sharpness")) t.sharpness = static_cast<float>(e.number("sharpness"));
+    if (e.has("blend_cutoff")) t.cutoff = static_cast<float>(e.number("blend_cutoff"));
+    try {
+        validate(t, "the triplanar projection");
+        if (t.enabled && s.address != AddressMode::Wrap)
+            throw Error(
+                "a triplanar projection tiles the world, so it needs \"address\": \"wrap\"");
+    } catch (const Error& x) {
+        e.fail(x.what());
+    }
     return m;
 }
 
@@ -241,6 +261,7 @@ std::vector<FrameMaterial> upload_materials(Runtime& rt, const std::vector<Loade
         f.field = upload(rt, m.map, f.settings, m.normals.width ? &m.normals : nullptr);
         f.params = methods[k];
         if (m.albedo.width) f.albedo = upload(rt, m.albedo);
+        f.triplanar = m.spec.triplanar;
         out.push_back(std::move(f));
     }
     return out;

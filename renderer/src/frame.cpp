@@ -96,6 +96,8 @@ struct FrameRenderer::Impl {
     cl::Buffer depth, normal, tangent, uv, ids, density, curvature;
     DeviceGBuffer dg;  // its curvature bound only while set_curvature is on
     OffsetTargets targets;
+    // A table with triplanar materials: their pixels' other projections, weights and normals.
+    std::optional<TriplanarPlanes> triplanar;
     // The second layer (set_layers(2)): its raster, planes, G-buffer and targets, made at first
     // use.
     Scene scene;
@@ -171,6 +173,8 @@ FrameRenderer::FrameRenderer(std::shared_ptr<Runtime> runtime, const Scene& scen
     m.depth_params = depth_offset_params(m.view.view_projection, m.view.inverse_view_projection,
                                          m.view.eye, width, height, m.view.orthographic);
     m.frame = std::make_unique<MaterialFrame>(runtime, upload_materials(rt, table, methods));
+    if (m.frame->triplanar_table().any)
+        m.triplanar = allocate_triplanar(rt, width, height, m.light.kind != LightKind::None);
     m.reconstruct = std::make_unique<ReconstructPass>(runtime);
     interop_ = "host copies (the OpenCL platform offers no cl_khr_gl_sharing)";
     if (rt.device().getInfo<CL_DEVICE_EXTENSIONS>().find("cl_khr_gl_sharing") != std::string::npos)
@@ -192,10 +196,12 @@ std::pair<double, double> FrameRenderer::rerun_kernels(int repeats) {
     Impl& m = *impl_;
     std::vector<double> shade, offset;
     for (int k = 0; k < repeats && m.rt->profiling(); ++k) {
-        const cl::Event s = m.frame->shade(m.targets.uv, m.targets.flags, m.dg, m.shading, m.rgba);
+        const TriplanarPlanes* tri = m.triplanar ? &*m.triplanar : nullptr;
+        const cl::Event s = m.frame->shade(m.targets.uv, m.targets.flags, m.dg, m.shading, m.rgba,
+                                           cl::Buffer(), cl::Buffer(), tri);
         s.wait();
         shade.push_back(event_ms(s));
-        m.frame->enqueue(m.dg, m.targets).wait();
+        (tri ? m.frame->enqueue(m.dg, m.targets, *tri) : m.frame->enqueue(m.dg, m.targets)).wait();
         offset.push_back(m.frame->kernel_ms());
     }
     return {median(shade), median(offset)};
@@ -324,6 +330,12 @@ FrameRun FrameRenderer::render(FrameMode mode, bool prepass, int repeats) {
     run.curved = m.dg.curvature() != nullptr;
     run.layers = forward ? 1 : m.layers;
     Impl::Behind* behind = run.layers == 2 ? m.behind.get() : nullptr;
+    if (behind && m.triplanar)
+        throw Error("the layer behind does not trace triplanar materials: " +
+                    m.frame->triplanar_table().name + " is one");
+    if (forward && m.triplanar)
+        throw Error("the forward peer has no triplanar projection: " +
+                    m.frame->triplanar_table().name + " is one");
     if (behind) behind->dg.curvature = run.curved ? behind->curvature : cl::Buffer();
     RasterPlanes planes;
     std::vector<float> ids(n), t_gl(n);
@@ -412,7 +424,10 @@ FrameRun FrameRenderer::render(FrameMode mode, bool prepass, int repeats) {
         g.tangent.buffer = m.tangent;
         g.uv.buffer = m.uv;
         g.light = m.light;
-        m.reconstruct->enqueue(g, m.dg);
+        if (m.triplanar)
+            m.reconstruct->enqueue(g, m.dg, m.frame->triplanar_table(), *m.triplanar);
+        else
+            m.reconstruct->enqueue(g, m.dg);
         if (behind) {
             g.depth.buffer = behind->depth;
             g.normal.buffer = behind->normal;
@@ -430,6 +445,8 @@ FrameRun FrameRenderer::render(FrameMode mode, bool prepass, int repeats) {
                 // The depth offset's planes: the window depth and uv density of the surface shown.
                 m.frame->take_behind(m.targets.flags, behind->depth, m.depth, n, 1);
                 m.frame->take_behind(m.targets.flags, behind->density, m.density, n, 1);
+            } else if (m.triplanar) {
+                m.frame->enqueue(m.dg, m.targets, *m.triplanar);
             } else {
                 m.frame->enqueue(m.dg, m.targets);
             }
@@ -458,7 +475,8 @@ FrameRun FrameRenderer::render(FrameMode mode, bool prepass, int repeats) {
         t0 = Clock::now();
         const cl::Event shaded = m.frame->shade(
             m.targets.uv, forward ? cl::Buffer() : m.targets.flags, m.dg, m.shading, m.rgba,
-            shadows ? shadows->mask : cl::Buffer(), shadows ? shadows->visibility : cl::Buffer());
+            shadows ? shadows->mask : cl::Buffer(), shadows ? shadows->visibility : cl::Buffer(),
+            m.triplanar && !forward ? &*m.triplanar : nullptr);
         q.finish();
         t.shade = ms_since(t0);
         if (rt.profiling()) shade_kernel.push_back(event_ms(shaded));
@@ -514,6 +532,12 @@ FrameRun FrameRenderer::render(FrameMode mode, bool prepass, int repeats) {
     for (std::uint32_t f : out.flags) {
         run.behind_pixels += (f & OM_FLAG_BEHIND) != 0;
         run.missed_pixels += behind && (f & OM_FLAGS_SEE_BEHIND);
+    }
+    if (m.triplanar && !forward) {
+        std::vector<cl_float4> blend(n);
+        q.enqueueReadBuffer(m.triplanar->blend, CL_TRUE, 0, n * sizeof(cl_float4), blend.data());
+        for (const cl_float4& b : blend)
+            if (b.s[3] >= 0.0f) ++run.projections[(b.s[1] > 0.0f) + (b.s[2] > 0.0f)];
     }
     run.color = flip_rows(run.color, w, h, 1);
     run.depth_after = flip_rows(m.raster->depth_after(), w, h, 1);

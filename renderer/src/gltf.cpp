@@ -62,7 +62,11 @@ class Loader {
         }
         for (int r : roots) visit(r, glm::dmat4(1.0), s, 0);
         if (s.meshes.empty()) fail("its scene has no triangles");
-        for (Mesh& m : s.meshes) derive_tangents(m);
+        for (Mesh& m : s.meshes) {
+            derive_tangents(m);
+            if (const Triplanar* t = triplanar_of(m.material))
+                project_from_world(m, t->world_scale);
+        }
         place_view(s);
         return s;
     }
@@ -203,6 +207,12 @@ class Loader {
         }
     }
 
+    const Triplanar* triplanar_of(int id) const {
+        for (const MaterialSpec& spec : table_)
+            if (spec.id == id && spec.triplanar.enabled) return &spec.triplanar;
+        return nullptr;
+    }
+
     int material_id(const std::string& mesh_name, int material) const {
         if (material < 0)
             fail("mesh '" + mesh_name +
@@ -241,13 +251,22 @@ class Loader {
             };
             const std::vector<float> pos = floats(attr("POSITION", "positions"), 3, what);
             const std::vector<float> nrm = floats(attr("NORMAL", "normals"), 3, what);
-            const std::vector<float> uv = floats(attr("TEXCOORD_0", "uv"), 2, what);
-            const size_t count = pos.size() / 3;
-            if (nrm.size() / 3 != count || uv.size() / 2 != count)
-                fail(what + ": its attributes have different vertex counts");
             Mesh m;
             m.name = name + (gm.primitives.size() > 1 ? "#" + std::to_string(p) : "");
             m.material = material_id(name, prim.material);
+            // A triplanar material projects the world: its meshes need no uv, and any they have
+            // is not read.
+            const bool projected = triplanar_of(m.material) != nullptr;
+            if (!projected && !prim.attributes.count("TEXCOORD_0"))
+                fail(what +
+                     " has no uv (TEXCOORD_0); a mesh without uv needs a material with "
+                     "\"projection\": \"triplanar\" in " +
+                     table_path_);
+            const size_t count = pos.size() / 3;
+            const std::vector<float> uv = projected ? std::vector<float>(2 * count, 0.0f)
+                                                    : floats(attr("TEXCOORD_0", "uv"), 2, what);
+            if (nrm.size() / 3 != count || uv.size() / 2 != count)
+                fail(what + ": its attributes have different vertex counts");
             for (size_t i = 0; i < count; ++i) {
                 Vertex v;
                 const glm::dvec4 wp =

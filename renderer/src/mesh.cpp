@@ -216,6 +216,14 @@ void derive_tangents(Mesh& mesh) {
     derive_curvature(mesh);
 }
 
+void project_from_world(Mesh& mesh, float world_scale) {
+    for (Vertex& v : mesh.vertices) {
+        v.uv_density = 1.0f / world_scale;
+        v.curvature = {0.0f, 0.0f, 0.0f};
+        v.uv_log_stretch = 0.0f;
+    }
+}
+
 Mesh make_quad(const std::string& name, int material, Vec3 origin, Vec3 edge_u, Vec3 edge_v,
                float tiles_u, float tiles_v, bool mirror_u) {
     Mesh m{name, material, {}, {}};

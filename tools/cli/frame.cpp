@@ -629,6 +629,12 @@ int run_frame(const FrameCommand& cmd) {
     std::printf("frame: %s scene %dx%d, %zu materials; GL: %s; OpenCL: %s; %s\n",
                 scene.name.c_str(), w, h, table.size(), renderer.gl_renderer().c_str(),
                 rt->device_name().c_str(), renderer.interop().c_str());
+    if (const std::array<size_t, 3>& p = deferred.projections; p[0] + p[1] + p[2] > 0) {
+        const double all = double(p[0] + p[1] + p[2]);
+        std::printf(
+            "triplanar: %zu pixels, traced in one projection %.1f %%, two %.1f %%, three %.1f %%\n",
+            p[0] + p[1] + p[2], 100.0 * p[0] / all, 100.0 * p[1] / all, 100.0 * p[2] / all);
+    }
     std::printf("%-22s %9s %9s %9s %9s %9s %9s %9s %9s %10s\n", "mode", "G-buffer", "to CL",
                 "reconstr", "offset", "shade", "depth off", "to GL", "total", "frag/px");
     nlohmann::json modes = nlohmann::json::array();
@@ -660,12 +666,19 @@ int run_frame(const FrameCommand& cmd) {
                             {"mean_err_texels", stats[s].error.mean},
                             {"p95_err_texels", stats[s].error.p95},
                             {"max_err_texels", stats[s].error.max}});
-        modes.push_back({{"mode", name},
-                         {"passes", pass_json(r)},
-                         {"offset_kernel_ms", r.offset_kernel_ms},
-                         {"shaded_fragments", r.shaded_fragments},
-                         {"shaded_fragments_per_covered_pixel", overdraw},
-                         {"materials", mats}});
+        nlohmann::json mode = {{"mode", name},
+                               {"passes", pass_json(r)},
+                               {"offset_kernel_ms", r.offset_kernel_ms},
+                               {"shaded_fragments", r.shaded_fragments},
+                               {"shaded_fragments_per_covered_pixel", overdraw},
+                               {"materials", mats}};
+        const size_t projected = r.projections[0] + r.projections[1] + r.projections[2];
+        if (projected > 0)
+            mode["triplanar"] = {{"pixels", projected},
+                                 {"one_projection", r.projections[0]},
+                                 {"two_projections", r.projections[1]},
+                                 {"three_projections", r.projections[2]}};
+        modes.push_back(mode);
     }
     std::printf("%4s %-10s %-10s %8s", "id", "material", "method", "pixels");
     for (const FrameRun& r : runs)

@@ -23,7 +23,9 @@ struct ErrorBudget {
 // scale, reference_plane, address (wrap, clamp), grazing (clamp, limit, cap), grazing_min_deg,
 // max_offset, tile_mask, tile_bounds ([u_min, v_min, u_max, v_max], null: open), method (a
 // method's name or "auto"), params (name: value), error_budget
-// ({"p95_texels": x} or {"mean_texels": x}; method auto only), normal_map, flip_green, albedo.
+// ({"p95_texels": x} or {"mean_texels": x}; method auto only), normal_map, flip_green, albedo,
+// projection ("uv", the default, or "triplanar": the world projected along three axes, for meshes
+// without uv; wrap addressing) with world_scale, sharpness and blend_cutoff (offsetmap/triplanar.hpp).
 // Paths are relative to the JSON file's folder; settings not given keep `defaults`.
 struct MaterialSpec {
     int id = 0;
@@ -36,6 +38,7 @@ struct MaterialSpec {
     ErrorBudget budget;  // method "auto"
     std::string normal_map, albedo;
     bool flip_green = false;
+    Triplanar triplanar;
 };
 
 // Reads and checks the table: JSON syntax, unknown keys, value types and ranges, ids in

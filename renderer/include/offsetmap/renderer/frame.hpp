@@ -42,6 +42,8 @@ struct FrameRun {
     // Two layers: pixels that show the second layer's surface (OM_FLAG_BEHIND), and pixels the
     // first layer does not show whose second shows nothing either (the background's).
     size_t behind_pixels = 0, missed_pixels = 0;
+    // Triplanar materials (deferred): their pixels traced in one, two and three projections.
+    std::array<size_t, 3> projections{};
     PassTimes ms;
     double offset_kernel_ms = 0;  // deferred: the material frame's kernel time (profiling)
     double shade_kernel_ms = 0;   // the shade kernel's time (profiling; 0 where not timed)

@@ -48,6 +48,10 @@ void derive_tangents(Mesh& mesh);
 // a split normal (a hard edge) keeps its sides apart. Exact where the normals are a linear function
 // of the position (a sphere's and a cylinder's vertex normals); first order elsewhere.
 void derive_curvature(Mesh& mesh);
+// A mesh whose material projects the world (triplanar, `world_scale` tiles a world unit): its
+// uv density the projection's (1 / world_scale, for the depth offset), no curvature and no
+// stretch (the projections' frames are the axes', not the surface's).
+void project_from_world(Mesh& mesh, float world_scale);
 
 // A parallelogram from `origin` spanning `edge_u` (uv u from 0 to tiles_u) and `edge_v` (v from 0
 // to tiles_v), facing cross(edge_u, edge_v); mirror_u runs u the other way (a mirrored frame).
