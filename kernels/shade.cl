@@ -383,8 +383,12 @@ __kernel void om_shade_materials(const OmShadeParams F, __global const OmMateria
                            &unused);
             tri.u[0] = in.u;
             tri.v[0] = in.v;
-            om_load_block2((__global const float*)uv2, blk, &tri.u[1], &tri.v[1]);
-            om_load_block2((__global const float*)uv3, blk, &tri.u[2], &tri.v[2]);
+            tri.u[1] = tri.v[1] = tri.u[2] = tri.v[2] = 0.0f;
+            // Most blocks hold one projection: their other planes are not read.
+            if (OM_ANY(tri.on & (tri.w[1] > 0.0f)))
+                om_load_block2((__global const float*)uv2, blk, &tri.u[1], &tri.v[1]);
+            if (OM_ANY(tri.on & (tri.w[2] > 0.0f)))
+                om_load_block2((__global const float*)uv3, blk, &tri.u[2], &tri.v[2]);
         }
     }
     float ids[OM_LANES];

@@ -153,7 +153,7 @@ TriRun run_frame(const EngineFrame& f, const FrameSetup& s, bool triplanar,
     ReconstructPass reconstruct(rt);
     TriRun r;
     if (triplanar) {
-        const TriplanarPlanes planes = allocate_triplanar(*rt, f.width, f.height, lit);
+        const TriplanarPlanes planes = allocate_triplanar(*rt, f.width, f.height);
         reconstruct.enqueue(in, g, frame.triplanar_table(), planes);
         frame.enqueue(g, t, planes);
         frame.shade(t.uv, t.flags, g, s.shading, rgba, cl::Buffer(), cl::Buffer(), &planes);
@@ -262,7 +262,8 @@ TEST(Triplanar, AnAxisAlignedPlaneIsTheUvMappedFrameBitForBit) {
 }
 
 // Normals over the whole sphere on the floor's points: the weights are the definition's (float
-// rounding of the powers and the two normalisations), sum to one, are zero exactly where the
+// rounding of the powers, whole exponents by squaring and 3.5 by exp2 and log2, and the two
+// normalisations), sum to one, are zero exactly where the
 // definition's are, come largest first with their projections' codes, and the second and third
 // projections carry the pixel's id exactly where they weigh; their uv, V and L are the world
 // point's, the view's and the light's in the projection's frame (a swapped or unsigned axis moves
@@ -272,7 +273,7 @@ TEST(Triplanar, WeightsAndProjectionsAreTheDefinitions) {
     random_normals(f, 7);
     const glm::dvec3 l = sun_direction();
     const glm::dvec3 eye(f.camera.eye[0], f.camera.eye[1], f.camera.eye[2]);
-    for (const auto& [k_exp, cutoff] : {std::pair{4.0f, 0.05f}, {8.0f, 0.2f}, {1.0f, 0.0f}}) {
+    for (const auto& [k_exp, cutoff] : {std::pair{4.0f, 0.05f}, {8.0f, 0.2f}, {1.0f, 0.0f}, {3.5f, 0.1f}}) {
         FrameSetup s;
         s.triplanar.enabled = true;
         s.triplanar.world_scale = 3.0f;
@@ -468,7 +469,7 @@ TEST(Triplanar, BadInputIsNamed) {
     const EngineFrame f = small_plane();
     DeviceGBuffer g = allocate_gbuffer(*rt, f.width, f.height, false, false);
     g.material = cl::Buffer(rt->context(), CL_MEM_READ_WRITE, f.pixels() * sizeof(float));
-    const TriplanarPlanes planes = allocate_triplanar(*rt, f.width, f.height, false);
+    const TriplanarPlanes planes = allocate_triplanar(*rt, f.width, f.height);
     ReconstructPass pass(rt);
     auto reconstruct_error = [&](auto edit) {
         EngineGBuffer in = f.to_device(rt->context());
@@ -492,7 +493,7 @@ TEST(Triplanar, BadInputIsNamed) {
                                           frame.triplanar_table(), planes);
                          }),
                          "material ids"));
-    const TriplanarPlanes small = allocate_triplanar(*rt, 8, 8, false);
+    const TriplanarPlanes small = allocate_triplanar(*rt, 8, 8);
     OffsetTargets t;
     t.uv = cl::Buffer(rt->context(), CL_MEM_READ_WRITE, f.pixels() * sizeof(cl_float2));
     EXPECT_TRUE(

@@ -315,6 +315,12 @@ const cl::CommandQueue& MaterialFrame::checked_queue(const DeviceGBuffer& g,
 cl::Event MaterialFrame::enqueue(const DeviceGBuffer& g, const OffsetTargets& t,
                                  const std::vector<cl::Event>& wait,
                                  const cl::CommandQueue& queue_given) {
+    return trace(g, t, wait, queue_given, true);
+}
+
+cl::Event MaterialFrame::trace(const DeviceGBuffer& g, const OffsetTargets& t,
+                               const std::vector<cl::Event>& wait,
+                               const cl::CommandQueue& queue_given, bool pass_through) {
     Runtime& rt = *runtime_;
     const cl::Context& context = rt.context();
     const cl::CommandQueue& queue = checked_queue(g, queue_given);
@@ -331,6 +337,7 @@ cl::Event MaterialFrame::enqueue(const DeviceGBuffer& g, const OffsetTargets& t,
     T.slot_count = static_cast<om_int>(materials_.size());
     T.method_count = static_cast<om_int>(methods_.size());
     T.id_limit = id_limit_;
+    T.pass_through = pass_through ? 1 : 0;
     const size_t n_methods = methods_.size();
     std::vector<cl_uint> counts(n_methods + 2);
     refresh();
@@ -528,10 +535,11 @@ cl::Event MaterialFrame::enqueue(const DeviceGBuffer& g, const OffsetTargets& t,
     const cl::Event first = enqueue(g, t, wait, queue);
     std::vector<Dispatch> all = dispatches_;
     std::vector<cl::Event> events{classify_event_};
-    const cl::Event second = enqueue(planes.second, planes.second_targets, {first}, queue);
+    // The second and third projections' id-0 pixels are nobody's: no pass-through for them.
+    const cl::Event second = trace(planes.second, planes.second_targets, {first}, queue, false);
     all.insert(all.end(), dispatches_.begin(), dispatches_.end());
     events.push_back(classify_event_);
-    const cl::Event third = enqueue(planes.third, planes.third_targets, {second}, queue);
+    const cl::Event third = trace(planes.third, planes.third_targets, {second}, queue, false);
     all.insert(all.end(), dispatches_.begin(), dispatches_.end());
     dispatches_ = all;
     try {
@@ -562,8 +570,6 @@ void MaterialFrame::check_triplanar_planes(const cl::Context& context, const Tri
             throw Error("the triplanar planes are " + std::to_string(b->width) + "x" +
                         std::to_string(b->height) + "; the G-buffer is " + std::to_string(g.width) +
                         "x" + std::to_string(g.height));
-        if (static_cast<bool>(b->light()) != static_cast<bool>(g.light()))
-            throw Error("the triplanar planes must carry a light plane where the G-buffer does");
     }
     for (const OffsetTargets* o : {&p.second_targets, &p.third_targets}) {
         check_targets(context, *o, n);

@@ -232,7 +232,7 @@ cl::Event ReconstructPass::launch(const EngineGBuffer& in, const DeviceGBuffer& 
         int a = 11;
         for (const DeviceGBuffer* g : {&t.second, &t.third}) {
             set_args_from(k, a, g->uv, g->view);
-            set_optional(k, a + 2, lit ? g->light : cl::Buffer());
+            set_optional(k, a + 2, cl::Buffer());  // no light: the shade turns the G-buffer's
             k.setArg(a + 3, g->material);
             a += 4;
         }

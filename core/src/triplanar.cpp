@@ -25,10 +25,10 @@ void validate(const Triplanar& t, const std::string& what) {
         refuse("cutoff", t.cutoff, "[0, 0.3] (the weight below which a projection is dropped)");
 }
 
-TriplanarPlanes allocate_triplanar(Runtime& rt, int width, int height, bool light) {
+TriplanarPlanes allocate_triplanar(Runtime& rt, int width, int height) {
     TriplanarPlanes t;
-    t.second = allocate_gbuffer(rt, width, height, light, false);
-    t.third = allocate_gbuffer(rt, width, height, light, false);
+    t.second = allocate_gbuffer(rt, width, height, false, false);
+    t.third = allocate_gbuffer(rt, width, height, false, false);
     const size_t n = t.second.pixels();
     const cl::Context& c = rt.context();
     const std::string what = "the triplanar frame's ";

@@ -10,16 +10,39 @@
 // components in a projection's frame (its dot products with T, B, N) are its world components
 // moved and negated, without rounding.
 
+// The first lane's value.
+#if OM_LANES == 1
+#define OM_FIRST(v) (v)
+#else
+#define OM_FIRST(v) ((v).s0)
+#endif
+
+// |x|^k: by squaring where every lane has one whole exponent up to 64 (a few multiplies, and
+// closer than exp2(k log2 |x|), which the other cases take).
+OM_INLINE OmF om_tri_pow(OmF x, OmF k, int whole) {
+    x = fabs(x);
+    if (!whole) return exp2(k * log2(x));  // a zero component: exp2(-inf) = 0
+    int e = (int)OM_FIRST(k);
+    OmF r = 1.0f;
+    while (e) {
+        if (e & 1) r *= x;
+        x *= x;
+        e >>= 1;
+    }
+    return r;
+}
+
 // Weights of the three axes from the normal n: |n_a|^sharpness, normalised, then each lowered by
 // the cutoff, clamped at 0 and normalised again, so that a weight falls to zero continuously as it
 // reaches the cutoff and the three always sum to one (the largest is at least 1/3, above any
 // cutoff the host allows).
 OM_INLINE void om_tri_weights(OmF nx, OmF ny, OmF nz, OmF sharpness, OmF cutoff, OmF* wx,
                               OmF* wy, OmF* wz) {
-    // |n|^k as exp2(k log2 |n|): a zero component gives exp2(-inf) = 0.
-    OmF ax = exp2(sharpness * log2(fabs(nx)));
-    OmF ay = exp2(sharpness * log2(fabs(ny)));
-    OmF az = exp2(sharpness * log2(fabs(nz)));
+    const float k0 = OM_FIRST(sharpness);
+    const int whole = !OM_ANY(sharpness != k0) && k0 == floor(k0) && k0 <= 64.0f;
+    OmF ax = om_tri_pow(nx, sharpness, whole);
+    OmF ay = om_tri_pow(ny, sharpness, whole);
+    OmF az = om_tri_pow(nz, sharpness, whole);
     const OmF s = 1.0f / (ax + ay + az);
     ax = fmax(ax * s - cutoff, 0.0f);
     ay = fmax(ay * s - cutoff, 0.0f);
@@ -88,3 +111,4 @@ OM_INLINE void om_tri_order(OmF nx, OmF ny, OmF nz, OmF wx, OmF wy, OmF wz, OmI*
 // A pixel's three projections as one number (exact in a float): p0 + 6 p1 + 36 p2; -1 where the
 // pixel is not triplanar.
 #define OM_TRI_CODE(p0, p1, p2) ((p0) + 6 * (p1) + 36 * (p2))
+

@@ -4,7 +4,9 @@
 // outputs here: uv' = uv, depth 0, no fetches, flag EMPTY where uv is NaN; no method runs for
 // them. An id that is not a non-negative integer with a slot is counted in counts[method_count],
 // the smallest such pixel in counts[method_count + 1] (reset to 0xffffffff by the host), so the
-// host can name it before any pixel is traced.
+// host can name it before any pixel is traced. Without T.pass_through (a triplanar frame's second
+// and third projections, whose id-0 pixels nobody reads) id 0 gets nothing, and a row of it is one
+// load.
 #if OM_TILE_W != 16
 #error "a tile row is one float16"
 #endif
@@ -25,6 +27,7 @@ __kernel void om_classify(const OmTileParams T, __global const float* material,
         if (x1 - x0 == OM_TILE_W) {
             const float16 row = vload16(0, material + y * T.width + x0);
             const float m = row.s0;
+            if (m == 0.0f && !T.pass_through && all(row == (float16)0.0f)) continue;
             if (m != 0.0f && all(row == (float16)m)) {
                 const int slot = om_slot_of(m, T.id_limit, slot_of_id);
                 if (slot >= 0) {
@@ -37,6 +40,7 @@ __kernel void om_classify(const OmTileParams T, __global const float* material,
             const int p = y * T.width + x;
             const float m = material[p];
             if (m == 0.0f) {
+                if (!T.pass_through) continue;
                 const float2 uv = gb_uv[p];
                 out_uv[p] = uv;
                 if (out_depth) out_depth[p] = 0.0f;

@@ -165,6 +165,9 @@
 #ifdef OM_TRIPLANAR
 // One float a pixel of the work-item's row (lanes past its end repeat its last pixel).
 OM_INLINE OmF om_load_row_f(__global const float* q, size_t row, int x0, int width) {
+#if OM_LANES > 1
+    if (x0 + OM_LANES <= width) return OM_VLOAD(q + row + x0);
+#endif
     float t[OM_LANES];
     for (int l = 0; l < OM_LANES; ++l) t[l] = q[row + min(x0 + l, width - 1)];
     return OM_VLOAD(t);
@@ -176,9 +179,17 @@ OM_INLINE void om_reconstruct_projection(OmI p, OmI need, OmF ws, OmF px, OmF py
                                          size_t row, int x0, int width, __global float2* uv,
                                          __global float4* view, __global float4* light,
                                          __global float* ids) {
-    float s[OM_LANES];
-    OM_VSTORE(OM_SEL((OmF)0.0f, id, need), s);
-    for (int l = 0; l < OM_LANES && x0 + l < width; ++l) ids[row + x0 + l] = s[l];
+    const OmF kept = OM_SEL((OmF)0.0f, id, need);
+#if OM_LANES > 1
+    if (x0 + OM_LANES <= width) {
+        OM_VSTORE(kept, ids + row + x0);
+    } else
+#endif
+    {
+        float s[OM_LANES];
+        OM_VSTORE(kept, s);
+        for (int l = 0; l < OM_LANES && x0 + l < width; ++l) ids[row + x0 + l] = s[l];
+    }
     if (!OM_ANY(need)) return;
     OmF a, b, c;
     om_tri_into(p, px, py, pz, &a, &b, &c);
@@ -300,13 +311,22 @@ __kernel void om_reconstruct(const OmReconstructParams P, OM_INPUT_ARG(depth_in,
     OmF fnx = qnx, fny = qny, fnz = qnz;  // the frame's normal
     OmF u_out = uv0, v_out = uv1;
 #ifdef OM_TRIPLANAR
-    // Each lane's material: triplanar where its table entry says so.
-    float ws_[OM_LANES], sharp_[OM_LANES], cut_[OM_LANES];
+    // Each lane's material: triplanar where its table entry says so (one lookup where the lanes
+    // share one id, as most do).
+    const OmF ids = om_load_row_f(material, row, x0, P.width);
+    float id_[OM_LANES], ws_[OM_LANES], sharp_[OM_LANES], cut_[OM_LANES];
     int on_[OM_LANES];
+    OM_VSTORE(ids, id_);
+    const int one_id = !OM_ANY(ids != id_[0]);
     for (int l_ = 0; l_ < OM_LANES; ++l_) {
-        const float id = material[row + min(x0 + l_, P.width - 1)];
+        const float id = id_[l_];
         const int i = (int)id;
-        const float4 e = id == (float)i && i > 0 && i < id_limit ? tri_of_id[i] : (float4)(0.0f);
+        float4 e = (float4)(0.0f);
+        if (l_ > 0 && one_id) {
+            e = (float4)(ws_[0], sharp_[0], cut_[0], on_[0] ? 1.0f : 0.0f);
+        } else if (id == (float)i && i > 0 && i < id_limit) {
+            e = tri_of_id[i];
+        }
         ws_[l_] = e.x;
         sharp_[l_] = e.y;
         cut_[l_] = e.z;
@@ -363,7 +383,7 @@ __kernel void om_reconstruct(const OmReconstructParams P, OM_INPUT_ARG(depth_in,
 #endif
 #ifdef OM_TRIPLANAR
     // The second and third projections: uv, V and L in their frames where their weight is not 0.
-    const OmF id_here = OM_SEL((OmF)0.0f, om_load_row_f(material, row, x0, P.width), tri);
+    const OmF id_here = OM_SEL((OmF)0.0f, ids, tri);
     om_reconstruct_projection(p1, tri & (w1 > 0.0f), ws, px, py, pz, vx, vy, vz,
 #ifdef OM_LIT
                               lx, ly, lz,

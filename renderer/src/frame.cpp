@@ -173,8 +173,7 @@ FrameRenderer::FrameRenderer(std::shared_ptr<Runtime> runtime, const Scene& scen
     m.depth_params = depth_offset_params(m.view.view_projection, m.view.inverse_view_projection,
                                          m.view.eye, width, height, m.view.orthographic);
     m.frame = std::make_unique<MaterialFrame>(runtime, upload_materials(rt, table, methods));
-    if (m.frame->triplanar_table().any)
-        m.triplanar = allocate_triplanar(rt, width, height, m.light.kind != LightKind::None);
+    if (m.frame->triplanar_table().any) m.triplanar = allocate_triplanar(rt, width, height);
     m.reconstruct = std::make_unique<ReconstructPass>(runtime);
     interop_ = "host copies (the OpenCL platform offers no cl_khr_gl_sharing)";
     if (rt.device().getInfo<CL_DEVICE_EXTENSIONS>().find("cl_khr_gl_sharing") != std::string::npos)

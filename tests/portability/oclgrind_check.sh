@@ -122,6 +122,12 @@ for lanes in 1 16; do
     [ -n "$tests" ] && bin=$tests run_case shade-shadow-mask-$lanes $lanes \
         --gtest_filter=Shadows.AShadowMapAndTheMarchDarkenAPixelOnceByTheStricter
 done
+# Triplanar: the reconstruct pass's split, the projections' traces, the merge and the blended
+# shade, through the suite's test of the merge.
+for lanes in 1 16; do
+    [ -n "$tests" ] && bin=$tests run_case triplanar-$lanes $lanes \
+        --gtest_filter=Triplanar.ABlendMergesDepthAndFetches
+done
 run_case engine-form-lanes16 16 render --gbuffer "$work/e.exr" --height-map "$map" --method pom
 # Over a curved base (the G-buffer's curvature channels, a sphere of a quarter tile's radius with a
 # stretched uv and a saddle): the cell walks, a march and the material frame's tiles, at 1 and 16

@@ -482,7 +482,8 @@ int main(int argc, char** argv) {
     CLI::App app{
         "offsetmap_bench: throughput of every offset method against the device's roofline"};
     bool quick = false, smoke = false, materials_only = false, peer_only = false,
-         frame_only = false, rebuild_only = false, curved_only = false, shadow_only = false;
+         frame_only = false, rebuild_only = false, curved_only = false, shadow_only = false,
+         triplanar_only = false;
     std::string out_dir = "out/bench", device;
     double target_ms = 300;
     app.add_flag("--quick", quick, "720p only, smaller maps and grids (about a minute)");
@@ -515,6 +516,9 @@ int main(int argc, char** argv) {
                  "only the room under a low sun at the main resolution, without and with its "
                  "2048^2 displaced shadow map, in turns: the light's passes a map pixel against "
                  "the camera's a frame pixel, the receivers' test and the shading with the mask");
+    app.add_flag("--triplanar", triplanar_only,
+                 "only the terrain scene (no uv) at the main resolution, its materials triplanar "
+                 "against the same scene uv-mapped from above with the same methods, in turns");
     app.add_flag("--rebuild", rebuild_only,
                  "only a changing height field: its in-place update and each method's "
                  "precomputed data rebuilt, at 256^2, 1024^2 and 2048^2");
@@ -595,6 +599,12 @@ int main(int argc, char** argv) {
                 bench_shadow_map(b.rt, main_res, data_dir, frame_rounds, smoke ? 256 : 2048);
             std::ofstream(out_dir + "/bench-shadow-map.json") << b.out.dump(2) << "\n";
             std::printf("\nwrote %s/bench-shadow-map.json\n", out_dir.c_str());
+            return 0;
+        }
+        if (triplanar_only) {
+            b.out["triplanar"] = bench_triplanar_frame(b.rt, main_res, data_dir, frame_rounds);
+            std::ofstream(out_dir + "/bench-triplanar.json") << b.out.dump(2) << "\n";
+            std::printf("\nwrote %s/bench-triplanar.json\n", out_dir.c_str());
             return 0;
         }
         if (curved_only) {

@@ -8,6 +8,7 @@
 #ifdef OFFSETMAP_HAVE_RENDERER
 #include "offsetmap/renderer/frame.hpp"
 #include "offsetmap/renderer/gltf.hpp"
+#include "offsetmap/renderer/mesh.hpp"
 #include "offsetmap/renderer/scene.hpp"
 #endif
 
@@ -30,6 +31,12 @@ nlohmann::json bench_curved_frame(std::shared_ptr<Runtime>, const Resolution&, c
 nlohmann::json bench_shadow_map(std::shared_ptr<Runtime>, const Resolution&, const std::string&,
                                 int, int) {
     std::printf("\nshadow map: skipped (built without the renderer)\n");
+    return {{"skipped", "built without the renderer (EGL, OpenGL or TinyGLTF missing)"}};
+}
+
+nlohmann::json bench_triplanar_frame(std::shared_ptr<Runtime>, const Resolution&,
+                                     const std::string&, int) {
+    std::printf("\ntriplanar frame: skipped (built without the renderer)\n");
     return {{"skipped", "built without the renderer (EGL, OpenGL or TinyGLTF missing)"}};
 }
 
@@ -347,6 +354,87 @@ nlohmann::json bench_shadow_map(std::shared_ptr<Runtime> rt, const Resolution& r
         out["light_ns_per_pixel"].get<double>(), out["camera_ns_per_pixel"].get<double>(),
         out["light_over_camera_per_pixel"].get<double>(), out["receivers_test_ms"].get<double>(),
         out["shade_ms"].get<double>(), out["shade_with_mask_ms"].get<double>());
+    return out;
+}
+
+nlohmann::json bench_triplanar_frame(std::shared_ptr<Runtime> rt, const Resolution& res,
+                                     const std::string& data_dir, int rounds) {
+    const std::string table_file = data_dir + "/terrain.json";
+    const std::vector<MaterialSpec> specs = read_material_table(table_file);
+    const Scene projected = load_gltf_scene(data_dir + "/terrain.gltf", specs, table_file);
+    const std::vector<LoadedMaterial> table = load_materials(specs);
+    std::vector<MethodParams> methods;
+    for (const LoadedMaterial& m : table)
+        methods.push_back(resolve_params(find_method(m.spec.method), m.spec.params));
+    // The same meshes with uv = world_scale (x, -z), tangents from it, and no projection.
+    Scene mapped = projected;
+    std::vector<LoadedMaterial> plain = table;
+    for (LoadedMaterial& m : plain) m.spec.triplanar.enabled = false;
+    for (Mesh& mesh : mapped.meshes) {
+        float scale = 1.0f;
+        for (const LoadedMaterial& m : table)
+            if (m.spec.id == mesh.material) scale = m.spec.triplanar.world_scale;
+        for (Vertex& v : mesh.vertices) v.uv = {scale * v.position[0], -scale * v.position[2]};
+        derive_tangents(mesh);
+    }
+    FrameRenderer tri(rt, projected, table, methods, res.w, res.h, ShadeSettings{});
+    FrameRenderer uv(rt, mapped, plain, methods, res.w, res.h, ShadeSettings{});
+    std::vector<std::vector<double> > a(10), b(10);
+    std::array<size_t, 3> projections{};
+    for (int round = 0; round <= rounds; ++round) {
+        const FrameRun t = tri.render(FrameMode::Deferred, false, 1);
+        const FrameRun u = uv.render(FrameMode::Deferred, false, 1);
+        projections = t.projections;
+        if (round == 0) continue;  // warms both up
+        const std::vector<double> vt = pass_values(t), vu = pass_values(u);
+        for (size_t p = 0; p < vt.size(); ++p) {
+            a[p].push_back(vt[p]);
+            b[p].push_back(vu[p]);
+        }
+    }
+    auto ratio = [&](size_t pass) {
+        std::vector<double> q;
+        for (size_t k = 0; k < a[pass].size(); ++k) q.push_back(a[pass][k] / b[pass][k]);
+        return median_of(q);
+    };
+    nlohmann::json rows = nlohmann::json::array();
+    std::printf(
+        "\nthe terrain at %s (%dx%d; GL: %s), medians of %d frames each in turns, ms\n  %-10s "
+        "%8s %8s %8s %8s %8s %8s %8s\n",
+        res.name, res.w, res.h, tri.gl_renderer().c_str(), rounds, "frame", "G-buffer", "to CL",
+        "reconstr", "offset", "off kern", "shade", "total");
+    for (const auto& [name, v] : {std::pair{"triplanar", &a}, {"uv-mapped", &b}}) {
+        nlohmann::json row = {{"frame", name}};
+        std::vector<double> med;
+        for (size_t p = 0; p < 10; ++p) {
+            med.push_back(median_of((*v)[p]));
+            row[std::string(kPasses[p]) + "_ms"] = med.back();
+        }
+        std::printf("  %-10s %8.2f %8.2f %8.2f %8.2f %8.2f %8.2f %8.2f\n", name, med[0], med[1],
+                    med[2], med[3], med[4], med[5], med[9]);
+        rows.push_back(row);
+    }
+    const double all = double(projections[0] + projections[1] + projections[2]);
+    nlohmann::json out = {{"resolution", {res.w, res.h}},
+                          {"rounds", rounds},
+                          {"gl_renderer", tri.gl_renderer()},
+                          {"rows", rows},
+                          {"ratios",
+                           {{"total", ratio(9)},
+                            {"offset", ratio(3)},
+                            {"shade", ratio(5)},
+                            {"reconstruct", ratio(2)}}},
+                          {"projections",
+                           {{"pixels", projections[0] + projections[1] + projections[2]},
+                            {"one", all > 0 ? projections[0] / all : 0.0},
+                            {"two", all > 0 ? projections[1] / all : 0.0},
+                            {"three", all > 0 ? projections[2] / all : 0.0}}}};
+    std::printf(
+        "  triplanar / uv-mapped: frame %.3f, offset %.3f, shade %.3f, reconstruct %.3f; pixels "
+        "traced in one projection %.1f %%, two %.1f %%, three %.1f %%\n",
+        ratio(9), ratio(3), ratio(5), ratio(2), 100.0 * out["projections"]["one"].get<double>(),
+        100.0 * out["projections"]["two"].get<double>(),
+        100.0 * out["projections"]["three"].get<double>());
     return out;
 }
 

@@ -34,4 +34,12 @@ nlohmann::json bench_curved_frame(std::shared_ptr<Runtime> runtime, const Resolu
 nlohmann::json bench_shadow_map(std::shared_ptr<Runtime> runtime, const Resolution& res,
                                 const std::string& data_dir, int rounds, int map_size);
 
+// The terrain scene (data/terrain.gltf, no uv) at `res`, its materials triplanar against the same
+// scene and table with a uv from the world's x and z (the ground's projection from above) and no
+// projection: the same method over the same pixels, `rounds` frames each in turns. Reports both
+// frames' passes, the ratios a round, and the triplanar pixels traced in one, two and three
+// projections.
+nlohmann::json bench_triplanar_frame(std::shared_ptr<Runtime> runtime, const Resolution& res,
+                                     const std::string& data_dir, int rounds);
+
 }  // namespace offsetmap::bench

@@ -157,6 +157,10 @@ class MaterialFrame {
         std::vector<cl::Event> copies;  // relief, normals and precomputed data
         cl::Event albedo_copied;
     };
+    // The enqueue above; without `pass_through` id 0's pixels get no outputs.
+    cl::Event trace(const DeviceGBuffer& g, const OffsetTargets& t,
+                    const std::vector<cl::Event>& wait, const cl::CommandQueue& queue,
+                    bool pass_through);
     // Its tile entry as `variant` asks (outputs only: the tile entry takes neither images nor LOD).
     cl::Kernel& tile_kernel(Method& m, OffsetVariant variant);
     // Slot s's precomputed data built from its field (an Error naming the material on failure).

@@ -210,6 +210,7 @@ typedef struct {
     om_int id_limit;      // the id -> slot table's length (largest id + 1)
     om_int entry_base;    // tile entry: the dispatched method's first entry
     om_int entry_count;   // and how many it has
+    om_int pass_through;  // 1: id 0's pixels get uv' = uv (and depth 0, no fetches); 0: nothing
 } OmTileParams;
 
 typedef struct {
@@ -235,7 +236,7 @@ typedef struct {
     CHECK(OmDepthOffsetParams, 152, eye_w, 148)     \
     CHECK(OmShadowMaskParams, 156, pcf_radius, 152) \
     CHECK(OmShadeParams, 92, grazing, 88)           \
-    CHECK(OmTileParams, 40, entry_count, 36)        \
+    CHECK(OmTileParams, 44, pass_through, 40)        \
     CHECK(OmMaterialSlot, 240, albedo_offset, 236)
 #ifdef OM_OPENCL_C
 // An array of negative size does not compile.

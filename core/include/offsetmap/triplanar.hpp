@@ -29,16 +29,16 @@ void validate(const Triplanar& t, const std::string& what);
 
 // A triplanar frame's planes besides the G-buffer, all width x height.
 struct TriplanarPlanes {
-    // The second and third projections (uv, view, light where the G-buffer has one, material:
-    // the pixel's id where the projection weighs, else 0), as the reconstruct pass writes them,
-    // and their traces (every output).
+    // The second and third projections (uv, view and material: the pixel's id where the
+    // projection weighs, else 0), as the reconstruct pass writes them, and their traces (every
+    // output). No light: the shade turns the G-buffer's into each projection's frame.
     DeviceGBuffer second, third;
     OffsetTargets second_targets, third_targets;
     cl::Buffer blend;   // float4: the three weights, largest first, and OM_TRI_CODE (-1: none)
     cl::Buffer normal;  // float4: the G-buffer's world normal, unit (xyz)
 };
 
-TriplanarPlanes allocate_triplanar(Runtime& runtime, int width, int height, bool light);
+TriplanarPlanes allocate_triplanar(Runtime& runtime, int width, int height);
 
 // The table the reconstruct pass reads: per material id a float4 (world_scale, sharpness,
 // cutoff, 1 for a triplanar material; 0 otherwise). MaterialFrame::triplanar_table().
