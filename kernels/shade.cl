@@ -359,8 +359,7 @@ __kernel void om_shade_materials(const OmShadeParams F, __global const OmMateria
                                  __global const float* heights, __global const float4* albedo,
                                  __global const float* shadow_mask, __global float4* out_rgba,
                                  __global float* out_visibility, __global const float4* tri_blend,
-                                 __global const float4* tri_normal, __global const float2* uv2,
-                                 __global const float2* uv3) {
+                                 __global const float2* uv2, __global const float2* uv3) {
     const int group = (int)get_global_id(0);
     if (group >= om_image_blocks(F.gb_width, F.gb_height, OM_LANES)) return;
     const OmBlock blk = om_block(F.gb_width, F.gb_height, group);
@@ -368,19 +367,12 @@ __kernel void om_shade_materials(const OmShadeParams F, __global const OmMateria
     OmTriShade tri;
     const OmTriShade* T = 0;
     if (tri_blend) {
-        OmF code;
-        om_load_block4((__global const float*)tri_blend, blk, &tri.w[0], &tri.w[1], &tri.w[2],
-                       &code);
-        tri.on = code >= 0.0f;
+        OmF bx, by, bz, bw;
+        om_load_block4((__global const float*)tri_blend, blk, &bx, &by, &bz, &bw);
+        tri.on = bx >= 0.0f;
         if (OM_ANY(tri.on)) {
             T = &tri;
-            const OmI c = OM_TO_INT(fmax(code, 0.0f));
-            tri.p[0] = c % 6;
-            tri.p[1] = (c / 6) % 6;
-            tri.p[2] = c / 36;
-            OmF unused;
-            om_load_block4((__global const float*)tri_normal, blk, &tri.nx, &tri.ny, &tri.nz,
-                           &unused);
+            om_tri_unpack(bx, by, bz, bw, tri.p, tri.w, &tri.nx, &tri.ny, &tri.nz);
             tri.u[0] = in.u;
             tri.v[0] = in.v;
             tri.u[1] = tri.v[1] = tri.u[2] = tri.v[2] = 0.0f;

@@ -41,6 +41,31 @@ glm::dvec3 weights_of(const glm::dvec3& n, double k, double cutoff) {
 
 int projection_of(const glm::dvec3& n, int axis) { return 2 * axis + (n[axis] < 0 ? 1 : 0); }
 
+// A pixel of the blend plane as the kernels pack it: x = 2 c + w1 (c = p0 + 6 where the second
+// projection is on the axis of the first's B; -1: not triplanar), y = w2, z and w the normal's x
+// and y in the first projection's frame.
+struct Blend {
+    bool on = false;
+    float w[3] = {1, 0, 0};
+    int p0 = 0;
+    bool b_first = false;
+    float nx = 0, ny = 0;
+};
+Blend unpack(const cl_float4& b) {
+    Blend r;
+    r.on = b.s[0] >= 0;
+    if (!r.on) return r;
+    const float c = std::floor(0.5f * b.s[0]);
+    r.w[1] = b.s[0] - 2 * c;
+    r.w[2] = b.s[1];
+    r.w[0] = 1.0f - r.w[1] - r.w[2];
+    r.p0 = static_cast<int>(c) % 6;
+    r.b_first = c >= 6;
+    r.nx = b.s[2];
+    r.ny = b.s[3];
+    return r;
+}
+
 // The pixel's world point from the engine frame's stored depth (zero-one, rows top first), and the
 // bound a float evaluation of it keeps to on each component: p = (M ndc).xyz / (M ndc).w, each
 // dot product of four terms within 4u of the sum of its terms' magnitudes, the division within u.
@@ -229,8 +254,9 @@ TEST(Triplanar, AnAxisAlignedPlaneIsTheUvMappedFrameBitForBit) {
             const size_t k = static_cast<size_t>(y) * f.width + x;
             if (!std::isfinite(f.uv.v[2 * k])) continue;
             ++surface;
-            ASSERT_EQ(tri.blend[k].s[0], 1.0f) << k;
-            ASSERT_EQ(tri.blend[k].s[3], float(4 + 6 * 2 + 36 * 0)) << k;  // +Z, then +Y, +X
+            // +Z alone, the normal (0, 0, 1): the plane holds 2 c (c = 4 or 10) and zeros.
+            const Blend b = unpack(tri.blend[k]);
+            ASSERT_TRUE(b.on && b.p0 == 4 && b.w[0] == 1.0f && b.nx == 0 && b.ny == 0) << k;
             ASSERT_EQ(tri.ids2[k], 0.0f);
             ASSERT_EQ(tri.ids3[k], 0.0f);
             const WorldPoint w = world_point(f, x, y);
@@ -273,7 +299,8 @@ TEST(Triplanar, WeightsAndProjectionsAreTheDefinitions) {
     random_normals(f, 7);
     const glm::dvec3 l = sun_direction();
     const glm::dvec3 eye(f.camera.eye[0], f.camera.eye[1], f.camera.eye[2]);
-    for (const auto& [k_exp, cutoff] : {std::pair{4.0f, 0.05f}, {8.0f, 0.2f}, {1.0f, 0.0f}, {3.5f, 0.1f}}) {
+    for (const auto& [k_exp, cutoff] :
+         {std::pair{4.0f, 0.05f}, {8.0f, 0.2f}, {1.0f, 0.0f}, {3.5f, 0.1f}}) {
         FrameSetup s;
         s.triplanar.enabled = true;
         s.triplanar.world_scale = 3.0f;
@@ -287,36 +314,41 @@ TEST(Triplanar, WeightsAndProjectionsAreTheDefinitions) {
                 const size_t k = static_cast<size_t>(y) * f.width + x;
                 const glm::dvec3 n(f.normal.v[4 * k], f.normal.v[4 * k + 1], f.normal.v[4 * k + 2]);
                 const glm::dvec3 w = weights_of(n, k_exp, cutoff);
-                const cl_float4 b = r.blend[k];
-                ASSERT_GE(b.s[3], 0.0f) << k;
-                const int code = static_cast<int>(b.s[3]);
-                const int p[3] = {code % 6, code / 6 % 6, code / 36};
-                ASSERT_NEAR(double(b.s[0]) + b.s[1] + b.s[2], 1.0, 4e-7) << k;
-                ASSERT_GE(b.s[0], b.s[1]);
-                ASSERT_GE(b.s[1], b.s[2]);
-                // Each projection on its own axis, signed as the normal.
-                ASSERT_NE(p[0] >> 1, p[1] >> 1);
-                ASSERT_NE(p[0] >> 1, p[2] >> 1);
-                ASSERT_NE(p[1] >> 1, p[2] >> 1);
+                const Blend b = unpack(r.blend[k]);
+                ASSERT_TRUE(b.on) << k;
+                // The second and third on the axes of the first's T and B, in the order the
+                // plane says, each signed as the normal on its axis.
+                const Frame f0 = frame_of(b.p0);
+                auto axis_of = [](const glm::dvec3& v) { return v.x != 0 ? 0 : v.y != 0 ? 1 : 2; };
+                const int at = axis_of(f0.t), ab = axis_of(f0.b);
+                const int p[3] = {b.p0, projection_of(n, b.b_first ? ab : at),
+                                  projection_of(n, b.b_first ? at : ab)};
+                ASSERT_EQ(p[0], projection_of(n, b.p0 >> 1)) << k;
+                ASSERT_GE(b.w[0], b.w[1]);
+                ASSERT_GE(b.w[1], b.w[2]);
+                // The normal in the first projection's frame (float normalisation of the stored
+                // normal).
+                ASSERT_NEAR(b.nx, glm::dot(n, f0.t), 1e-6) << k;
+                ASSERT_NEAR(b.ny, glm::dot(n, f0.b), 1e-6) << k;
                 for (int j = 0; j < 3; ++j) {
                     const int axis = p[j] >> 1;
-                    ASSERT_EQ(p[j], projection_of(n, axis)) << k;
-                    const double e = std::abs(b.s[j] - w[axis]);
-                    // The powers' exp2 and log2 (a few ulps each) over a sum of three.
+                    const double e = std::abs(b.w[j] - w[axis]);
+                    // The powers (a few ulps each) over a sum of three, w1 kept to 2^-20 in the
+                    // plane, w0 = 1 - w1 - w2.
                     worst_w = std::max(worst_w, e);
                     ASSERT_LE(e, 2e-5 * k_exp) << k << " weight " << j;
                     if (w[axis] == 0) {
-                        ASSERT_EQ(b.s[j], 0.0f) << k;
+                        ASSERT_EQ(b.w[j], 0.0f) << k;
                     }
                 }
-                ++counts[(b.s[1] > 0) + (b.s[2] > 0)];
-                ASSERT_EQ(r.ids2[k], b.s[1] > 0 ? 1.0f : 0.0f) << k;
-                ASSERT_EQ(r.ids3[k], b.s[2] > 0 ? 1.0f : 0.0f) << k;
+                ++counts[(b.w[1] > 0) + (b.w[2] > 0)];
+                ASSERT_EQ(r.ids2[k], b.w[1] > 0 ? 1.0f : 0.0f) << k;
+                ASSERT_EQ(r.ids3[k], b.w[2] > 0 ? 1.0f : 0.0f) << k;
                 // The dominant projection in the G-buffer, the second in its planes.
                 const WorldPoint wp = world_point(f, x, y);
                 const glm::dvec3 v = glm::normalize(eye - wp.p);
                 for (int j = 0; j < 2; ++j) {
-                    if (j == 1 && !(b.s[1] > 0)) continue;
+                    if (j == 1 && !(b.w[1] > 0)) continue;
                     const Frame fr = frame_of(p[j]);
                     const cl_float2 uv = j == 0 ? r.uv[k] : r.uv2[k];
                     const cl_float4 vv = j == 0 ? r.view[k] : r.view2[k];
@@ -382,7 +414,7 @@ TEST(Triplanar, AFlatReliefShadesAsItsNormal) {
         const double lit = s.shading.ambient + s.shading.diffuse * std::max(glm::dot(n, l), 0.0);
         for (int c = 0; c < 3; ++c)
             worst = std::max(worst, std::abs(r.rgba[k].s[c] - albedo[c] * lit));
-        blended += r.blend[k].s[1] > 0;
+        blended += unpack(r.blend[k]).w[1] > 0;
     }
     std::printf("[ flat relief ] %zu of %zu pixels blended; colour within %.2g of the normal's\n",
                 blended, f.pixels(), worst);
@@ -404,19 +436,19 @@ TEST(Triplanar, ABlendMergesDepthAndFetches) {
     const TriRun r = run_frame(f, s, true, sun());
     size_t blended = 0, traced = 0;
     for (size_t k = 0; k < f.pixels(); ++k) {
-        const cl_float4 b = r.blend[k];
-        if (!(b.s[1] > 0)) {
+        const Blend b = unpack(r.blend[k]);
+        if (!(b.w[1] > 0)) {
             ASSERT_EQ(std::memcmp(&r.depth[k], &r.depth1[k], sizeof(float)), 0) << k;
             ASSERT_EQ(r.fetches[k], r.fetches1[k]) << k;
             continue;
         }
         ++blended;
-        const double want = double(b.s[0]) * r.depth1[k] + double(b.s[1]) * r.depth2[k] +
-                            (b.s[2] > 0 ? double(b.s[2]) * r.depth3[k] : 0.0);
-        const double mag = std::abs(b.s[0] * r.depth1[k]) + std::abs(b.s[1] * r.depth2[k]) +
-                           std::abs(b.s[2] * r.depth3[k]);
+        const double want = double(b.w[0]) * r.depth1[k] + double(b.w[1]) * r.depth2[k] +
+                            (b.w[2] > 0 ? double(b.w[2]) * r.depth3[k] : 0.0);
+        const double mag = std::abs(b.w[0] * r.depth1[k]) + std::abs(b.w[1] * r.depth2[k]) +
+                           std::abs(b.w[2] * r.depth3[k]);
         ASSERT_NEAR(r.depth[k], want, 4e-7 * mag + 1e-12) << k;
-        ASSERT_EQ(r.fetches[k], r.fetches1[k] + r.fetches2[k] + (b.s[2] > 0 ? r.fetches3[k] : 0u))
+        ASSERT_EQ(r.fetches[k], r.fetches1[k] + r.fetches2[k] + (b.w[2] > 0 ? r.fetches3[k] : 0u))
             << k;
         const bool behind = (r.flags2[k] & OM_FLAG_BACKFACING) != 0;
         ASSERT_EQ(r.fetches2[k] == 0, behind) << k;

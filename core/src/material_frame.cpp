@@ -543,15 +543,15 @@ cl::Event MaterialFrame::enqueue(const DeviceGBuffer& g, const OffsetTargets& t,
     all.insert(all.end(), dispatches_.begin(), dispatches_.end());
     dispatches_ = all;
     try {
-        set_args(triplanar_merge_, static_cast<cl_int>(n), planes.blend);
-        set_optional(triplanar_merge_, 2, t.depth);
-        set_optional(triplanar_merge_, 3, t.fetches);
-        set_args_from(triplanar_merge_, 4, planes.second_targets.depth,
+        set_args(triplanar_merge_, static_cast<cl_int>(n), planes.second.material, planes.blend);
+        set_optional(triplanar_merge_, 3, t.depth);
+        set_optional(triplanar_merge_, 4, t.fetches);
+        set_args_from(triplanar_merge_, 5, planes.second_targets.depth,
                       planes.second_targets.fetches, planes.third_targets.depth,
                       planes.third_targets.fetches);
         cl::Event merged;
         const std::vector<cl::Event> after{third};
-        queue.enqueueNDRangeKernel(triplanar_merge_, cl::NullRange, padded(n),
+        queue.enqueueNDRangeKernel(triplanar_merge_, cl::NullRange, padded((n + 15) / 16),
                                    cl::NDRange(kLocalSize), &after, &merged);
         // The third classification's event is classify_event_.
         events.push_back(merged);
@@ -579,7 +579,6 @@ void MaterialFrame::check_triplanar_planes(const cl::Context& context, const Tri
                 "fetches, flags)");
     }
     check_buffer(context, p.blend, {"the triplanar weights", "float4", sizeof(cl_float4), n});
-    check_buffer(context, p.normal, {"the triplanar normals", "float4", sizeof(cl_float4), n});
 }
 
 cl::Event MaterialFrame::take_behind(const cl::Buffer& flags, const cl::Buffer& from,
@@ -674,9 +673,8 @@ cl::Event MaterialFrame::shade(const cl::Buffer& uv, const cl::Buffer& flags,
         shade_.setArg(13, out_rgba);
         set_optional(shade_, 14, out_visibility);
         set_optional(shade_, 15, blend ? planes->blend : cl::Buffer());
-        set_optional(shade_, 16, blend ? planes->normal : cl::Buffer());
-        set_optional(shade_, 17, blend ? planes->second_targets.uv : cl::Buffer());
-        set_optional(shade_, 18, blend ? planes->third_targets.uv : cl::Buffer());
+        set_optional(shade_, 16, blend ? planes->second_targets.uv : cl::Buffer());
+        set_optional(shade_, 17, blend ? planes->third_targets.uv : cl::Buffer());
         queue.enqueueNDRangeKernel(shade_, cl::NullRange,
                                    shade_grid(shade_lanes_, g.width, g.height),
                                    cl::NDRange(kLocalSize), &deps, &last_shade_);

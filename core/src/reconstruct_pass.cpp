@@ -236,7 +236,7 @@ cl::Event ReconstructPass::launch(const EngineGBuffer& in, const DeviceGBuffer& 
             k.setArg(a + 3, g->material);
             a += 4;
         }
-        set_args_from(k, a, t.blend, t.normal);
+        k.setArg(a, t.blend);
     }
     const size_t items = (in.width + runtime_->lanes() - 1) / runtime_->lanes();  // per row
     const cl::NDRange global = no_pixels

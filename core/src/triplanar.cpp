@@ -41,7 +41,6 @@ TriplanarPlanes allocate_triplanar(Runtime& rt, int width, int height) {
         o->flags = device_buffer(c, CL_MEM_READ_WRITE, n * sizeof(cl_uint), what + "flags");
     }
     t.blend = device_buffer(c, CL_MEM_READ_WRITE, n * sizeof(cl_float4), what + "weights");
-    t.normal = device_buffer(c, CL_MEM_READ_WRITE, n * sizeof(cl_float4), what + "normals");
     return t;
 }
 

@@ -108,7 +108,46 @@ OM_INLINE void om_tri_order(OmF nx, OmF ny, OmF nz, OmF wx, OmF wy, OmF wz, OmI*
     *w2 = OM_SEL(wb, wa, swap);
 }
 
-// A pixel's three projections as one number (exact in a float): p0 + 6 p1 + 36 p2; -1 where the
-// pixel is not triplanar.
-#define OM_TRI_CODE(p0, p1, p2) ((p0) + 6 * (p1) + 36 * (p2))
+// A triplanar pixel in one float4 (the material frame's `blend` plane): x = 2 c + w1, with
+// c = p0 + 6 (1 where the second projection is on the axis of the first's B, 0 on its T's), -1
+// where the pixel is not triplanar; y = w2; z, w = the normal's x and y in the first projection's
+// frame (its z, at least 1/sqrt(3), from them); w0 = 1 - w1 - w2. The second and third projections'
+// signs are the normal's on their axes. w1 <= 1/2, so 2 c + w1 (at most 23.5) keeps w1 to 2^-20,
+// and a pixel of one projection stores 2 c and 0 exactly: w0 = 1 and the axis-aligned normal
+// (0, 0, 1) come back bit for bit.
 
+// The axes of the first projection's T and B.
+OM_INLINE OmI om_tri_t_axis(OmI p0) { return OM_SEL((OmI)0, (OmI)2, (p0 >> 1) == 0); }
+OM_INLINE OmI om_tri_b_axis(OmI p0) { return OM_SEL((OmI)1, (OmI)2, (p0 >> 1) == 1); }
+
+OM_INLINE OmF om_tri_pack_x(OmI p0, OmI p1, OmF w1) {
+    const OmI c = p0 + 6 * OM_SEL((OmI)0, (OmI)1, (p1 >> 1) == om_tri_b_axis(p0));
+    return 2.0f * OM_TO_FLOAT(c) + w1;
+}
+
+// A projection on axis a, signed as the world normal (nx, ny, nz) on it.
+OM_INLINE OmI om_tri_on_axis(OmI a, OmF nx, OmF ny, OmF nz) {
+    const OmF na = OM_SEL(OM_SEL(nx, ny, a == 1), nz, a == 2);
+    return 2 * a + OM_SEL((OmI)0, (OmI)1, na < 0.0f);
+}
+
+// The blend plane's lanes back: which are triplanar, their projections and weights, and the world
+// normal.
+OM_INLINE OmI om_tri_unpack(OmF bx, OmF by, OmF bz, OmF bw, OmI* p, OmF* w, OmF* nx, OmF* ny,
+                            OmF* nz) {
+    const OmI on = bx >= 0.0f;
+    const OmF cf = OM_LFLOOR(0.5f * fmax(bx, 0.0f));
+    const OmI c = OM_TO_INT(cf);
+    w[1] = OM_SEL((OmF)0.0f, bx - 2.0f * cf, on);
+    w[2] = OM_SEL((OmF)0.0f, by, on);
+    w[0] = 1.0f - w[1] - w[2];
+    p[0] = c % 6;
+    const OmF dz = sqrt(fmax(1.0f - bz * bz - bw * bw, 0.0f));
+    om_tri_out(p[0], bz, bw, dz, nx, ny, nz);
+    const OmI pt = om_tri_on_axis(om_tri_t_axis(p[0]), *nx, *ny, *nz);
+    const OmI pb = om_tri_on_axis(om_tri_b_axis(p[0]), *nx, *ny, *nz);
+    const OmI b_first = c >= 6;
+    p[1] = OM_SEL(pt, pb, b_first);
+    p[2] = OM_SEL(pb, pt, b_first);
+    return on;
+}

@@ -16,8 +16,7 @@
 // (world_scale, sharpness, cutoff, 1) take their frame, uv, V and L from their dominant
 // projection; their second and third projections go to the extra planes where their weight is not
 // zero (with the id; 0 where it is, so the material frame traces only those), and every pixel gets
-// its weights and projections (`out_blend`: w0, w1, w2 and OM_TRI_CODE, -1 where it is not
-// triplanar) and its world normal (`out_normal`). Without OM_UV (OM_NO_UV) or a tangent
+// its weights, projections and normal packed in `out_blend` (common/triplanar.cl). Without OM_UV (OM_NO_UV) or a tangent
 // (OM_NO_TANGENT) the other pixels get an empty uv or an invalid frame.
 
 #define OM_INPUT_ARG(name, image) OM_INPUT_ARG_(name, image)
@@ -217,7 +216,7 @@ __kernel void om_reconstruct(const OmReconstructParams P, OM_INPUT_ARG(depth_in,
                              const int id_limit, __global float2* second_uv, __global float4* second_view,
                              __global float4* second_light, __global float* second_ids, __global float2* third_uv,
                              __global float4* third_view, __global float4* third_light, __global float* third_ids,
-                             __global float4* out_blend, __global float4* out_normal
+                             __global float4* out_blend
 #endif
 ) {
     const int x0 = get_global_id(0) * OM_LANES, y = get_global_id(1);
@@ -398,9 +397,9 @@ __kernel void om_reconstruct(const OmReconstructParams P, OM_INPUT_ARG(depth_in,
                               0.0f, 0.0f, 1.0f,
 #endif
                               id_here, row, x0, P.width, third_uv, third_view, third_light, third_ids);
-    const OmF code = OM_TO_FLOAT(OM_TRI_CODE(p0, p1, p2));
-    OM_PUT(out_blend, 4, OM_SEL((OmF)1.0f, w0, tri), OM_SEL((OmF)0.0f, w1, tri),
-           OM_SEL((OmF)0.0f, w2, tri), OM_SEL((OmF)-1.0f, code, tri));
-    OM_PUT(out_normal, 4, qnx, qny, qnz, (OmF)0.0f);
+    OmF ndx, ndy, ndz;  // the normal in the first projection's frame
+    om_tri_into(p0, qnx, qny, qnz, &ndx, &ndy, &ndz);
+    OM_PUT(out_blend, 4, OM_SEL((OmF)-1.0f, om_tri_pack_x(p0, p1, w1), tri),
+           OM_SEL((OmF)0.0f, w2, tri), OM_SEL((OmF)0.0f, ndx, tri), OM_SEL((OmF)0.0f, ndy, tri));
 #endif
 }

@@ -535,8 +535,10 @@ FrameRun FrameRenderer::render(FrameMode mode, bool prepass, int repeats) {
     if (m.triplanar && !forward) {
         std::vector<cl_float4> blend(n);
         q.enqueueReadBuffer(m.triplanar->blend, CL_TRUE, 0, n * sizeof(cl_float4), blend.data());
+        // x = 2 c + w1 (negative: not triplanar), y = w2 (kernels/common/triplanar.cl).
         for (const cl_float4& b : blend)
-            if (b.s[3] >= 0.0f) ++run.projections[(b.s[1] > 0.0f) + (b.s[2] > 0.0f)];
+            if (b.s[0] >= 0.0f)
+                ++run.projections[(b.s[0] > 2.0f * std::floor(0.5f * b.s[0])) + (b.s[1] > 0.0f)];
     }
     run.color = flip_rows(run.color, w, h, 1);
     run.depth_after = flip_rows(m.raster->depth_after(), w, h, 1);

@@ -111,7 +111,7 @@ class ReconstructPass {
     // The same over a frame with triplanar materials (offsetmap/triplanar.hpp): `out.material`
     // (the pixels' ids, read) and `table` (MaterialFrame::triplanar_table) say which pixels are
     // triplanar. They take their dominant projection's frame, uv, V and L; `planes` the other two
-    // projections where they weigh, every pixel's weights and its world normal. uv and the
+    // projections where they weigh, and every pixel's weights, projections and normal. uv and the
     // tangent may be unbound (the other pixels then get an empty uv, or an invalid frame). Throws
     // Error naming the material and the plane when the depth or the normal is missing.
     cl::Event enqueue(const EngineGBuffer& in, const DeviceGBuffer& out,

@@ -34,8 +34,9 @@ struct TriplanarPlanes {
     // output). No light: the shade turns the G-buffer's into each projection's frame.
     DeviceGBuffer second, third;
     OffsetTargets second_targets, third_targets;
-    cl::Buffer blend;   // float4: the three weights, largest first, and OM_TRI_CODE (-1: none)
-    cl::Buffer normal;  // float4: the G-buffer's world normal, unit (xyz)
+    // float4 a pixel: its weights, projections and normal, packed (kernels/common/triplanar.cl;
+    // x < 0: not triplanar).
+    cl::Buffer blend;
 };
 
 TriplanarPlanes allocate_triplanar(Runtime& runtime, int width, int height);
