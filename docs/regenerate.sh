@@ -77,6 +77,15 @@ for part in "${parts[@]}"; do
         # the curved scene's frame: the tangent plane, the curved trace, the layer behind
         ./build/release/offsetmap_bench --curved --out "$tmp/bench-curved"
         cp "$tmp/bench-curved/bench-curved.json" "$DATA/bench-curved.json"
+        ./build/release/offsetmap_bench --triplanar --target-ms 600 --out "$tmp/bench-triplanar"
+        cp "$tmp/bench-triplanar/bench-triplanar.json" "$DATA/bench-triplanar.json"
+        # The terrain (no uv, triplanar): the frame and the projections each pixel traced.
+        $OM frame --scene data/terrain.gltf --width 640 --height 360 --shadows soft --repeats 1 \
+            --camera=-2.6,1.7,3.6,0.3,0.5,-0.4 -o "$tmp/terrain"
+        cp "$tmp/terrain/frame.json" "$DATA/frame-terrain.json"
+        /usr/bin/python3 docs/crop_figure.py "$IMG/frame-terrain.png" 0 100 640 330 1 \
+            "$tmp/terrain/final.png" "triplanar, no uv (pom, soft self-shadows)" \
+            "$tmp/terrain/triplanar.png" "projections traced: one, two, three"
         $OM frame --forward --shadows soft --width 640 --height 360 -o "$tmp/frame"
         cp "$tmp/frame/frame-sheet.png" "$IMG/frame-sheet.png"
         # The box in bricks (its faces are one uv square each, as the mask needs), close up.

@@ -536,9 +536,15 @@ FrameRun FrameRenderer::render(FrameMode mode, bool prepass, int repeats) {
         std::vector<cl_float4> blend(n);
         q.enqueueReadBuffer(m.triplanar->blend, CL_TRUE, 0, n * sizeof(cl_float4), blend.data());
         // x = 2 c + w1 (negative: not triplanar), y = w2 (kernels/common/triplanar.cl).
-        for (const cl_float4& b : blend)
-            if (b.s[0] >= 0.0f)
-                ++run.projections[(b.s[0] > 2.0f * std::floor(0.5f * b.s[0])) + (b.s[1] > 0.0f)];
+        run.projection_count.assign(n, 0.0f);
+        for (size_t k = 0; k < n; ++k) {
+            const cl_float4& b = blend[k];
+            if (!(b.s[0] >= 0.0f)) continue;
+            const int more = (b.s[0] > 2.0f * std::floor(0.5f * b.s[0])) + (b.s[1] > 0.0f);
+            ++run.projections[more];
+            run.projection_count[k] = float(1 + more);
+        }
+        run.projection_count = flip_rows(run.projection_count, w, h, 1);
     }
     run.color = flip_rows(run.color, w, h, 1);
     run.depth_after = flip_rows(m.raster->depth_after(), w, h, 1);

@@ -718,6 +718,23 @@ int run_frame(const FrameCommand& cmd) {
         {"uv error vs exact (log, white = 16 texels)", heat_map(w, h, errors[0], 16.0f)},
         {"depth offset written back (log, white = 16e-4)",
          depth_change_image(w, h, engine.depth, deferred.depth_after)}};
+    if (!deferred.projection_count.empty()) {
+        // Triplanar pixels by the projections traced: one grey, two orange, three red; the frame
+        // dimmed beneath.
+        Rgb8 picture = to_srgb8(w, h, deferred.color);
+        const std::uint8_t shade[4][3] = {
+            {0, 0, 0}, {150, 150, 150}, {245, 150, 40}, {220, 40, 40}};
+        for (size_t k = 0; k < deferred.projection_count.size(); ++k) {
+            const int c = static_cast<int>(deferred.projection_count[k]);
+            for (int i = 0; i < 3; ++i) {
+                std::uint8_t& v = picture.rgb[3 * k + i];
+                v = c == 0 ? std::uint8_t(v / 3) : std::uint8_t((v + 2 * shade[c][i]) / 3);
+            }
+        }
+        write_image(d + "triplanar.png", picture);
+        tiles.push_back(
+            {"triplanar projections traced: one (grey), two (orange), three (red)", picture});
+    }
     if (cmd.curvature)
         tiles.push_back(
             {"deferred over the curved base (--curvature; rays that leave the relief "

@@ -44,6 +44,7 @@ struct FrameRun {
     size_t behind_pixels = 0, missed_pixels = 0;
     // Triplanar materials (deferred): their pixels traced in one, two and three projections.
     std::array<size_t, 3> projections{};
+    std::vector<float> projection_count;  // per pixel: 1 to 3, 0 where not triplanar (or empty)
     PassTimes ms;
     double offset_kernel_ms = 0;  // deferred: the material frame's kernel time (profiling)
     double shade_kernel_ms = 0;   // the shade kernel's time (profiling; 0 where not timed)
