@@ -10,6 +10,7 @@
 #include "offsetmap/renderer/depth_offset.hpp"
 #include "offsetmap/renderer/frame.hpp"
 #include "offsetmap/renderer/glsl_peer.hpp"
+#include "offsetmap/renderer/gltf.hpp"
 #endif
 
 namespace omtest {
@@ -406,6 +407,57 @@ TEST(Renderer, ForwardPeerHasTheDeferredError) {
                 << method << " " << table[s].spec.name;
         }
     }
+}
+
+// The terrain (no uv, triplanar): the forward peer traces each projection in the fragment shader
+// and the frame shades them in the projections the reconstruct pass chose, so its picture is the
+// deferred frame's but for rounding. Unlike a uv-mapped frame's, the projections' uv come from the
+// world point: the forward shader's interpolated one, the deferred frame's from the float depth
+// buffer, whose step 2^-24 in d is 2^-23 in NDC z, so dz = 2^-23 z^2 / (2 near) along the view axis
+// (far >> near), up to 1.5 times that along a ray of the frame, and world_scale times the map's
+// texels in uv. At most 1 % of the triplanar pixels may have their dominant uv' apart by more
+// than that bound at the scene's farthest point (twice, and 0.01 texel for the march's own
+// rounding), or a colour channel by more than 0.02.
+TEST(Renderer, TriplanarForwardPeerIsTheDeferredFrame) {
+    const std::string data = std::string(OFFSETMAP_SOURCE_DIR) + "/data";
+    const std::vector<MaterialSpec> specs = read_material_table(data + "/terrain.json");
+    const Scene scene = load_gltf_scene(data + "/terrain.gltf", specs, data + "/terrain.json");
+    const std::vector<LoadedMaterial> table = load_materials(specs);
+    FrameRenderer r(runtime(), scene, table, methods_for(table, ""), 192, 108, ShadeSettings{});
+    const FrameRun deferred = r.render(FrameMode::Deferred, false, 1);
+    const FrameRun forward = r.render(FrameMode::Forward, false, 1);
+    ASSERT_EQ(forward.projections, deferred.projections);
+    const size_t projected =
+        deferred.projections[0] + deferred.projections[1] + deferred.projections[2];
+    ASSERT_GT(deferred.projections[1] + deferred.projections[2], projected / 20);
+    double far = 0;
+    const glm::dvec3 eye(scene.camera.eye[0], scene.camera.eye[1], scene.camera.eye[2]);
+    for (const Mesh& m : scene.meshes)
+        for (const Vertex& v : m.vertices)
+            far = std::max(
+                far, glm::length(glm::dvec3(v.position[0], v.position[1], v.position[2]) - eye));
+    const double dz = std::ldexp(1.0, -23) * far * far / (2.0 * scene.camera.near_plane);
+    size_t uv_apart = 0, colour_apart = 0;
+    for (size_t k = 0; k < deferred.projection_count.size(); ++k) {
+        if (deferred.projection_count[k] == 0) continue;
+        const int s = static_cast<int>(deferred.material[k]) - 1;
+        const double texels = std::max(table[s].map.width, table[s].map.height);
+        const double du = forward.offset.uv[k].s[0] - deferred.offset.uv[k].s[0],
+                     dv = forward.offset.uv[k].s[1] - deferred.offset.uv[k].s[1];
+        const double bound = 2.0 * 1.5 * dz * table[s].spec.triplanar.world_scale * texels;
+        uv_apart += std::hypot(du, dv) * texels > bound + 0.01;
+        double worst = 0;
+        for (int c = 0; c < 3; ++c)
+            worst =
+                std::max(worst, double(std::abs(forward.color[k].s[c] - deferred.color[k].s[c])));
+        colour_apart += worst > 0.02;
+    }
+    std::printf(
+        "[ terrain ] %zu triplanar pixels, depth step at the farthest point %.2g: dominant uv' "
+        "apart in %zu, colour in %zu\n",
+        projected, dz, uv_apart, colour_apart);
+    EXPECT_LE(uv_apart, projected / 100);
+    EXPECT_LE(colour_apart, projected / 100);
 }
 
 // The tile mask on the box (one uv square a face): the deferred pass flags OUT_OF_TILE where a

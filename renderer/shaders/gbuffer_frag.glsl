@@ -37,6 +37,39 @@ uniform sampler2D u_front_depth;
 uniform vec3 u_eye;
 uniform int u_curved;  // trace over the curved base (the curvature target's values)
 layout(location = 5) out vec4 o_offset;  // uv', t, fetches
+// A triplanar material (docs/design.md, "Triplanar relief"): world_scale, sharpness, cutoff, 1;
+// zeros for the others. Its fragments trace each projection whose weight is not 0 and write the
+// three axes' uv' (x's in o_offset.xy, y's and z's here; a projection of weight 0 its uv), the
+// weighted t and the fetches: the frame picks them by the projections the reconstruct pass gives
+// the pixel, so the shading sees one choice of projections.
+uniform vec4 u_triplanar;
+layout(location = 7) out vec4 o_offset_yz;
+
+// Projection p's frame, as kernels/common/triplanar.cl's.
+void om_tri_frame(int p, out vec3 t, out vec3 b, out vec3 n) {
+    float s = (p & 1) != 0 ? -1.0 : 1.0;
+    int a = p >> 1;
+    if (a == 0) {
+        t = vec3(0.0, 0.0, -s);
+        b = vec3(0.0, 1.0, 0.0);
+        n = vec3(s, 0.0, 0.0);
+    } else if (a == 1) {
+        t = vec3(1.0, 0.0, 0.0);
+        b = vec3(0.0, 0.0, -s);
+        n = vec3(0.0, s, 0.0);
+    } else {
+        t = vec3(s, 0.0, 0.0);
+        b = vec3(0.0, 1.0, 0.0);
+        n = vec3(0.0, 0.0, s);
+    }
+}
+
+vec3 om_tri_weights(vec3 n, float k, float cutoff) {
+    vec3 a = pow(abs(n), vec3(k));
+    a /= a.x + a.y + a.z;
+    a = max(a - cutoff, 0.0);
+    return a / (a.x + a.y + a.z);
+}
 #endif
 
 void main() {
@@ -63,7 +96,27 @@ void main() {
     vec3 view = normalize(u_eye - v_position);
     vec3 tv = vec3(dot(view, t), dot(view, b), dot(view, n));
     vec4 k = u_curved != 0 ? o_curvature : vec4(0.0, 0.0, 0.0, 1.0);
-    o_offset = u_material == 0.0 ? vec4(v_uv, 0.0, 0.0) : om_offset(v_uv, tv, k);
+    o_offset_yz = vec4(0.0);
+    if (u_material == 0.0 || u_triplanar.w == 0.0) {
+        o_offset = u_material == 0.0 ? vec4(v_uv, 0.0, 0.0) : om_offset(v_uv, tv, k);
+    } else {
+        vec3 w = om_tri_weights(n, u_triplanar.y, u_triplanar.z);
+        vec2 uvs[3];
+        float t_sum = 0.0;
+        for (int a = 0; a < 3; ++a) {
+            vec3 pt, pb, pn;
+            om_tri_frame(2 * a + (n[a] < 0.0 ? 1 : 0), pt, pb, pn);
+            vec2 uvp = u_triplanar.x * vec2(dot(v_position, pt), dot(v_position, pb));
+            vec4 o = vec4(uvp, 0.0, 0.0);
+            if (w[a] > 0.0)
+                o = om_offset(uvp, vec3(dot(view, pt), dot(view, pb), dot(view, pn)),
+                              vec4(0.0, 0.0, 0.0, 1.0));
+            uvs[a] = o.xy;
+            t_sum += w[a] * o.z;
+        }
+        o_offset = vec4(uvs[0], t_sum, float(om_fetches));
+        o_offset_yz = vec4(uvs[1], uvs[2]);
+    }
     // The forward renderer's silhouette (the tile mask's, or a ray that left the curved base):
     // the fragment is dropped and whatever lies behind it stays (drawn before or after), which
     // a one-layer G-buffer cannot show (the deferred frame's second layer does). After a depth

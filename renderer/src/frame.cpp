@@ -143,8 +143,8 @@ FrameRenderer::FrameRenderer(std::shared_ptr<Runtime> runtime, const Scene& scen
     m.raster = std::make_unique<Raster>(scene, width, height);
     m.scene = scene;
     for (size_t s = 0; s < table.size(); ++s)
-        m.forward.push_back(
-            forward_material(table[s].spec.id, table[s].map, table[s].spec.settings, methods[s]));
+        m.forward.push_back(forward_material(table[s].spec.id, table[s].map, table[s].spec.settings,
+                                             methods[s], table[s].spec.triplanar));
     Runtime& rt = *runtime;
     const size_t n = static_cast<size_t>(width) * height;
     auto buffer = [&](size_t bytes, cl_mem_flags flags) {
@@ -332,9 +332,6 @@ FrameRun FrameRenderer::render(FrameMode mode, bool prepass, int repeats) {
     if (behind && m.triplanar)
         throw Error("the layer behind does not trace triplanar materials: " +
                     m.frame->triplanar_table().name + " is one");
-    if (forward && m.triplanar)
-        throw Error("the forward peer has no triplanar projection: " +
-                    m.frame->triplanar_table().name + " is one");
     if (behind) behind->dg.curvature = run.curved ? behind->curvature : cl::Buffer();
     RasterPlanes planes;
     std::vector<float> ids(n), t_gl(n);
@@ -435,6 +432,34 @@ FrameRun FrameRenderer::render(FrameMode mode, bool prepass, int repeats) {
             m.reconstruct->enqueue(g, behind->dg);
         }
         q.finish();
+        if (forward && m.triplanar) {
+            // The fragment shader traced each axis's projection; the shading takes them in the
+            // order of the projections the reconstruct pass gave each pixel.
+            std::vector<cl_float4> blend(n);
+            q.enqueueReadBuffer(m.triplanar->blend, CL_TRUE, 0, n * sizeof(cl_float4),
+                                blend.data());
+            const std::vector<float> yz = m.raster->read_offset_yz();
+            std::vector<cl_float2> second(n), third(n);
+            for (size_t k = 0; k < n; ++k) {
+                if (!(blend[k].s[0] >= 0.0f)) continue;
+                const cl_float2 axis_uv[3] = {
+                    forward_uv[k], {{yz[4 * k], yz[4 * k + 1]}}, {{yz[4 * k + 2], yz[4 * k + 3]}}};
+                // x = 2 c + w1, c = p0 + 6 where the second is on the axis of p0's B
+                // (kernels/common/triplanar.cl).
+                const int c = static_cast<int>(std::floor(0.5f * blend[k].s[0]));
+                const int a0 = (c % 6) >> 1, at = a0 == 0 ? 2 : 0, ab = a0 == 1 ? 2 : 1;
+                const bool b_first = c >= 6;
+                forward_uv[k] = axis_uv[a0];
+                second[k] = axis_uv[b_first ? ab : at];
+                third[k] = axis_uv[b_first ? at : ab];
+            }
+            q.enqueueWriteBuffer(m.targets.uv, CL_FALSE, 0, n * sizeof(cl_float2),
+                                 forward_uv.data());
+            q.enqueueWriteBuffer(m.triplanar->second_targets.uv, CL_FALSE, 0, n * sizeof(cl_float2),
+                                 second.data());
+            q.enqueueWriteBuffer(m.triplanar->third_targets.uv, CL_TRUE, 0, n * sizeof(cl_float2),
+                                 third.data());
+        }
         t.reconstruct = ms_since(t0);
 
         if (!forward) {
@@ -475,7 +500,7 @@ FrameRun FrameRenderer::render(FrameMode mode, bool prepass, int repeats) {
         const cl::Event shaded = m.frame->shade(
             m.targets.uv, forward ? cl::Buffer() : m.targets.flags, m.dg, m.shading, m.rgba,
             shadows ? shadows->mask : cl::Buffer(), shadows ? shadows->visibility : cl::Buffer(),
-            m.triplanar && !forward ? &*m.triplanar : nullptr);
+            m.triplanar ? &*m.triplanar : nullptr);
         q.finish();
         t.shade = ms_since(t0);
         if (rt.profiling()) shade_kernel.push_back(event_ms(shaded));
@@ -532,7 +557,7 @@ FrameRun FrameRenderer::render(FrameMode mode, bool prepass, int repeats) {
         run.behind_pixels += (f & OM_FLAG_BEHIND) != 0;
         run.missed_pixels += behind && (f & OM_FLAGS_SEE_BEHIND);
     }
-    if (m.triplanar && !forward) {
+    if (m.triplanar) {
         std::vector<cl_float4> blend(n);
         q.enqueueReadBuffer(m.triplanar->blend, CL_TRUE, 0, n * sizeof(cl_float4), blend.data());
         // x = 2 c + w1 (negative: not triplanar), y = w2 (kernels/common/triplanar.cl).

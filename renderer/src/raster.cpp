@@ -21,8 +21,8 @@ std::array<float, 16> to_array(const glm::mat4& m) {
 
 const GLenum kTargets[] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1, GL_COLOR_ATTACHMENT2,
                            GL_COLOR_ATTACHMENT3, GL_COLOR_ATTACHMENT4, GL_COLOR_ATTACHMENT5,
-                           GL_COLOR_ATTACHMENT6};
-constexpr int kTargetCount = 7;
+                           GL_COLOR_ATTACHMENT6, GL_COLOR_ATTACHMENT7};
+constexpr int kTargetCount = 8;  // GL 4.5 guarantees 8 draw buffers
 
 }  // namespace
 
@@ -39,9 +39,11 @@ std::string glsl_method_defines() {
 }
 
 ForwardMaterial forward_material(int id, const HeightMap& map, const PassSettings& settings,
-                                 const MethodParams& method) {
+                                 const MethodParams& method, const Triplanar& triplanar) {
     ForwardMaterial f;
     f.id = id;
+    if (triplanar.enabled)
+        f.triplanar = {triplanar.world_scale, triplanar.sharpness, triplanar.cutoff, 1.0f};
     f.method = glsl_method(*method.method);
     for (size_t k = 0; k < method.values.size() && k < 4; ++k) f.params[k] = method.values[k];
     f.scale = settings.scale;
@@ -75,6 +77,7 @@ void bind_forward_material(const Program& p, const ForwardMaterial* fm) {
     glUniform1i(uniform(p, "u_limit"), fm->limit ? 1 : 0);
     glUniform1i(uniform(p, "u_tile_mask"), fm->tile_mask ? 1 : 0);
     glUniform4fv(uniform(p, "u_tile_bounds"), 1, fm->tile_bounds.data());
+    glUniform4fv(uniform(p, "u_triplanar"), 1, fm->triplanar.data());
 }
 
 View make_view(const Camera& c, int width, int height) {
@@ -152,6 +155,7 @@ Raster::Raster(const Scene& scene, int width, int height) : width_(width), heigh
     derivatives_ = make_texture(GL_RGBA32F, width, height);
     material_ = make_texture(GL_RG32F, width, height);
     offset_ = make_texture(GL_RGBA32F, width, height);
+    offset2_ = make_texture(GL_RGBA32F, width, height);
     curvature_ = make_texture(GL_RGBA32F, width, height);
     color_ = make_texture(GL_RGBA32F, width, height);
     depth_after_ = make_texture(GL_DEPTH_COMPONENT32F, width, height);
@@ -159,8 +163,8 @@ Raster::Raster(const Scene& scene, int width, int height) : width_(width), heigh
     glCreateFramebuffers(2, f);
     fbo_ = Framebuffer(f[0]);
     depth_fbo_ = Framebuffer(f[1]);
-    const GLuint colour[] = {normal_.get(),   tangent_.get(), uv_.get(),       derivatives_.get(),
-                             material_.get(), offset_.get(),  curvature_.get()};
+    const GLuint colour[] = {normal_.get(),   tangent_.get(), uv_.get(),        derivatives_.get(),
+                             material_.get(), offset_.get(),  curvature_.get(), offset2_.get()};
     for (int i = 0; i < kTargetCount; ++i)
         glNamedFramebufferTexture(f[0], kTargets[i], colour[i], 0);
     glNamedFramebufferTexture(f[0], GL_DEPTH_ATTACHMENT, depth_.get(), 0);
@@ -188,7 +192,7 @@ void Raster::draw(const View& view, const std::vector<ForwardMaterial>* forward,
     GLenum targets[kTargetCount];
     std::copy(std::begin(kTargets), std::end(kTargets), targets);
     if (!derivatives) targets[3] = GL_NONE;
-    if (!forward) targets[5] = GL_NONE;
+    if (!forward) targets[5] = targets[7] = GL_NONE;
     if (!curvature) targets[6] = GL_NONE;
     glNamedFramebufferDrawBuffers(fbo_.get(), kTargetCount, targets);
     draw_with(view, forward, prepass, forward ? forward_ : deferred_, curved);
@@ -200,7 +204,7 @@ void Raster::draw_behind(const View& view, const Raster& front, bool curvature) 
         throw Error("the second layer's raster is not the size of the first's");
     GLenum targets[kTargetCount];
     std::copy(std::begin(kTargets), std::end(kTargets), targets);
-    targets[3] = targets[5] = GL_NONE;
+    targets[3] = targets[5] = targets[7] = GL_NONE;
     if (!curvature) targets[6] = GL_NONE;
     glNamedFramebufferDrawBuffers(fbo_.get(), kTargetCount, targets);
     glBindTextureUnit(1, front.depth_.get());
@@ -294,6 +298,10 @@ RasterPlanes Raster::read(bool forward) const {
 
 std::vector<float> Raster::read_offset() const {
     return read_pixels(fbo_.get(), GL_COLOR_ATTACHMENT5, GL_RGBA, 4, width_, height_);
+}
+
+std::vector<float> Raster::read_offset_yz() const {
+    return read_pixels(fbo_.get(), GL_COLOR_ATTACHMENT7, GL_RGBA, 4, width_, height_);
 }
 
 void Raster::read_into(const PlanePointers& p) const {

@@ -12,6 +12,7 @@
 #include "offsetmap/registry.hpp"
 #include "offsetmap/renderer/scene.hpp"
 #include "offsetmap/settings.hpp"
+#include "offsetmap/triplanar.hpp"
 
 namespace offsetmap::renderer {
 
@@ -25,6 +26,8 @@ struct ForwardMaterial {
     bool limit = false;
     bool tile_mask = false;  // forward discards fragments whose uv' leaves the tile:
     std::array<float, 4> tile_bounds{0.0f, 0.0f, 1.0f, 1.0f};  // PassSettings::tile_bounds
+    // A triplanar material: world_scale, sharpness, cutoff, 1 (else zeros).
+    std::array<float, 4> triplanar{};
 };
 
 // The value relief.glsl's u_method takes for a method with a GLSL version (its registry row's
@@ -34,7 +37,7 @@ std::string glsl_method_defines();
 // The height texture and uniforms that trace `method` on `map` with `settings`, as the kernels
 // do (the same parameters in registry order, grazing rule and address mode).
 ForwardMaterial forward_material(int id, const HeightMap& map, const PassSettings& settings,
-                                 const MethodParams& method);
+                                 const MethodParams& method, const Triplanar& triplanar = {});
 // Sets relief.glsl's uniforms on the current program `p` (u_method none's, no relief, for null) and
 // binds the height texture to unit 0.
 void bind_forward_material(const Program& p, const ForwardMaterial* fm);
@@ -95,6 +98,9 @@ class Raster {
     RasterPlanes read(bool forward) const;
     // The forward draw's offset plane: 4 per pixel (uv', t, fetches).
     std::vector<float> read_offset() const;
+    // Forward, triplanar pixels: the y and z axes' projections' uv' (read_offset's xy is the x
+    // axis's), each traced where its weight is not 0 and its uv elsewhere.
+    std::vector<float> read_offset_yz() const;
     // The same planes straight into the caller's memory (mapped OpenCL buffers: one copy), the
     // material target's id and uv density as a plane each.
     void read_into(const PlanePointers& planes) const;
@@ -124,8 +130,8 @@ class Raster {
     void draw_with(const View& view, const std::vector<ForwardMaterial>* forward, bool prepass,
                    const Program& program, bool curved);
     Program deferred_, forward_, deferred_count_, forward_count_, depth_only_, deferred_peel_;
-    Texture depth_, normal_, tangent_, uv_, derivatives_, material_, offset_, curvature_, color_,
-        depth_after_;
+    Texture depth_, normal_, tangent_, uv_, derivatives_, material_, offset_, offset2_, curvature_,
+        color_, depth_after_;
     Framebuffer fbo_, depth_fbo_;
     BufferObject counter_;
 };
