@@ -128,6 +128,15 @@ Image4 checker_like() {
     return img;
 }
 
+OffsetTargets t_all(Runtime& rt, size_t n) {
+    OffsetTargets t;
+    t.uv = cl::Buffer(rt.context(), CL_MEM_READ_WRITE, n * sizeof(cl_float2));
+    t.depth = cl::Buffer(rt.context(), CL_MEM_READ_WRITE, n * sizeof(float));
+    t.fetches = cl::Buffer(rt.context(), CL_MEM_READ_WRITE, n * sizeof(cl_uint));
+    t.flags = cl::Buffer(rt.context(), CL_MEM_READ_WRITE, n * sizeof(cl_uint));
+    return t;
+}
+
 // One frame of one material (id 1 on every pixel) from an engine frame, with or without the
 // triplanar split, and what it wrote.
 struct TriRun {
@@ -169,11 +178,7 @@ TriRun run_frame(const EngineFrame& f, const FrameSetup& s, bool triplanar,
     if (s.albedo.width) m.albedo = upload(*rt, s.albedo);
     if (triplanar) m.triplanar = s.triplanar;
     MaterialFrame frame(rt, {m});
-    OffsetTargets t;
-    t.uv = cl::Buffer(ctx, CL_MEM_READ_WRITE, n * sizeof(cl_float2));
-    t.depth = cl::Buffer(ctx, CL_MEM_READ_WRITE, n * sizeof(float));
-    t.fetches = cl::Buffer(ctx, CL_MEM_READ_WRITE, n * sizeof(cl_uint));
-    t.flags = cl::Buffer(ctx, CL_MEM_READ_WRITE, n * sizeof(cl_uint));
+    const OffsetTargets t = t_all(*rt, n);
     cl::Buffer rgba(ctx, CL_MEM_READ_WRITE, n * sizeof(cl_float4));
     ReconstructPass reconstruct(rt);
     TriRun r;
@@ -193,12 +198,12 @@ TriRun run_frame(const EngineFrame& f, const FrameSetup& s, bool triplanar,
         r.fetches2 = read_plane<cl_uint>(*rt, planes.second_targets.fetches, n);
         r.fetches3 = read_plane<cl_uint>(*rt, planes.third_targets.fetches, n);
         r.flags2 = read_plane<cl_uint>(*rt, planes.second_targets.flags, n);
-        OffsetTargets alone = t;
-        alone.depth = cl::Buffer(ctx, CL_MEM_READ_WRITE, n * sizeof(float));
-        alone.fetches = cl::Buffer(ctx, CL_MEM_READ_WRITE, n * sizeof(cl_uint));
-        alone.uv = cl::Buffer(ctx, CL_MEM_READ_WRITE, n * sizeof(cl_float2));
-        alone.flags = cl::Buffer(ctx, CL_MEM_READ_WRITE, n * sizeof(cl_uint));
-        frame.enqueue(g, alone);
+        // The dominant projection alone: the same table without the projection.
+        FrameMaterial plain = m;
+        plain.triplanar.enabled = false;
+        MaterialFrame uv_frame(rt, {plain});
+        const OffsetTargets alone = t_all(*rt, n);
+        uv_frame.enqueue(g, alone);
         r.depth1 = read_plane<float>(*rt, alone.depth, n);
         r.fetches1 = read_plane<cl_uint>(*rt, alone.fetches, n);
     } else {
@@ -525,6 +530,18 @@ TEST(Triplanar, BadInputIsNamed) {
                                           frame.triplanar_table(), planes);
                          }),
                          "material ids"));
+    // Without the planes the frame would trace and shade its pixels with no uv of theirs.
+    OffsetTargets all = t_all(*rt, f.pixels());
+    EXPECT_TRUE(contains(error_of([&] { frame.enqueue(g, all); }),
+                         "material 3 (cliff) is triplanar: the material frame's enqueue needs its "
+                         "projections"));
+    cl::Buffer rgba(rt->context(), CL_MEM_READ_WRITE, f.pixels() * sizeof(cl_float4));
+    EXPECT_TRUE(contains(error_of([&] { frame.shade(all.uv, all.flags, g, {}, rgba); }),
+                         "the material frame's shade needs its projections"));
+    EXPECT_TRUE(contains(error_of([&] {
+                             frame.enqueue(g, all, LayerBehind{g, all});
+                         }),
+                         "the layer behind does not trace triplanar materials: material 3"));
     const TriplanarPlanes small = allocate_triplanar(*rt, 8, 8);
     OffsetTargets t;
     t.uv = cl::Buffer(rt->context(), CL_MEM_READ_WRITE, f.pixels() * sizeof(cl_float2));

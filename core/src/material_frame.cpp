@@ -315,7 +315,17 @@ const cl::CommandQueue& MaterialFrame::checked_queue(const DeviceGBuffer& g,
 cl::Event MaterialFrame::enqueue(const DeviceGBuffer& g, const OffsetTargets& t,
                                  const std::vector<cl::Event>& wait,
                                  const cl::CommandQueue& queue_given) {
+    refuse_without_projections("enqueue");
     return trace(g, t, wait, queue_given, true);
+}
+
+void MaterialFrame::refuse_without_projections(const char* call) const {
+    // Its pixels' G-buffer holds no uv of theirs without the split: a frame would trace and
+    // shade them silently wrong.
+    if (triplanar_table_.any)
+        throw Error(triplanar_table_.name + " is triplanar: the material frame's " + call +
+                    " needs its projections (ReconstructPass's triplanar split, then the " + call +
+                    " that takes the TriplanarPlanes)");
 }
 
 cl::Event MaterialFrame::trace(const DeviceGBuffer& g, const OffsetTargets& t,
@@ -434,6 +444,9 @@ cl::Event MaterialFrame::trace(const DeviceGBuffer& g, const OffsetTargets& t,
 cl::Event MaterialFrame::enqueue(const DeviceGBuffer& g, const OffsetTargets& t,
                                  const LayerBehind& behind, const std::vector<cl::Event>& wait,
                                  const cl::CommandQueue& queue_given) {
+    if (triplanar_table_.any)
+        throw Error("the layer behind does not trace triplanar materials: " +
+                    triplanar_table_.name + " is one");
     const cl::Context& context = runtime_->context();
     const cl::CommandQueue& queue = checked_queue(g, queue_given);
     const DeviceGBuffer& b = behind.gbuffer;
@@ -532,7 +545,7 @@ cl::Event MaterialFrame::enqueue(const DeviceGBuffer& g, const OffsetTargets& t,
     const cl::CommandQueue& queue = checked_queue(g, queue_given);
     const size_t n = g.pixels();
     check_triplanar_planes(context, planes, g);
-    const cl::Event first = enqueue(g, t, wait, queue);
+    const cl::Event first = trace(g, t, wait, queue, true);
     std::vector<Dispatch> all = dispatches_;
     std::vector<cl::Event> events{classify_event_};
     // The second and third projections' id-0 pixels are nobody's: no pass-through for them.
@@ -630,6 +643,7 @@ cl::Event MaterialFrame::shade(const cl::Buffer& uv, const cl::Buffer& flags,
     const size_t n = g.pixels();
     check_shade_buffers(context, uv, flags, out_rgba, n);
     check_shadow_buffers(context, shadow_mask, out_visibility, n);
+    if (!planes) refuse_without_projections("shade");
     if (planes && triplanar_table_.any) check_triplanar_planes(context, *planes, g);
     const bool blend = planes && triplanar_table_.any;
     // The frame's parameters (id 0: flat, the checker, no shadows), then each slot's.

@@ -329,9 +329,6 @@ FrameRun FrameRenderer::render(FrameMode mode, bool prepass, int repeats) {
     run.curved = m.dg.curvature() != nullptr;
     run.layers = forward ? 1 : m.layers;
     Impl::Behind* behind = run.layers == 2 ? m.behind.get() : nullptr;
-    if (behind && m.triplanar)
-        throw Error("the layer behind does not trace triplanar materials: " +
-                    m.frame->triplanar_table().name + " is one");
     if (behind) behind->dg.curvature = run.curved ? behind->curvature : cl::Buffer();
     RasterPlanes planes;
     std::vector<float> ids(n), t_gl(n);

@@ -67,7 +67,8 @@ class MaterialFrame {
     // throws Error naming a material id the table lacks before any pixel is traced, then enqueues
     // one dispatch per method present over its tiles. Each pixel gets the bits its material's
     // OffsetPass alone would give it (tested); id 0 gets uv' = uv, depth 0, no fetches. Returns an
-    // event complete when every dispatch is.
+    // event complete when every dispatch is. A table with a triplanar material needs the overload
+    // that takes its TriplanarPlanes (and refuses this one, naming the material), as does shade.
     cl::Event enqueue(const DeviceGBuffer& gbuffer, const OffsetTargets& targets,
                       const std::vector<cl::Event>& wait = {},
                       const cl::CommandQueue& queue = cl::CommandQueue());
@@ -178,6 +179,8 @@ class MaterialFrame {
                                           const cl::CommandQueue& queue) const;
     void check_triplanar_planes(const cl::Context& context, const TriplanarPlanes& planes,
                                 const DeviceGBuffer& g) const;
+    // Throws Error naming the table's triplanar material for `call` without the planes.
+    void refuse_without_projections(const char* call) const;
 
     std::shared_ptr<Runtime> runtime_;
     std::vector<FrameMaterial> materials_;
