@@ -670,7 +670,11 @@ GeometryFrame FrameRenderer::render_geometry(const Scene& scene, int repeats) {
 }
 
 OffsetResult FrameRenderer::exact() const {
-    OffsetResult r = run_materials_exact(impl_->rt, impl_->table, impl_->dg);
+    // The G-buffer holds each triplanar pixel's largest projection (the split's): exact traces
+    // that one, as the pass does, with the table's materials taken as uv-mapped.
+    std::vector<LoadedMaterial> table = impl_->table;
+    for (LoadedMaterial& m : table) m.spec.triplanar.enabled = false;
+    OffsetResult r = run_materials_exact(impl_->rt, table, impl_->dg);
     flip_result(r);
     return r;
 }

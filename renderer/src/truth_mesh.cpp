@@ -338,6 +338,11 @@ Tessellation displace_scene(const Scene& scene, const std::vector<LoadedMaterial
         const LoadedMaterial* material = nullptr;
         for (const LoadedMaterial& m : table)
             if (m.spec.id == base.material && base.material != 0) material = &m;
+        // Its height is a blend of three projections' (docs/design.md), not the uv lattice's.
+        if (material && material->spec.triplanar.enabled && material->spec.settings.scale != 0.0f)
+            throw Error("the truth does not displace triplanar materials yet: mesh '" + base.name +
+                        "' is material " + std::to_string(base.material) + " (" +
+                        material->spec.name + ")");
         TessellatedMesh info;
         info.name = base.name;
         info.material = base.material;

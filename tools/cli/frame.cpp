@@ -538,6 +538,10 @@ int run_frame(const FrameCommand& cmd) {
             throw Error("mesh '" + m.name + "' has material id " + std::to_string(m.material) +
                         ", which " + table_file + " does not list");
     }
+    for (const MaterialSpec& s : specs)
+        if (cmd.truth && s.triplanar.enabled)
+            throw Error("--truth: the truth does not displace triplanar materials yet: material " +
+                        std::to_string(s.id) + " (" + s.name + ") is one");
     const std::vector<LoadedMaterial> table = load_materials(specs);
     std::error_code ec;
     std::filesystem::create_directories(cmd.out_dir, ec);
