@@ -231,10 +231,8 @@ cl::Event ReconstructPass::launch(const EngineGBuffer& in, const DeviceGBuffer& 
         set_args_from(k, 8, out.material, table->of_id, static_cast<cl_int>(table->id_limit));
         int a = 11;
         for (const DeviceGBuffer* g : {&t.second, &t.third}) {
-            set_args_from(k, a, g->uv, g->view);
-            set_optional(k, a + 2, cl::Buffer());  // no light: the shade turns the G-buffer's
-            k.setArg(a + 3, g->material);
-            a += 4;
+            set_args_from(k, a, g->uv, g->view, g->material);
+            a += 3;
         }
         k.setArg(a, t.blend);
     }

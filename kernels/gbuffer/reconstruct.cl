@@ -13,11 +13,12 @@
 // OM_IMAGE_<INPUT>, else a buffer of OM_STORAGE_<INPUT> (a literal OM_STORAGE_* value); the frame's
 // form (OM_QUATERNION_FRAME) and the light (OM_LIT, with OM_POINT_LIGHT for a point light).
 // OM_TRIPLANAR (common/triplanar.cl): the pixels whose material id is triplanar in `tri_of_id`
-// (world_scale, sharpness, cutoff, 1) take their frame, uv, V and L from their dominant
-// projection; their second and third projections go to the extra planes where their weight is not
-// zero (with the id; 0 where it is, so the material frame traces only those), and every pixel gets
-// its weights, projections and normal packed in `out_blend` (common/triplanar.cl). Without OM_UV (OM_NO_UV) or a tangent
-// (OM_NO_TANGENT) the other pixels get an empty uv or an invalid frame.
+// (world_scale, sharpness, cutoff, 1) take their frame, uv, V and L from their largest
+// projection; their second and third projections' uv and V go to the extra planes where their
+// weight is not zero (with the id; 0 where it is, so the material frame traces only those; the
+// shade turns L itself), and every pixel gets its weights, projections and normal packed in
+// `out_blend`. Without uv (OM_NO_UV) or a tangent (OM_NO_TANGENT) the other pixels get an empty uv
+// or an invalid frame.
 
 #define OM_INPUT_ARG(name, image) OM_INPUT_ARG_(name, image)
 #define OM_INPUT_ARG_(name, image) OM_INPUT_ARG_##image(name)
@@ -172,11 +173,10 @@ OM_INLINE OmF om_load_row_f(__global const float* q, size_t row, int x0, int wid
     return OM_VLOAD(t);
 }
 
-// A projection's planes for the lanes of `need` (its id elsewhere 0): uv, V and L in its frame.
+// A projection's planes for the lanes of `need` (its id elsewhere 0): uv and V in its frame.
 OM_INLINE void om_reconstruct_projection(OmI p, OmI need, OmF ws, OmF px, OmF py, OmF pz, OmF vx,
-                                         OmF vy, OmF vz, OmF lx, OmF ly, OmF lz, OmF id,
-                                         size_t row, int x0, int width, __global float2* uv,
-                                         __global float4* view, __global float4* light,
+                                         OmF vy, OmF vz, OmF id, size_t row, int x0, int width,
+                                         __global float2* uv, __global float4* view,
                                          __global float* ids) {
     const OmF kept = OM_SEL((OmF)0.0f, id, need);
 #if OM_LANES > 1
@@ -198,10 +198,6 @@ OM_INLINE void om_reconstruct_projection(OmI p, OmI need, OmF ws, OmF px, OmF py
     OM_PUT(uv, 2, ws * a, ws * b, (OmF)0.0f, (OmF)0.0f);
     om_tri_into(p, vx, vy, vz, &a, &b, &c);
     OM_PUT(view, 4, a, b, c, (OmF)0.0f);
-    if (light) {
-        om_tri_into(p, lx, ly, lz, &a, &b, &c);
-        OM_PUT(light, 4, a, b, c, (OmF)0.0f);
-    }
 }
 #endif
 
@@ -213,10 +209,10 @@ __kernel void om_reconstruct(const OmReconstructParams P, OM_INPUT_ARG(depth_in,
 #ifdef OM_TRIPLANAR
                              ,
                              __global const float* material, __global const float4* tri_of_id,
-                             const int id_limit, __global float2* second_uv, __global float4* second_view,
-                             __global float4* second_light, __global float* second_ids, __global float2* third_uv,
-                             __global float4* third_view, __global float4* third_light, __global float* third_ids,
-                             __global float4* out_blend
+                             const int id_limit, __global float2* second_uv,
+                             __global float4* second_view, __global float* second_ids,
+                             __global float2* third_uv, __global float4* third_view,
+                             __global float* third_ids, __global float4* out_blend
 #endif
 ) {
     const int x0 = get_global_id(0) * OM_LANES, y = get_global_id(1);
@@ -381,22 +377,12 @@ __kernel void om_reconstruct(const OmReconstructParams P, OM_INPUT_ARG(depth_in,
            OM_SEL((OmF)1.0f, ln, lit), (OmF)0.0f);
 #endif
 #ifdef OM_TRIPLANAR
-    // The second and third projections: uv, V and L in their frames where their weight is not 0.
+    // The second and third projections: uv and V in their frames where their weight is not 0.
     const OmF id_here = OM_SEL((OmF)0.0f, ids, tri);
-    om_reconstruct_projection(p1, tri & (w1 > 0.0f), ws, px, py, pz, vx, vy, vz,
-#ifdef OM_LIT
-                              lx, ly, lz,
-#else
-                              0.0f, 0.0f, 1.0f,
-#endif
-                              id_here, row, x0, P.width, second_uv, second_view, second_light, second_ids);
-    om_reconstruct_projection(p2, tri & (w2 > 0.0f), ws, px, py, pz, vx, vy, vz,
-#ifdef OM_LIT
-                              lx, ly, lz,
-#else
-                              0.0f, 0.0f, 1.0f,
-#endif
-                              id_here, row, x0, P.width, third_uv, third_view, third_light, third_ids);
+    om_reconstruct_projection(p1, tri & (w1 > 0.0f), ws, px, py, pz, vx, vy, vz, id_here, row, x0,
+                              P.width, second_uv, second_view, second_ids);
+    om_reconstruct_projection(p2, tri & (w2 > 0.0f), ws, px, py, pz, vx, vy, vz, id_here, row, x0,
+                              P.width, third_uv, third_view, third_ids);
     OmF ndx, ndy, ndz;  // the normal in the first projection's frame
     om_tri_into(p0, qnx, qny, qnz, &ndx, &ndy, &ndz);
     OM_PUT(out_blend, 4, OM_SEL((OmF)-1.0f, om_tri_pack_x(p0, p1, w1), tri),
