@@ -264,18 +264,31 @@ OM_INLINE void om_shade_lanes(const OmShadeParams* P, OmI active, OmF u, OmF v, 
     // see darkens once, so the light reaches a pixel as far as the stricter of the two lets it.
     OmF vis = 1.0f;
     if (heights && P->shadow_mode != OM_SHADOW_NONE) {
-        // A projection's march needs the light above its plane; below it, it sees no blocker.
-        const OmI shadowed = surface && ndl > 0.0f && lz > 0.0f;
         const OmField f = om_field_of(heights, P->hf_width, P->hf_height, wrap);
-        if (OM_ANY(shadowed)) vis = om_light_visibility(&f, u, v, lx, ly, lz, P, shadowed);
+        // A triplanar projection marches toward the light over the surface, as its ray came.
+        OmF mx = lx, my = ly, mz = lz;
+        if (OM_ANY(tri)) {
+            OmF bx, by, bz;
+            om_tri_into(T->p[0], T->nx, T->ny, T->nz, &bx, &by, &bz);
+            om_tri_over_surface(&mx, &my, &mz, bx * lx + by * ly + bz * lz, bx, by);
+            mx = OM_SEL(lx, mx, tri);
+            my = OM_SEL(ly, my, tri);
+            mz = OM_SEL(lz, mz, tri);
+        }
+        // A projection's march needs the light above its plane; below it, it sees no blocker.
+        const OmI shadowed = surface && ndl > 0.0f && mz > 0.0f;
+        if (OM_ANY(shadowed)) vis = om_light_visibility(&f, u, v, mx, my, mz, P, shadowed);
         if (OM_ANY(blended)) {
             OmF sum = T->w[0] * vis;
             OmF wx, wy, wz;
             om_tri_out(T->p[0], lx, ly, lz, &wx, &wy, &wz);
+            const OmF ldn = wx * T->nx + wy * T->ny + wz * T->nz;
             for (int j = 1; j < 3; ++j) {
                 const OmI here = blended & (T->w[j] > 0.0f) & (ndl > 0.0f);
-                OmF ljx, ljy, ljz;
+                OmF ljx, ljy, ljz, njx, njy, njz;
                 om_tri_into(T->p[j], wx, wy, wz, &ljx, &ljy, &ljz);
+                om_tri_into(T->p[j], T->nx, T->ny, T->nz, &njx, &njy, &njz);
+                om_tri_over_surface(&ljx, &ljy, &ljz, ldn, njx, njy);
                 const OmI march = here & (ljz > 0.0f);
                 const OmF vj = OM_ANY(march) ? om_light_visibility(&f, T->u[j], T->v[j], ljx, ljy,
                                                                    ljz, P, march)

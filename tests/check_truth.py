@@ -6,7 +6,9 @@ unless given), the tessellation rows from the coarsest lattice to the finest wit
 falling toward the truth, the truth's bound finite and below the deferred frame's p95 error, and
 the per-pixel methods. With deferred-two-layers among the modes: its silhouette band mismatch at
 most the curved frame's, which is below the tangent plane's, and the forward frame's coverage
-(without a pre-pass it shows what the second layer shows) the two-layer frame's."""
+(without a pre-pass it shows what the second layer shows) the two-layer frame's. Where a mode has
+triplanar rows: both, and the pixels one projection covers (the ray over the surface, the relief's
+own model there) closer to the truth at p95 than the blends (which merge three traces)."""
 import json
 import math
 import sys
@@ -65,6 +67,16 @@ def main():
             fail("silhouette band mismatch does not fall to the two layers: %s" % band)
         if band["forward"] != band["deferred-two-layers"]:
             fail("forward and the two-layer frame show other pixels: %s" % band)
+    for name in wanted:
+        m = modes[name]
+        if "one_projection" not in m and "blend" not in m:
+            continue
+        one, blend = m.get("one_projection"), m.get("blend")
+        if not one or not blend or one["pixels"] <= 0 or blend["pixels"] <= 0:
+            fail("%s: triplanar rows %r, %r" % (name, one, blend))
+        if not one["uv_err_texels"]["p95"] < blend["uv_err_texels"]["p95"]:
+            fail("%s: one projection's p95 %.3g is not below the blend's %.3g" % (
+                name, one["uv_err_texels"]["p95"], blend["uv_err_texels"]["p95"]))
     methods = [m["method"] for m in t["pixel_methods"]]
     if "exact" not in methods or "none" not in methods:
         fail("pixel methods %s" % methods)

@@ -296,9 +296,9 @@ TEST(Triplanar, AnAxisAlignedPlaneIsTheUvMappedFrameBitForBit) {
 // rounding of the powers, whole exponents by squaring and 3.5 by exp2 and log2, and the two
 // normalisations), sum to one, are zero exactly where the
 // definition's are, come largest first with their projections' codes, and the second and third
-// projections carry the pixel's id exactly where they weigh; their uv, V and L are the world
-// point's, the view's and the light's in the projection's frame (a swapped or unsigned axis moves
-// them by whole units).
+// projections carry the pixel's id exactly where they weigh; their uv is the world point's in the
+// projection's frame, V the view's over the surface in it and L the light's (a swapped or unsigned
+// axis moves them by whole units).
 TEST(Triplanar, WeightsAndProjectionsAreTheDefinitions) {
     EngineFrame f = small_plane();
     random_normals(f, 7);
@@ -362,12 +362,19 @@ TEST(Triplanar, WeightsAndProjectionsAreTheDefinitions) {
                                                std::abs(uv.s[1] - 3.0 * glm::dot(wp.p, fr.b)));
                     worst_uv = std::max(worst_uv, eu / tol);
                     ASSERT_LE(eu, tol) << k << " projection " << j;
-                    // V from the float point (its error over the distance to the eye) and its
-                    // normalisation.
-                    const double tv = wp.bound / glm::length(eye - wp.p) + 1e-6;
-                    const double ev = std::max({std::abs(vv.s[0] - glm::dot(v, fr.t)),
-                                                std::abs(vv.s[1] - glm::dot(v, fr.b)),
-                                                std::abs(vv.s[2] - glm::dot(v, fr.n))});
+                    // V over the surface: its T and B components less its normal share, its
+                    // depth along the normal, normalised. From the float point (its error over
+                    // the distance to the eye) and the float normal, both divided by the sheared
+                    // length the normalisation undoes (at least the normal's share on the axis).
+                    const double vn = glm::dot(v, n);
+                    const glm::dvec3 ve(glm::dot(v, fr.t) - vn * glm::dot(n, fr.t),
+                                        glm::dot(v, fr.b) - vn * glm::dot(n, fr.b), vn);
+                    const double len = glm::length(ve);
+                    const glm::dvec3 want = ve / len;
+                    const double tv = 2.0 * (wp.bound / glm::length(eye - wp.p) + 1e-6) / len;
+                    const double ev =
+                        std::max({std::abs(vv.s[0] - want.x), std::abs(vv.s[1] - want.y),
+                                  std::abs(vv.s[2] - want.z)});
                     worst_v = std::max(worst_v, ev / tv);
                     ASSERT_LE(ev, tv) << k << " projection " << j;
                     if (j == 0) {

@@ -1,6 +1,7 @@
 // Triplanar relief: the material's parameters and the planes a triplanar frame adds.
 #include "offsetmap/triplanar.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 
@@ -23,6 +24,33 @@ void validate(const Triplanar& t, const std::string& what) {
     // The largest weight is at least 1/3: a cutoff below it leaves every pixel a projection.
     if (!(t.cutoff >= 0.0f && t.cutoff <= 0.3f))
         refuse("cutoff", t.cutoff, "[0, 0.3] (the weight below which a projection is dropped)");
+}
+
+TriplanarFrame triplanar_frame(int p) {
+    const double s = (p & 1) ? -1.0 : 1.0;
+    switch (p >> 1) {
+        case 0:
+            return {{0.0, 0.0, -s}, {0.0, 1.0, 0.0}, {s, 0.0, 0.0}};
+        case 1:
+            return {{1.0, 0.0, 0.0}, {0.0, 0.0, -s}, {0.0, s, 0.0}};
+        default:
+            return {{s, 0.0, 0.0}, {0.0, 1.0, 0.0}, {0.0, 0.0, s}};
+    }
+}
+
+int triplanar_projection(const std::array<double, 3>& n, int axis) {
+    return 2 * axis + (n[static_cast<size_t>(axis)] < 0.0 ? 1 : 0);
+}
+
+std::array<double, 3> triplanar_weights(const std::array<double, 3>& n, double sharpness,
+                                        double cutoff) {
+    std::array<double, 3> a;
+    double sum = 0.0;
+    for (int i = 0; i < 3; ++i) sum += a[i] = std::pow(std::fabs(n[i]), sharpness);
+    double kept = 0.0;
+    for (double& x : a) kept += x = std::max(x / sum - cutoff, 0.0);
+    for (double& x : a) x /= kept;
+    return a;
 }
 
 TriplanarPlanes allocate_triplanar(Runtime& rt, int width, int height) {

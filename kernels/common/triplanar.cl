@@ -86,6 +86,22 @@ OM_INLINE void om_tri_out(OmI p, OmF a, OmF b, OmF c, OmF* x, OmF* y, OmF* z) {
     *z = a * tz + b * bz + c * nz;
 }
 
+// A direction's components (a, b, c) in a projection's frame turned into the ray of the relief over
+// the surface: the relief lies over the surface's tangent plane (normal n), lifted along n, and
+// each projection's uv is the world point's, so a step x along the ray moves uv by world_scale
+// times x's T and B components less its normal share, (x.T - (x.n)(n.T), x.B - (x.n)(n.B)), and
+// the depth, in the same uv units, by world_scale x.n (docs/design.md, "The ray in a projection").
+// d = x.n, (nt, nb) = n's T and B components. Unit length; left as it was where n is the axis
+// (nt = nb = 0), bit for bit.
+OM_INLINE void om_tri_over_surface(OmF* a, OmF* b, OmF* c, OmF d, OmF nt, OmF nb) {
+    const OmF ra = *a - d * nt, rb = *b - d * nb;
+    const OmF k = 1.0f / sqrt(ra * ra + rb * rb + d * d);
+    const OmI axis = (nt == 0.0f) & (nb == 0.0f);
+    *a = OM_SEL(ra * k, *a, axis);
+    *b = OM_SEL(rb * k, *b, axis);
+    *c = OM_SEL(d * k, *c, axis);
+}
+
 // The projections of a pixel, largest weight first (ties: z before y before x), each with the sign
 // of the normal's component on its axis (+ for 0), and their weights.
 OM_INLINE void om_tri_order(OmF nx, OmF ny, OmF nz, OmF wx, OmF wy, OmF wz, OmI* p0, OmI* p1,

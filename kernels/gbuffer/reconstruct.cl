@@ -173,11 +173,12 @@ OM_INLINE OmF om_load_row_f(__global const float* q, size_t row, int x0, int wid
     return OM_VLOAD(t);
 }
 
-// A projection's planes for the lanes of `need` (its id elsewhere 0): uv and V in its frame.
+// A projection's planes for the lanes of `need` (its id elsewhere 0): uv, and V in its frame over
+// the surface of normal n.
 OM_INLINE void om_reconstruct_projection(OmI p, OmI need, OmF ws, OmF px, OmF py, OmF pz, OmF vx,
-                                         OmF vy, OmF vz, OmF id, size_t row, int x0, int width,
-                                         __global float2* uv, __global float4* view,
-                                         __global float* ids) {
+                                         OmF vy, OmF vz, OmF nx, OmF ny, OmF nz, OmF id,
+                                         size_t row, int x0, int width, __global float2* uv,
+                                         __global float4* view, __global float* ids) {
     const OmF kept = OM_SEL((OmF)0.0f, id, need);
 #if OM_LANES > 1
     if (x0 + OM_LANES <= width) {
@@ -197,6 +198,9 @@ OM_INLINE void om_reconstruct_projection(OmI p, OmI need, OmF ws, OmF px, OmF py
     } P = {width};  // OM_PUT's row length
     OM_PUT(uv, 2, ws * a, ws * b, (OmF)0.0f, (OmF)0.0f);
     om_tri_into(p, vx, vy, vz, &a, &b, &c);
+    OmF nt, nb, nn;
+    om_tri_into(p, nx, ny, nz, &nt, &nb, &nn);
+    om_tri_over_surface(&a, &b, &c, OM_DOT3(v, n), nt, nb);
     OM_PUT(view, 4, a, b, c, (OmF)0.0f);
 }
 #endif
@@ -353,7 +357,16 @@ __kernel void om_reconstruct(const OmReconstructParams P, OM_INPUT_ARG(depth_in,
         ok = OM_SEL(ok, n_ok, tri);
     }
 #endif
-    const OmF vt = OM_DOT3(v, t), vb = OM_DOT3(v, b), vn = OM_DOT3(v, fn);
+    OmF vt = OM_DOT3(v, t), vb = OM_DOT3(v, b), vn = OM_DOT3(v, fn);
+#ifdef OM_TRIPLANAR
+    if (OM_ANY(tri)) {  // V over the surface, in the first projection's frame
+        OmF a = vt, b_ = vb, c = vn;
+        om_tri_over_surface(&a, &b_, &c, OM_DOT3(v, qn), OM_DOT3(qn, t), OM_DOT3(qn, b));
+        vt = OM_SEL(vt, a, tri);
+        vb = OM_SEL(vb, b_, tri);
+        vn = OM_SEL(vn, c, tri);
+    }
+#endif
     ok = ok & isfinite(d) & isfinite(vt) & isfinite(vb) & isfinite(vn);
 
     OM_PUT(out_uv, 2, OM_SEL(u_out, nan, sky), OM_SEL(v_out, nan, sky), nan, nan);
@@ -379,10 +392,10 @@ __kernel void om_reconstruct(const OmReconstructParams P, OM_INPUT_ARG(depth_in,
 #ifdef OM_TRIPLANAR
     // The second and third projections: uv and V in their frames where their weight is not 0.
     const OmF id_here = OM_SEL((OmF)0.0f, ids, tri);
-    om_reconstruct_projection(p1, tri & (w1 > 0.0f), ws, px, py, pz, vx, vy, vz, id_here, row, x0,
-                              P.width, second_uv, second_view, second_ids);
-    om_reconstruct_projection(p2, tri & (w2 > 0.0f), ws, px, py, pz, vx, vy, vz, id_here, row, x0,
-                              P.width, third_uv, third_view, third_ids);
+    om_reconstruct_projection(p1, tri & (w1 > 0.0f), ws, px, py, pz, vx, vy, vz, qnx, qny, qnz,
+                              id_here, row, x0, P.width, second_uv, second_view, second_ids);
+    om_reconstruct_projection(p2, tri & (w2 > 0.0f), ws, px, py, pz, vx, vy, vz, qnx, qny, qnz,
+                              id_here, row, x0, P.width, third_uv, third_view, third_ids);
     OmF ndx, ndy, ndz;  // the normal in the first projection's frame
     om_tri_into(p0, qnx, qny, qnz, &ndx, &ndy, &ndz);
     OM_PUT(out_blend, 4, OM_SEL((OmF)-1.0f, om_tri_pack_x(p0, p1, w1), tri),

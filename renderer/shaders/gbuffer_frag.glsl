@@ -108,9 +108,14 @@ void main() {
             om_tri_frame(2 * a + (n[a] < 0.0 ? 1 : 0), pt, pb, pn);
             vec2 uvp = u_triplanar.x * vec2(dot(v_position, pt), dot(v_position, pb));
             vec4 o = vec4(uvp, 0.0, 0.0);
-            if (w[a] > 0.0)
-                o = om_offset(uvp, vec3(dot(view, pt), dot(view, pb), dot(view, pn)),
-                              vec4(0.0, 0.0, 0.0, 1.0));
+            if (w[a] > 0.0) {
+                // The ray over the surface (om_tri_over_surface): uv moves by the step's T and B
+                // components less its normal share; as it was where n is the axis.
+                vec3 pv = vec3(dot(view, pt), dot(view, pb), dot(view, pn));
+                float nt = dot(n, pt), nb = dot(n, pb), d = dot(view, n);
+                if (nt != 0.0 || nb != 0.0) pv = normalize(vec3(pv.x - d * nt, pv.y - d * nb, d));
+                o = om_offset(uvp, pv, vec4(0.0, 0.0, 0.0, 1.0));
+            }
             uvs[a] = o.xy;
             t_sum += w[a] * o.z;
         }

@@ -558,15 +558,20 @@ FrameRun FrameRenderer::render(FrameMode mode, bool prepass, int repeats) {
         std::vector<cl_float4> blend(n);
         q.enqueueReadBuffer(m.triplanar->blend, CL_TRUE, 0, n * sizeof(cl_float4), blend.data());
         // x = 2 c + w1 (negative: not triplanar), y = w2 (kernels/common/triplanar.cl).
+        // c = p0 + 6 [the second on the first's B axis].
         run.projection_count.assign(n, 0.0f);
+        run.first_projection.assign(n, -1);
         for (size_t k = 0; k < n; ++k) {
             const cl_float4& b = blend[k];
             if (!(b.s[0] >= 0.0f)) continue;
-            const int more = (b.s[0] > 2.0f * std::floor(0.5f * b.s[0])) + (b.s[1] > 0.0f);
+            const float c = std::floor(0.5f * b.s[0]);
+            const int more = (b.s[0] > 2.0f * c) + (b.s[1] > 0.0f);
             ++run.projections[more];
             run.projection_count[k] = float(1 + more);
+            run.first_projection[k] = static_cast<std::int8_t>(static_cast<int>(c) % 6);
         }
         run.projection_count = flip_rows(run.projection_count, w, h, 1);
+        run.first_projection = flip_rows(run.first_projection, w, h, 1);
     }
     run.color = flip_rows(run.color, w, h, 1);
     run.depth_after = flip_rows(m.raster->depth_after(), w, h, 1);
@@ -665,6 +670,17 @@ GeometryFrame FrameRenderer::render_geometry(const Scene& scene, int repeats) {
     for (size_t k = 0; k < n; ++k) {
         g.material[k] = ids[2 * k];
         g.density[k] = ids[2 * k + 1];
+    }
+    bool triplanar = false;
+    for (const LoadedMaterial& t : m.table) triplanar = triplanar || t.spec.triplanar.enabled;
+    if (triplanar) {
+        const std::vector<float> tangents = flip_rows(planes.tangent, m.width, m.height, 4);
+        g.base_point.assign(3 * n, std::nanf(""));
+        for (size_t k = 0; k < n; ++k)
+            for (const LoadedMaterial& t : m.table)
+                if (t.spec.triplanar.enabled && g.depth[k] < 1.0f &&
+                    g.material[k] == static_cast<float>(t.spec.id))
+                    std::copy_n(&tangents[4 * k], 3, &g.base_point[3 * k]);
     }
     return g;
 }

@@ -8,6 +8,7 @@
 #include "offsetmap/oracle.hpp"
 #include "offsetmap/renderer/truth.hpp"
 #include "offsetmap/settings.hpp"
+#include "offsetmap/triplanar.hpp"
 
 namespace offsetmap::renderer {
 
@@ -68,6 +69,22 @@ std::vector<std::uint8_t> silhouette_band(const std::vector<float>& material,
                     band[static_cast<size_t>(j) * w + i] = 1;
         }
     return band;
+}
+
+GeometryFrame triplanar_truth_uv(GeometryFrame truth, const std::vector<std::int8_t>& first,
+                                 const std::vector<LoadedMaterial>& table) {
+    if (truth.base_point.empty() || first.size() != truth.depth.size()) return truth;
+    for (size_t k = 0; k < first.size(); ++k) {
+        const LoadedMaterial* m = material_of(table, truth.material[k]);
+        if (first[k] < 0 || !m || !m->spec.triplanar.enabled || truth.depth[k] >= 1.0f) continue;
+        const TriplanarFrame f = triplanar_frame(first[k]);
+        const double ws = m->spec.triplanar.world_scale;
+        const float* p = &truth.base_point[3 * k];
+        truth.uv[2 * k] = static_cast<float>(ws * (p[0] * f.t[0] + p[1] * f.t[1] + p[2] * f.t[2]));
+        truth.uv[2 * k + 1] =
+            static_cast<float>(ws * (p[0] * f.b[0] + p[1] * f.b[1] + p[2] * f.b[2]));
+    }
+    return truth;
 }
 
 namespace {

@@ -18,6 +18,7 @@
 #include "offsetmap/oracle.hpp"
 #include "offsetmap/renderer/truth.hpp"
 #include "raster.hpp"
+#include "truth_internal.hpp"
 
 namespace offsetmap::renderer {
 
@@ -32,11 +33,6 @@ struct Point {
     bool computed = false;
     Vertex data;
 };
-
-bool vertex_less(const Vertex& a, const Vertex& b) {
-    return std::tie(a.position[0], a.position[1], a.position[2], a.uv[0], a.uv[1]) <
-           std::tie(b.position[0], b.position[1], b.position[2], b.uv[0], b.uv[1]);
-}
 
 // The largest bilinear twist |H00 - H10 - H01 + H11| over the map's cells (wrapping ones too).
 double max_twist(const HeightMap& m, AddressMode address) {
@@ -129,21 +125,8 @@ void Builder::compute(Point& p) {
 void Builder::emit(int a, int b, int c) {
     Point* p[3] = {&pts_[a], &pts_[b], &pts_[c]};
     for (Point* q : p) compute(*q);
-    if (vp_) {
-        for (int axis = 0; axis < 3; ++axis)
-            for (double side : {-1.0, 1.0}) {
-                bool out = true;
-                for (Point* q : p) out = out && side * q->clip[axis] > q->clip.w;
-                if (out) return;
-            }
-        if (p[0]->clip.w > 0 && p[1]->clip.w > 0 && p[2]->clip.w > 0) {
-            const glm::dvec2 s0 = glm::dvec2(p[0]->clip) / p[0]->clip.w,
-                             s1 = glm::dvec2(p[1]->clip) / p[1]->clip.w,
-                             s2 = glm::dvec2(p[2]->clip) / p[2]->clip.w;
-            const double area = (s1.x - s0.x) * (s2.y - s0.y) - (s2.x - s0.x) * (s1.y - s0.y);
-            if (area <= 0.0 && !keep_back_faces_) return;  // facing away (front: CCW)
-        }
-    }
+    const glm::dvec4* clip[3] = {&p[0]->clip, &p[1]->clip, &p[2]->clip};
+    if (vp_ && outside_view(clip, keep_back_faces_)) return;
     for (Point* q : p) {
         if (q->vertex < 0) {
             q->vertex = static_cast<int>(out_.vertices.size());
@@ -338,11 +321,6 @@ Tessellation displace_scene(const Scene& scene, const std::vector<LoadedMaterial
         const LoadedMaterial* material = nullptr;
         for (const LoadedMaterial& m : table)
             if (m.spec.id == base.material && base.material != 0) material = &m;
-        // Its height is a blend of three projections' (docs/design.md), not the uv lattice's.
-        if (material && material->spec.triplanar.enabled && material->spec.settings.scale != 0.0f)
-            throw Error("the truth does not displace triplanar materials yet: mesh '" + base.name +
-                        "' is material " + std::to_string(base.material) + " (" +
-                        material->spec.name + ")");
         TessellatedMesh info;
         info.name = base.name;
         info.material = base.material;
@@ -353,9 +331,11 @@ Tessellation displace_scene(const Scene& scene, const std::vector<LoadedMaterial
             info.height_bound = std::nan("");
         } else {
             const PassSettings& s = material->spec.settings;
+            // Its height is a blend of three projections' (docs/design.md): the world's lattice.
+            const bool triplanar = material->spec.triplanar.enabled;
             // Before any work: the lattice cells the mesh's uv covers (two triangles each).
             double cells = 0.0;
-            for (size_t t = 0; t + 2 < base.indices.size(); t += 3) {
+            for (size_t t = 0; t + 2 < base.indices.size() && !triplanar; t += 3) {
                 const auto& a = base.vertices[base.indices[t]].uv;
                 const auto& b = base.vertices[base.indices[t + 1]].uv;
                 const auto& c = base.vertices[base.indices[t + 2]].uv;
@@ -363,27 +343,40 @@ Tessellation displace_scene(const Scene& scene, const std::vector<LoadedMaterial
                          std::fabs((b[0] - a[0]) * (c[1] - a[1]) - (c[0] - a[0]) * (b[1] - a[1])) *
                          material->map.width * material->map.height * k * k;
             }
-            const double needed = 2.0 * cells;
+            const double needed =
+                triplanar ? triplanar_triangles_estimate(base, *material, tpq) : 2.0 * cells;
             if (needed > 20.0 * static_cast<double>(o.max_triangles))
                 throw Error("tessellation: mesh '" + base.name + "' would need about " +
                             std::to_string(static_cast<long long>(needed)) + " triangles at " +
                             std::to_string(tpq) + " texels per quad before culling; the limit is " +
                             std::to_string(o.max_triangles) + " kept");
-            Builder builder(base, material->map, s, k, cull ? &vp : nullptr, o.keep_back_faces);
-            for (size_t t = 0; t + 2 < base.indices.size(); t += 3) {
-                builder.triangle(base.indices[t], base.indices[t + 1], base.indices[t + 2]);
-                if (out.triangles + builder.mesh().indices.size() / 3 > o.max_triangles)
-                    throw Error("tessellation: mesh '" + base.name + "' needs more than " +
-                                std::to_string(o.max_triangles - out.triangles) + " triangles at " +
-                                std::to_string(tpq) + " texels per quad (about " +
-                                std::to_string(static_cast<long long>(needed)) +
-                                " before culling); the limit over the scene is " +
-                                std::to_string(o.max_triangles));
+            auto build = [&](auto& builder) {
+                for (size_t t = 0; t + 2 < base.indices.size(); t += 3) {
+                    builder.triangle(base.indices[t], base.indices[t + 1], base.indices[t + 2]);
+                    if (out.triangles + builder.mesh().indices.size() / 3 > o.max_triangles)
+                        throw Error("tessellation: mesh '" + base.name + "' needs more than " +
+                                    std::to_string(o.max_triangles - out.triangles) +
+                                    " triangles at " + std::to_string(tpq) +
+                                    " texels per quad (about " +
+                                    std::to_string(static_cast<long long>(needed)) +
+                                    " before culling); the limit over the scene is " +
+                                    std::to_string(o.max_triangles));
+                }
+                out.scene.meshes.push_back(std::move(builder.mesh()));
+            };
+            if (triplanar) {
+                TriplanarBuilder builder(base, *material, tpq, cull ? &vp : nullptr,
+                                         o.keep_back_faces);
+                build(builder);
+            } else {
+                Builder builder(base, material->map, s, k, cull ? &vp : nullptr, o.keep_back_faces);
+                build(builder);
             }
-            out.scene.meshes.push_back(std::move(builder.mesh()));
             info.triangles = out.scene.meshes.back().indices.size() / 3;
             info.texels_per_quad = static_cast<float>(tpq);
-            if (tpq <= 1.0) {
+            info.triplanar = triplanar;
+            // A blend's weights vary over a piece with the interpolated normal: no bound derived.
+            if (tpq <= 1.0 && !triplanar) {
                 auto it = twists.find(base.material);
                 if (it == twists.end())
                     it = twists.emplace(base.material, max_twist(material->map, s.address)).first;

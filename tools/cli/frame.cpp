@@ -203,8 +203,16 @@ nlohmann::json truth_section(const FrameCommand& cmd, const Scene& scene,
                 notes.push_back("material " + std::to_string(m.spec.id) + " (" + m.spec.name +
                                 ") is auto: its rows below measure the method auto chose for this "
                                 "frame; the sweep of pixel methods sets each method in its place");
+    for (const LoadedMaterial& m : table)
+        if (m.spec.triplanar.enabled)
+            notes.push_back("material " + std::to_string(m.spec.id) + " (" + m.spec.name +
+                            ") is triplanar: its uv is compared in the projection the frame traces "
+                            "first; the truth's own bound is not derived for it");
     for (const auto& note : notes) std::printf("truth: %s\n", note.get<std::string>().c_str());
-    const GeometryFrame truth = renderer.render_geometry(tess.scene, 1);
+    // A triplanar pixel's uv in the projection the G-buffer gives it first (every frame's alike).
+    const std::vector<std::int8_t>& first = runs[0].first_projection;
+    const GeometryFrame truth =
+        triplanar_truth_uv(renderer.render_geometry(tess.scene, 1), first, table);
     const std::vector<float> bound = truth_bound_texels(gb, engine.material, table, tess);
     const std::vector<std::uint8_t> band =
         silhouette_band(engine.material, engine.depth, runs[0].offset.flags, w, h);
@@ -254,6 +262,21 @@ nlohmann::json truth_section(const FrameCommand& cmd, const Scene& scene,
                           {{"pixels", c.mismatch},
                            {"silhouette_band", c.mismatch_band},
                            {"interior", c.mismatch_interior}}}});
+        if (!run.projection_count.empty()) {
+            // Triplanar pixels off the band, where one projection covers them and in the blends.
+            std::vector<double> errors[2];
+            for (size_t k = 0; k < c.uv_error.size(); ++k)
+                if (!band[k] && std::isfinite(c.uv_error[k]) && run.projection_count[k] > 0.0f)
+                    errors[run.projection_count[k] > 1.0f].push_back(c.uv_error[k]);
+            for (int blend = 0; blend < 2; ++blend) {
+                const ErrorStats e = error_stats(errors[blend]);
+                modes.back()[blend ? "blend" : "one_projection"] = {
+                    {"pixels", e.count},
+                    {"uv_err_texels", {{"mean", e.mean}, {"p95", e.p95}, {"max", e.max}}}};
+                std::printf("  %-18s %9zu %9.3g %9.3g %9.3g  (triplanar, interior)\n",
+                            blend ? "blend" : "one projection", e.count, e.mean, e.p95, e.max);
+            }
+        }
         if (r == 0)
             for (size_t k = 0; k < bound.size(); ++k)
                 if (std::isfinite(c.uv_error[k]) && std::isfinite(bound[k]))
@@ -284,7 +307,8 @@ nlohmann::json truth_section(const FrameCommand& cmd, const Scene& scene,
         lo.texels_per_quad = level;
         const bool own = level == cmd.truth_level;
         const Tessellation t = own ? Tessellation() : displace_scene(scene, table, lo);
-        const GeometryFrame g = renderer.render_geometry(own ? tess.scene : t.scene, cmd.repeats);
+        const GeometryFrame g = triplanar_truth_uv(
+            renderer.render_geometry(own ? tess.scene : t.scene, cmd.repeats), first, table);
         std::vector<cl_float2> uv(static_cast<size_t>(w) * h);
         for (size_t k = 0; k < uv.size(); ++k) uv[k] = {{g.uv[2 * k], g.uv[2 * k + 1]}};
         const ShownFrame shown{"tessellation", &g.material, &uv, &g.depth, &no_flags, &g.normal};
@@ -538,10 +562,6 @@ int run_frame(const FrameCommand& cmd) {
             throw Error("mesh '" + m.name + "' has material id " + std::to_string(m.material) +
                         ", which " + table_file + " does not list");
     }
-    for (const MaterialSpec& s : specs)
-        if (cmd.truth && s.triplanar.enabled)
-            throw Error("--truth: the truth does not displace triplanar materials yet: material " +
-                        std::to_string(s.id) + " (" + s.name + ") is one");
     const std::vector<LoadedMaterial> table = load_materials(specs);
     std::error_code ec;
     std::filesystem::create_directories(cmd.out_dir, ec);

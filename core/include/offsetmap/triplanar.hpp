@@ -4,6 +4,7 @@
 // weigh, in the planes below; the material frame traces each projection with the material's method
 // and shades the blend.
 #pragma once
+#include <array>
 #include <string>
 
 #include "offsetmap/cl.hpp"
@@ -26,6 +27,17 @@ struct Triplanar {
 
 // Throws Error naming `what` (the material) and the parameter out of range.
 void validate(const Triplanar& t, const std::string& what);
+
+// The definitions the kernels follow, on the host in double: projection p's frame (T, B, N; p =
+// 2 axis + 1 where the normal's component on the axis is negative), the projection of axis a for
+// normal n, and the three weights for a unit normal n.
+struct TriplanarFrame {
+    std::array<double, 3> t, b, n;
+};
+TriplanarFrame triplanar_frame(int p);
+int triplanar_projection(const std::array<double, 3>& n, int axis);
+std::array<double, 3> triplanar_weights(const std::array<double, 3>& n, double sharpness,
+                                        double cutoff);
 
 // A triplanar frame's planes besides the G-buffer, all width x height.
 struct TriplanarPlanes {

@@ -45,6 +45,8 @@ struct FrameRun {
     // Triplanar materials (deferred): their pixels traced in one, two and three projections.
     std::array<size_t, 3> projections{};
     std::vector<float> projection_count;  // per pixel: 1 to 3, 0 where not triplanar (or empty)
+    // Per pixel: the projection (0-5) the G-buffer holds, its largest; -1 where not triplanar.
+    std::vector<std::int8_t> first_projection;
     PassTimes ms;
     double offset_kernel_ms = 0;  // deferred: the material frame's kernel time (profiling)
     double shade_kernel_ms = 0;   // the shade kernel's time (profiling; 0 where not timed)
@@ -83,7 +85,10 @@ struct GeometryFrame {
     std::vector<float> material;  // the id a pixel, 0 where nothing or no relief was drawn
     std::vector<float> density;   // uv density (world units per uv unit)
     std::vector<float> normal;    // 3 a pixel: the base mesh's interpolated world normal
-    double raster_ms = 0;         // the G-buffer draw, median of the timed ones
+    // 3 a pixel where a triplanar truth mesh is drawn (TessellatedMesh::triplanar): the base
+    // point its vertices' tangents carry, interpolated; NaN elsewhere.
+    std::vector<float> base_point;
+    double raster_ms = 0;  // the G-buffer draw, median of the timed ones
 };
 
 class FrameRenderer {

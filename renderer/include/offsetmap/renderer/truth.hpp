@@ -1,6 +1,7 @@
 // The surface the relief describes, as geometry: each relief mesh tessellated and displaced along
 // its interpolated normal by (uv density) x s x (H - r), H sampled as the passes sample it
-// (bilinear between texel centres, the material's address mode), for the G-buffer raster to draw
+// (bilinear between texel centres, the material's address mode; a triplanar material's H the
+// blend of its projections' heights), for the G-buffer raster to draw
 // as it draws the base meshes. The truth frame every frame is measured against, and tessellation
 // as the pixel methods' competitor (docs/design.md, "The displaced mesh").
 #pragma once
@@ -40,8 +41,12 @@ struct TessellatedMesh {
     // The displaced surface's bound on |tessellated - bilinear| heights, in H units, where every
     // piece lies in one bilinear cell (texels_per_quad <= 1): the map's largest bilinear twist
     // |H00 - H10 - H01 + H11| times texels_per_quad^2 / 4 (truth_bound_texels takes the twists
-    // along each ray); NaN for coarser lattices and meshes without relief.
+    // along each ray); NaN for coarser lattices, meshes without relief and triplanar meshes.
     double height_bound = 0.0;
+    // A triplanar material's: cut along the world's lattice planes through every projection's
+    // texel centres, displaced by the blended height; its vertices' tangents carry their base
+    // points (xyz), from which triplanar_truth_uv projects a pixel's uv.
+    bool triplanar = false;
 };
 
 struct Tessellation {
@@ -86,6 +91,14 @@ struct TruthComparison {
     std::vector<float> uv_error;           // texels a pixel, NaN where not compared
     std::vector<std::uint8_t> mismatched;  // 1 where coverage differs
 };
+
+// A triplanar material has three uv: the truth's at each pixel is projected into the one the
+// frame's G-buffer gives the pixel first (`first`: FrameRun::first_projection, rows top first),
+// world_scale (P.T, P.B) of the base point P it shows (GeometryFrame::base_point). Where the frame
+// gives none (it shows no triplanar pixel there) the truth keeps its own: the largest projection
+// at the point. Without base points, the truth as it is.
+GeometryFrame triplanar_truth_uv(GeometryFrame truth, const std::vector<std::int8_t>& first,
+                                 const std::vector<LoadedMaterial>& table);
 
 // The pixels within 2 of a base-mesh silhouette (the material changes, sky begins, or the window
 // depth steps by 4 times the steps beside it) or of a tile-mask or silhouette edge (`flags`
