@@ -124,7 +124,7 @@ for part in "${parts[@]}"; do
         cp "$tmp/peer/bench-glsl-peer.png" "$IMG/"
         ;;
     truth)  # the room, data/pillars.gltf and data/curved.gltf against the displaced mesh, each
-        # frame variant (docs/renderer.md): about a minute and 3.2 GB each
+        # frame variant (docs/renderer.md): about a minute and 3.2 GB each; then the terrain
         for scene in room pillars curved; do
             file=$scene
             [ $scene = room ] || file=data/$scene.gltf
@@ -143,6 +143,23 @@ for part in "${parts[@]}"; do
                 "$tmp/truth-curved/coverage-deferred-curved.png" "over the curved base" \
                 "$tmp/truth-curved/coverage-deferred-two-layers.png" "and the layer behind"
         done
+        # the terrain (triplanar, docs/renderer.md): its frame against its truth with pom and
+        # exact, and with the kernels tracing each projection's ray over its axis plane (the
+        # shear dropped, as the mutant triplanar-ray-over-axis drops it): what the ray over the
+        # surface changed
+        terrain=(--scene data/terrain.gltf --width 640 --height 360 --truth
+                 --camera=-2.6,1.7,3.6,0.3,0.5,-0.4)
+        $OM frame "${terrain[@]}" -o "$tmp/truth-terrain"
+        cp "$tmp/truth-terrain/frame.json" "$DATA/truth-terrain.json"
+        cp "$tmp/truth-terrain/truth-sheet.png" "$IMG/truth-terrain.png"
+        $OM frame "${terrain[@]}" --method exact -o "$tmp/truth-terrain-exact"
+        cp "$tmp/truth-terrain-exact/frame.json" "$DATA/truth-terrain-exact.json"
+        rm -rf "$tmp/kernels-axis" && cp -r kernels "$tmp/kernels-axis"
+        sed -i 's/const OmF ra = \*a - d \* nt, rb = \*b - d \* nb;/const OmF ra = *a, rb = *b;/' \
+            "$tmp/kernels-axis/common/triplanar.cl"
+        grep -q 'const OmF ra = \*a, rb = \*b;' "$tmp/kernels-axis/common/triplanar.cl"
+        OFFSETMAP_KERNEL_DIR="$tmp/kernels-axis" $OM frame "${terrain[@]}" -o "$tmp/truth-terrain-axis"
+        cp "$tmp/truth-terrain-axis/frame.json" "$DATA/truth-terrain-axis-ray.json"
         # the curved trace's model against the truth, without a march's own error (docs/design.md)
         $OM frame --scene data/curved.gltf --width 960 --height 540 --truth --curvature \
             --layers 2 --method exact -o "$tmp/truth-curved-exact"
