@@ -151,7 +151,6 @@ for part in "${parts[@]}"; do
                  --camera=-2.6,1.7,3.6,0.3,0.5,-0.4)
         $OM frame "${terrain[@]}" -o "$tmp/truth-terrain"
         cp "$tmp/truth-terrain/frame.json" "$DATA/truth-terrain.json"
-        cp "$tmp/truth-terrain/truth-sheet.png" "$IMG/truth-terrain.png"
         $OM frame "${terrain[@]}" --method exact -o "$tmp/truth-terrain-exact"
         cp "$tmp/truth-terrain-exact/frame.json" "$DATA/truth-terrain-exact.json"
         rm -rf "$tmp/kernels-axis" && cp -r kernels "$tmp/kernels-axis"
@@ -160,6 +159,16 @@ for part in "${parts[@]}"; do
         grep -q 'const OmF ra = \*a, rb = \*b;' "$tmp/kernels-axis/common/triplanar.cl"
         OFFSETMAP_KERNEL_DIR="$tmp/kernels-axis" $OM frame "${terrain[@]}" -o "$tmp/truth-terrain-axis"
         cp "$tmp/truth-terrain-axis/frame.json" "$DATA/truth-terrain-axis-ray.json"
+        # the two uv error maps (the truth sheet's first tile: 6 px in, under a 28 px label)
+        for run in truth-terrain truth-terrain-axis; do
+            /usr/bin/python3 -c 'import sys; from PIL import Image
+Image.open(sys.argv[1]).crop((6, 34, 646, 394)).save(sys.argv[2])' \
+                "$tmp/$run/truth-sheet.png" "$tmp/$run/uv-error.png"
+        done
+        /usr/bin/python3 docs/crop_figure.py "$IMG/truth-terrain.png" 0 100 640 330 1 \
+            "$tmp/truth-terrain-axis/uv-error.png" "uv error, rays over the projection's plane" \
+            "$tmp/truth-terrain/uv-error.png" "rays over the surface (log, white = 16 texels)" \
+            "$tmp/truth-terrain/triplanar.png" "projections traced: one, two, three"
         # the curved trace's model against the truth, without a march's own error (docs/design.md)
         $OM frame --scene data/curved.gltf --width 960 --height 540 --truth --curvature \
             --layers 2 --method exact -o "$tmp/truth-curved-exact"
