@@ -359,8 +359,15 @@ nlohmann::json truth_section(const FrameCommand& cmd, const Scene& scene,
                                    {"interior", c.mismatch_interior}}}});
     }
     const ErrorStats b = error_stats(bounds);
-    std::printf("truth's own bound: mean %.3g, p95 %.3g, max %.3g texels over %zu pixels\n", b.mean,
-                b.p95, b.max, b.count);
+    // No pixel with a bound (only triplanar relief shown): null, not a bound of 0.
+    const auto bound_json = [&](double v) {
+        return b.count ? nlohmann::json(v) : nlohmann::json();
+    };
+    if (b.count)
+        std::printf("truth's own bound: mean %.3g, p95 %.3g, max %.3g texels over %zu pixels\n",
+                    b.mean, b.p95, b.max, b.count);
+    else
+        std::printf("truth's own bound: not derived for any pixel compared\n");
     nlohmann::json meshes = nlohmann::json::array();
     for (const TessellatedMesh& m : tess.meshes)
         meshes.push_back(
@@ -370,20 +377,22 @@ nlohmann::json truth_section(const FrameCommand& cmd, const Scene& scene,
              {"triangles", m.triangles},
              {"height_bound",
               std::isfinite(m.height_bound) ? nlohmann::json(m.height_bound) : nlohmann::json()}});
-    return {{"texels_per_quad", cmd.truth_level},
-            {"triangles", tess.triangles},
-            {"bytes", tess.bytes},
-            {"build_ms", tess.build_ms},
-            {"raster_ms", truth.raster_ms},
-            {"bound_texels", b.p95},
-            {"bound_texels_stats", {{"mean", b.mean}, {"p95", b.p95}, {"max", b.max}}},
-            {"meshes", meshes},
-            {"modes", modes},
-            {"tessellation", levels},
-            {"pixel_methods", pixel_methods},
-            {"raster_on", renderer.gl_renderer()},
-            {"passes_on", rt->device_name()},
-            {"notes", notes}};
+    return {
+        {"texels_per_quad", cmd.truth_level},
+        {"triangles", tess.triangles},
+        {"bytes", tess.bytes},
+        {"build_ms", tess.build_ms},
+        {"raster_ms", truth.raster_ms},
+        {"bound_texels", bound_json(b.p95)},
+        {"bound_texels_stats",
+         {{"mean", bound_json(b.mean)}, {"p95", bound_json(b.p95)}, {"max", bound_json(b.max)}}},
+        {"meshes", meshes},
+        {"modes", modes},
+        {"tessellation", levels},
+        {"pixel_methods", pixel_methods},
+        {"raster_on", renderer.gl_renderer()},
+        {"passes_on", rt->device_name()},
+        {"notes", notes}};
 }
 
 // --sun's "ELEVATION,AZIMUTH" as the world direction toward the light (y up, azimuth from +x
