@@ -270,7 +270,8 @@ OM_INLINE void om_shade_lanes(const OmShadeParams* P, OmI active, OmF u, OmF v, 
         if (OM_ANY(tri)) {
             OmF bx, by, bz;
             om_tri_into(T->p[0], T->nx, T->ny, T->nz, &bx, &by, &bz);
-            om_tri_over_surface(&mx, &my, &mz, bx * lx + by * ly + bz * lz, bx, by);
+            OmF unused;
+            om_tri_over_surface(&mx, &my, &mz, bx * lx + by * ly + bz * lz, bx, by, &unused);
             mx = OM_SEL(lx, mx, tri);
             my = OM_SEL(ly, my, tri);
             mz = OM_SEL(lz, mz, tri);
@@ -288,7 +289,8 @@ OM_INLINE void om_shade_lanes(const OmShadeParams* P, OmI active, OmF u, OmF v, 
                 OmF ljx, ljy, ljz, njx, njy, njz;
                 om_tri_into(T->p[j], wx, wy, wz, &ljx, &ljy, &ljz);
                 om_tri_into(T->p[j], T->nx, T->ny, T->nz, &njx, &njy, &njz);
-                om_tri_over_surface(&ljx, &ljy, &ljz, ldn, njx, njy);
+                OmF unused;
+                om_tri_over_surface(&ljx, &ljy, &ljz, ldn, njx, njy, &unused);
                 const OmI march = here & (ljz > 0.0f);
                 const OmF vj = OM_ANY(march) ? om_light_visibility(&f, T->u[j], T->v[j], ljx, ljy,
                                                                    ljz, P, march)

@@ -141,8 +141,8 @@ OffsetTargets t_all(Runtime& rt, size_t n) {
 // triplanar split, and what it wrote.
 struct TriRun {
     std::vector<cl_float2> uv, uv_out, uv2, uv3;
-    std::vector<cl_float4> view, view2, light, rgba, blend;
-    std::vector<float> depth, ids2, ids3;
+    std::vector<cl_float4> view, view2, view3, light, rgba, blend;
+    std::vector<float> depth, ids2, ids3, ray_scale;
     std::vector<cl_uint> fetches, flags;
     // Triplanar: each projection's own trace (the dominant's again without the planes).
     std::vector<float> depth1, depth2, depth3;
@@ -191,6 +191,8 @@ TriRun run_frame(const EngineFrame& f, const FrameSetup& s, bool triplanar,
         r.uv2 = read_plane<cl_float2>(*rt, planes.second.uv, n);
         r.uv3 = read_plane<cl_float2>(*rt, planes.third.uv, n);
         r.view2 = read_plane<cl_float4>(*rt, planes.second.view, n);
+        r.view3 = read_plane<cl_float4>(*rt, planes.third.view, n);
+        r.ray_scale = read_plane<float>(*rt, planes.ray_scale, n);
         r.ids2 = read_plane<float>(*rt, planes.second.material, n);
         r.ids3 = read_plane<float>(*rt, planes.third.material, n);
         r.depth2 = read_plane<float>(*rt, planes.second_targets.depth, n);
@@ -377,6 +379,9 @@ TEST(Triplanar, WeightsAndProjectionsAreTheDefinitions) {
                                   std::abs(vv.s[2] - want.z)});
                     worst_v = std::max(worst_v, ev / tv);
                     ASSERT_LE(ev, tv) << k << " projection " << j;
+                    // Its t scale, 1 / the sheared length, to the same relative bound.
+                    const double scale = j == 0 ? r.ray_scale[k] : vv.s[3];
+                    ASSERT_LE(std::abs(scale * len - 1.0), tv) << k << " projection " << j;
                     if (j == 0) {
                         const cl_float4 lv = r.light[k];
                         ASSERT_NEAR(lv.s[0], glm::dot(l, fr.t), 1e-6);
@@ -449,16 +454,22 @@ TEST(Triplanar, ABlendMergesDepthAndFetches) {
     size_t blended = 0, traced = 0;
     for (size_t k = 0; k < f.pixels(); ++k) {
         const Blend b = unpack(r.blend[k]);
+        // Each projection's t along its unit ray over the surface, times that ray's scale: t
+        // along the world ray.
+        const float s0 = r.ray_scale[k], s1 = r.view2[k].s[3], s2 = r.view3[k].s[3];
+        ASSERT_GT(s0, 0.0f) << k;
         if (!(b.w[1] > 0)) {
-            ASSERT_EQ(std::memcmp(&r.depth[k], &r.depth1[k], sizeof(float)), 0) << k;
+            const float want = r.depth1[k] * s0;
+            ASSERT_EQ(std::memcmp(&r.depth[k], &want, sizeof(float)), 0) << k;
             ASSERT_EQ(r.fetches[k], r.fetches1[k]) << k;
             continue;
         }
         ++blended;
-        const double want = double(b.w[0]) * r.depth1[k] + double(b.w[1]) * r.depth2[k] +
-                            (b.w[2] > 0 ? double(b.w[2]) * r.depth3[k] : 0.0);
-        const double mag = std::abs(b.w[0] * r.depth1[k]) + std::abs(b.w[1] * r.depth2[k]) +
-                           std::abs(b.w[2] * r.depth3[k]);
+        const double want = double(b.w[0]) * r.depth1[k] * s0 + double(b.w[1]) * r.depth2[k] * s1 +
+                            (b.w[2] > 0 ? double(b.w[2]) * r.depth3[k] * s2 : 0.0);
+        const double mag = std::abs(b.w[0] * r.depth1[k] * s0) +
+                           std::abs(b.w[1] * r.depth2[k] * s1) +
+                           (b.w[2] > 0 ? std::abs(b.w[2] * r.depth3[k] * s2) : 0.0);
         ASSERT_NEAR(r.depth[k], want, 4e-7 * mag + 1e-12) << k;
         ASSERT_EQ(r.fetches[k], r.fetches1[k] + r.fetches2[k] + (b.w[2] > 0 ? r.fetches3[k] : 0u))
             << k;

@@ -311,8 +311,9 @@ TEST(Renderer, TriplanarFrameOverATiltedPlaneMeetsItsTruth) {
     const GeometryFrame truth = truth_of(r, run, scene, table, w, h);
     const std::vector<std::uint8_t> band =
         silhouette_band(base.material, base.depth, run.offset.flags, w, h);
+    const glm::dvec3 eye(scene.camera.eye[0], scene.camera.eye[1], scene.camera.eye[2]);
     size_t compared = 0, grazing = 0;
-    double worst = 0;
+    double worst = 0, worst_depth = 0;
     for (size_t k = 0; k < static_cast<size_t>(w) * h; ++k) {
         if (band[k] || base.depth[k] >= 1.0f || truth.depth[k] >= 1.0f) continue;
         if (run.offset.flags[k] & OM_FLAG_GRAZING) {
@@ -328,13 +329,31 @@ TEST(Renderer, TriplanarFrameOverATiltedPlaneMeetsItsTruth) {
         ASSERT_LE(e, kFloatTexels) << "pixel (" << k % w << ", " << k / w << "): truth ("
                                    << truth.uv[2 * k] << ", " << truth.uv[2 * k + 1] << "), exact ("
                                    << run.offset.uv[k].s[0] << ", " << run.offset.uv[k].s[1] << ")";
+        // The depth offset puts the pixel's point at the truth's on the eye ray x (t along the
+        // unit ray over the surface, times its scale, is t along x). Two points of the ray a
+        // distance q apart have uv q world_scale (x_s.T, x_s.B) apart (x_s = x - (x.n) n), so
+        // the uv error e allows e / |that per unit q| in texels; and three window depths are
+        // floats (the base the frame starts from, its result and the truth's): a step of 2^-24
+        // in d is 2^-23 z^2 / (2 near) along the view axis, up to 1.5 times that along a ray of
+        // the frame.
+        const int x = static_cast<int>(k % w), y = static_cast<int>(k / w);
+        const glm::dvec3 pf = unproject(base, x, y, run.depth_after[k]),
+                         pt = unproject(base, x, y, truth.depth[k]);
+        const glm::dvec3 ray = glm::normalize(eye - pt), xs = ray - glm::dot(ray, n) * n;
+        const double per_unit = ws * std::hypot(16 * xs.x, 12 * -xs.z);  // +Y: T = +x, B = -z
+        const double z = glm::length(pt - eye);
+        const double step = std::ldexp(1.0, -23) * z * z / (2.0 * scene.camera.near_plane);
+        const double allowed = e / per_unit + 3.0 * 1.5 * step;
+        const double ed = glm::length(pf - pt);
+        worst_depth = std::max(worst_depth, ed / allowed);
+        ASSERT_LE(ed, allowed) << "pixel (" << x << ", " << y << ")";
         ++compared;
     }
     EXPECT_GT(compared, static_cast<size_t>(w) * h / 3);
     std::printf(
         "[ tilted ] %zu pixels compared (%zu grazing skipped): worst |truth - exact| %.3g "
-        "texels\n",
-        compared, grazing, worst);
+        "texels, depth at most %.3g of its bound\n",
+        compared, grazing, worst, worst_depth);
 }
 #endif
 

@@ -561,7 +561,8 @@ cl::Event MaterialFrame::enqueue(const DeviceGBuffer& g, const OffsetTargets& t,
         set_optional(triplanar_merge_, 4, t.fetches);
         set_args_from(triplanar_merge_, 5, planes.second_targets.depth,
                       planes.second_targets.fetches, planes.third_targets.depth,
-                      planes.third_targets.fetches);
+                      planes.third_targets.fetches, planes.ray_scale, planes.second.view,
+                      planes.third.view);
         cl::Event merged;
         const std::vector<cl::Event> after{third};
         queue.enqueueNDRangeKernel(triplanar_merge_, cl::NullRange, padded((n + 15) / 16),
@@ -592,6 +593,7 @@ void MaterialFrame::check_triplanar_planes(const cl::Context& context, const Tri
                 "fetches, flags)");
     }
     check_buffer(context, p.blend, {"the triplanar weights", "float4", sizeof(cl_float4), n});
+    check_buffer(context, p.ray_scale, {"the triplanar ray scales", "float", sizeof(float), n});
 }
 
 cl::Event MaterialFrame::take_behind(const cl::Buffer& flags, const cl::Buffer& from,

@@ -234,7 +234,7 @@ cl::Event ReconstructPass::launch(const EngineGBuffer& in, const DeviceGBuffer& 
             set_args_from(k, a, g->uv, g->view, g->material);
             a += 3;
         }
-        k.setArg(a, t.blend);
+        set_args_from(k, a, t.blend, t.ray_scale);
     }
     const size_t items = (in.width + runtime_->lanes() - 1) / runtime_->lanes();  // per row
     const cl::NDRange global = no_pixels

@@ -69,6 +69,7 @@ TriplanarPlanes allocate_triplanar(Runtime& rt, int width, int height) {
         o->flags = device_buffer(c, CL_MEM_READ_WRITE, n * sizeof(cl_uint), what + "flags");
     }
     t.blend = device_buffer(c, CL_MEM_READ_WRITE, n * sizeof(cl_float4), what + "weights");
+    t.ray_scale = device_buffer(c, CL_MEM_READ_WRITE, n * sizeof(float), what + "ray scales");
     return t;
 }
 

@@ -92,14 +92,16 @@ OM_INLINE void om_tri_out(OmI p, OmF a, OmF b, OmF c, OmF* x, OmF* y, OmF* z) {
 // times x's T and B components less its normal share, (x.T - (x.n)(n.T), x.B - (x.n)(n.B)), and
 // the depth, in the same uv units, by world_scale x.n (docs/design.md, "The ray in a projection").
 // d = x.n, (nt, nb) = n's T and B components. Unit length; left as it was where n is the axis
-// (nt = nb = 0), bit for bit.
-OM_INLINE void om_tri_over_surface(OmF* a, OmF* b, OmF* c, OmF d, OmF nt, OmF nb) {
+// (nt = nb = 0), bit for bit. *scale: 1 / the sheared length, which turns a trace's t along the
+// unit ray into t along x (in uv units of 1 / world_scale): 1 where n is the axis.
+OM_INLINE void om_tri_over_surface(OmF* a, OmF* b, OmF* c, OmF d, OmF nt, OmF nb, OmF* scale) {
     const OmF ra = *a - d * nt, rb = *b - d * nb;
     const OmF k = 1.0f / sqrt(ra * ra + rb * rb + d * d);
     const OmI axis = (nt == 0.0f) & (nb == 0.0f);
     *a = OM_SEL(ra * k, *a, axis);
     *b = OM_SEL(rb * k, *b, axis);
     *c = OM_SEL(d * k, *c, axis);
+    *scale = OM_SEL(k, (OmF)1.0f, axis);
 }
 
 // The projections of a pixel, largest weight first (ties: z before y before x), each with the sign

@@ -174,7 +174,7 @@ OM_INLINE OmF om_load_row_f(__global const float* q, size_t row, int x0, int wid
 }
 
 // A projection's planes for the lanes of `need` (its id elsewhere 0): uv, and V in its frame over
-// the surface of normal n.
+// the surface of normal n, with its ray's t scale in w (om_tri_over_surface).
 OM_INLINE void om_reconstruct_projection(OmI p, OmI need, OmF ws, OmF px, OmF py, OmF pz, OmF vx,
                                          OmF vy, OmF vz, OmF nx, OmF ny, OmF nz, OmF id,
                                          size_t row, int x0, int width, __global float2* uv,
@@ -200,8 +200,9 @@ OM_INLINE void om_reconstruct_projection(OmI p, OmI need, OmF ws, OmF px, OmF py
     om_tri_into(p, vx, vy, vz, &a, &b, &c);
     OmF nt, nb, nn;
     om_tri_into(p, nx, ny, nz, &nt, &nb, &nn);
-    om_tri_over_surface(&a, &b, &c, OM_DOT3(v, n), nt, nb);
-    OM_PUT(view, 4, a, b, c, (OmF)0.0f);
+    OmF scale;
+    om_tri_over_surface(&a, &b, &c, OM_DOT3(v, n), nt, nb, &scale);
+    OM_PUT(view, 4, a, b, c, scale);
 }
 #endif
 
@@ -216,7 +217,8 @@ __kernel void om_reconstruct(const OmReconstructParams P, OM_INPUT_ARG(depth_in,
                              const int id_limit, __global float2* second_uv,
                              __global float4* second_view, __global float* second_ids,
                              __global float2* third_uv, __global float4* third_view,
-                             __global float* third_ids, __global float4* out_blend
+                             __global float* third_ids, __global float4* out_blend,
+                             __global float* out_ray_scale
 #endif
 ) {
     const int x0 = get_global_id(0) * OM_LANES, y = get_global_id(1);
@@ -359,12 +361,14 @@ __kernel void om_reconstruct(const OmReconstructParams P, OM_INPUT_ARG(depth_in,
 #endif
     OmF vt = OM_DOT3(v, t), vb = OM_DOT3(v, b), vn = OM_DOT3(v, fn);
 #ifdef OM_TRIPLANAR
+    OmF scale0 = 0.0f;  // the first projection's ray's t scale; 0 where not triplanar
     if (OM_ANY(tri)) {  // V over the surface, in the first projection's frame
-        OmF a = vt, b_ = vb, c = vn;
-        om_tri_over_surface(&a, &b_, &c, OM_DOT3(v, qn), OM_DOT3(qn, t), OM_DOT3(qn, b));
+        OmF a = vt, b_ = vb, c = vn, s;
+        om_tri_over_surface(&a, &b_, &c, OM_DOT3(v, qn), OM_DOT3(qn, t), OM_DOT3(qn, b), &s);
         vt = OM_SEL(vt, a, tri);
         vb = OM_SEL(vb, b_, tri);
         vn = OM_SEL(vn, c, tri);
+        scale0 = OM_SEL((OmF)0.0f, s, tri);
     }
 #endif
     ok = ok & isfinite(d) & isfinite(vt) & isfinite(vb) & isfinite(vn);
@@ -400,5 +404,15 @@ __kernel void om_reconstruct(const OmReconstructParams P, OM_INPUT_ARG(depth_in,
     om_tri_into(p0, qnx, qny, qnz, &ndx, &ndy, &ndz);
     OM_PUT(out_blend, 4, OM_SEL((OmF)-1.0f, om_tri_pack_x(p0, p1, w1), tri),
            OM_SEL((OmF)0.0f, w2, tri), OM_SEL((OmF)0.0f, ndx, tri), OM_SEL((OmF)0.0f, ndy, tri));
+#if OM_LANES > 1
+    if (x0 + OM_LANES <= P.width) {
+        OM_VSTORE(scale0, out_ray_scale + row + x0);
+    } else
+#endif
+    {
+        float s_[OM_LANES];
+        OM_VSTORE(scale0, s_);
+        for (int l = 0; l < OM_LANES && x0 + l < P.width; ++l) out_ray_scale[row + x0 + l] = s_[l];
+    }
 #endif
 }

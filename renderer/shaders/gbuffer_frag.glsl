@@ -108,16 +108,22 @@ void main() {
             om_tri_frame(2 * a + (n[a] < 0.0 ? 1 : 0), pt, pb, pn);
             vec2 uvp = u_triplanar.x * vec2(dot(v_position, pt), dot(v_position, pb));
             vec4 o = vec4(uvp, 0.0, 0.0);
+            float scale = 1.0;
             if (w[a] > 0.0) {
                 // The ray over the surface (om_tri_over_surface): uv moves by the step's T and B
-                // components less its normal share; as it was where n is the axis.
+                // components less its normal share; as it was where n is the axis. Its t times
+                // 1 / the sheared length is t along the world ray.
                 vec3 pv = vec3(dot(view, pt), dot(view, pb), dot(view, pn));
                 float nt = dot(n, pt), nb = dot(n, pb), d = dot(view, n);
-                if (nt != 0.0 || nb != 0.0) pv = normalize(vec3(pv.x - d * nt, pv.y - d * nb, d));
+                if (nt != 0.0 || nb != 0.0) {
+                    vec3 r = vec3(pv.x - d * nt, pv.y - d * nb, d);
+                    scale = 1.0 / length(r);
+                    pv = r * scale;
+                }
                 o = om_offset(uvp, pv, vec4(0.0, 0.0, 0.0, 1.0));
             }
             uvs[a] = o.xy;
-            t_sum += w[a] * o.z;
+            t_sum += w[a] * o.z * scale;
         }
         o_offset = vec4(uvs[0], t_sum, float(om_fetches));
         o_offset_yz = vec4(uvs[1], uvs[2]);

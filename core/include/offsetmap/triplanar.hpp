@@ -49,6 +49,10 @@ struct TriplanarPlanes {
     // float4 a pixel: its weights, projections and normal, packed (kernels/common/triplanar.cl;
     // x < 0: not triplanar).
     cl::Buffer blend;
+    // float a pixel: the first projection's ray scale (the trace's t along its unit ray over the
+    // surface, times this, is t along the world ray; 1 on an axis-aligned face), 0 where not
+    // triplanar. The second's and third's are their view planes' w.
+    cl::Buffer ray_scale;
 };
 
 TriplanarPlanes allocate_triplanar(Runtime& runtime, int width, int height);
