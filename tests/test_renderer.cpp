@@ -417,7 +417,8 @@ TEST(Renderer, ForwardPeerHasTheDeferredError) {
 // (far >> near), up to 1.5 times that along a ray of the frame, and world_scale times the map's
 // texels in uv. At most 1 % of the triplanar pixels may have their dominant uv' apart by more
 // than that bound at the scene's farthest point (twice, and 0.01 texel for the march's own
-// rounding), or a colour channel by more than 0.02.
+// rounding), a colour channel by more than 0.02, or the point after the depth offset by more than
+// three such steps.
 TEST(Renderer, TriplanarForwardPeerIsTheDeferredFrame) {
     const std::string data = std::string(OFFSETMAP_SOURCE_DIR) + "/data";
     const std::vector<MaterialSpec> specs = read_material_table(data + "/terrain.json");
@@ -437,9 +438,14 @@ TEST(Renderer, TriplanarForwardPeerIsTheDeferredFrame) {
             far = std::max(
                 far, glm::length(glm::dvec3(v.position[0], v.position[1], v.position[2]) - eye));
     const double dz = std::ldexp(1.0, -23) * far * far / (2.0 * scene.camera.near_plane);
-    size_t uv_apart = 0, colour_apart = 0;
+    size_t uv_apart = 0, colour_apart = 0, depth_apart = 0;
+    const EngineScene& base = r.gbuffer();
     for (size_t k = 0; k < deferred.projection_count.size(); ++k) {
         if (deferred.projection_count[k] == 0) continue;
+        // The depth offsets: each projection's t scaled to the world ray and blended, in both.
+        const int x = static_cast<int>(k % base.width), y = static_cast<int>(k / base.width);
+        depth_apart += glm::length(unproject(base, x, y, forward.depth_after[k]) -
+                                   unproject(base, x, y, deferred.depth_after[k])) > 3.0 * 1.5 * dz;
         const int s = static_cast<int>(deferred.material[k]) - 1;
         const double texels = std::max(table[s].map.width, table[s].map.height);
         const double du = forward.offset.uv[k].s[0] - deferred.offset.uv[k].s[0],
@@ -454,9 +460,10 @@ TEST(Renderer, TriplanarForwardPeerIsTheDeferredFrame) {
     }
     std::printf(
         "[ terrain ] %zu triplanar pixels, depth step at the farthest point %.2g: dominant uv' "
-        "apart in %zu, colour in %zu\n",
-        projected, dz, uv_apart, colour_apart);
+        "apart in %zu, colour in %zu, depth in %zu\n",
+        projected, dz, uv_apart, colour_apart, depth_apart);
     EXPECT_LE(uv_apart, projected / 100);
+    EXPECT_LE(depth_apart, projected / 100);
     EXPECT_LE(colour_apart, projected / 100);
 }
 
