@@ -9,7 +9,9 @@ and the source restored (and rebuilt) afterwards, whatever happens (after a buil
 running beside them, OFFSETMAP_MUTANTS_AFTER=PID, has ended). A mutant is killed when one
 of its tests fails; it survives when they all pass. A mutant whose `find` text does not occur
 exactly once, whose kernel does not build, or whose host source does not compile is stale: the
-list must be mended. Exit status 1 when any mutant survives or is stale. Standard library only.
+list must be mended. A mutant with `cpu = FLAG` plants its bug in code compiled only where the
+CPU has that flag (/proc/cpuinfo): elsewhere it is reported n/a, neither killed nor failed.
+Exit status 1 when any mutant survives or is stale. Standard library only.
 """
 import argparse
 import configparser
@@ -41,6 +43,17 @@ def load(path):
         m["name"] = name
         mutants.append(m)
     return mutants
+
+
+def cpu_flags():
+    try:
+        with open("/proc/cpuinfo") as f:
+            for line in f:
+                if line.startswith("flags"):
+                    return set(line.split(":", 1)[1].split())
+    except OSError:
+        pass
+    return set()
 
 
 def mutate(text, m):
@@ -169,6 +182,11 @@ def main():
         t0 = time.time()
         report(m, *kernel_mutant(build, m), t0)
 
+    flags = cpu_flags()
+    for m in [m for m in mutants if m.get("cpu") and m["cpu"] not in flags]:
+        report(m, "n/a", f"this CPU lacks {m['cpu']}: the mutated code is not compiled here",
+               time.time())
+    mutants = [m for m in mutants if m["name"] not in results]
     kernels = [m for m in mutants if m["file"].startswith("kernels/")]
     hosts = [m for m in mutants if not m["file"].startswith("kernels/")]
     print(f"mutants: {len(kernels)} kernel (OFFSETMAP_KERNEL_DIR), {len(hosts)} host (rebuilt)")
@@ -188,16 +206,21 @@ def main():
                 sys.exit("mutants: the restored tree does not build")
 
     rows = ["| mutant | file | the bug | killed by |", "|---|---|---|---|"]
-    for m in mutants:
+    for m in load(os.path.join(os.path.dirname(os.path.abspath(__file__)), "mutants.ini")):
+        if m["name"] not in results:
+            continue
         verdict, detail, _ = results[m["name"]]
         by = detail if verdict == "killed" else f"**{verdict.upper()}**: {detail}"
         rows.append(f"| {m['name']} | {m['file']} | {m['why']} | {by} |")
     if args.table:
         with open(args.table, "w") as f:
             f.write("\n".join(rows) + "\n")
-    bad = [n for n, (v, _, _) in results.items() if v != "killed"]
-    print(f"mutants: {len(results) - len(bad)} of {len(results)} killed in "
-          f"{time.time() - start:.0f} s" + (f"; not killed: {', '.join(bad)}" if bad else ""))
+    bad = [n for n, (v, _, _) in results.items() if v not in ("killed", "n/a")]
+    na = [n for n, (v, _, _) in results.items() if v == "n/a"]
+    applied = len(results) - len(na)
+    print(f"mutants: {applied - len(bad)} of {applied} killed in {time.time() - start:.0f} s" +
+          (f" ({len(na)} n/a on this CPU: {', '.join(na)})" if na else "") +
+          (f"; not killed: {', '.join(bad)}" if bad else ""))
     return 1 if bad else 0
 
 
