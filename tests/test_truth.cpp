@@ -10,6 +10,7 @@
 #ifdef OFFSETMAP_HAVE_RENDERER
 #include "offsetmap/renderer/frame.hpp"
 #include "offsetmap/renderer/truth.hpp"
+#include "truth_support.hpp"
 #endif
 
 namespace omtest {
@@ -73,11 +74,6 @@ Truth draw_truth(FrameRenderer& r, const Scene& scene, const std::vector<LoadedM
     t.frame = r.render_geometry(t.tess.scene, 1);
     return t;
 }
-
-// The exact walk's float error and the raster's (its uv interpolated in float over a sub-texel
-// triangle, 2^-23 of a uv of at most 8 tiles, times 64 texels: 6e-5 texel) together stay below
-// this; the oracle bound the exact methods are held to is a few thousandths of a texel here.
-constexpr double kFloatTexels = 0.01;
 
 TEST(Renderer, TruthFlatQuadEqualsExactWithinItsBound) {
     std::vector<FlatCase> cases;
@@ -362,16 +358,6 @@ void expect_displaced_radially(const RadialCase& rc) {
         std::printf("%s, r=%.1f: d = %.4f m; %zu pixels at [%.5f, %.5f] m, within [%.5f, %.5f]\n",
                     rc.name, reference, d, judged, seen_lo, seen_hi, lo, hi);
     }
-}
-
-Camera looking_at(Vec3 eye, Vec3 target) {
-    Camera c;
-    c.eye = eye;
-    c.target = target;
-    c.fov_y_deg = 40.0f;
-    c.near_plane = 0.05f;
-    c.far_plane = 20.0f;
-    return c;
 }
 
 // A cylinder of N segments with a constant height: the base mesh's side has its points at

@@ -15,6 +15,7 @@
 #ifdef OFFSETMAP_HAVE_RENDERER
 #include "offsetmap/renderer/frame.hpp"
 #include "offsetmap/renderer/truth.hpp"
+#include "truth_support.hpp"
 #endif
 
 namespace omtest {
@@ -186,16 +187,6 @@ TEST(Renderer, TriplanarTruthIsTheBlendedReliefCutAlongTheWorldLattice) {
     }
 }
 
-Camera looking_at(Vec3 eye, Vec3 target) {
-    Camera c;
-    c.eye = eye;
-    c.target = target;
-    c.fov_y_deg = 40.0f;
-    c.near_plane = 0.05f;
-    c.far_plane = 20.0f;
-    return c;
-}
-
 // The truth of a scene at texels_per_quad 1, culled to a w x h view, with a triplanar pixel's uv
 // in the projection `run` gave it first.
 GeometryFrame truth_of(FrameRenderer& r, const FrameRun& run, const Scene& scene,
@@ -207,10 +198,6 @@ GeometryFrame truth_of(FrameRenderer& r, const FrameRun& run, const Scene& scene
     const Tessellation t = displace_scene(scene, table, o);
     return triplanar_truth_uv(r.render_geometry(t.scene, 1), run.first_projection, table);
 }
-
-// The raster's float uv over a sub-texel triangle and the exact walk's own error (as the flat
-// truth's test holds them), with the float world point the triplanar passes start from.
-constexpr double kFloatTexels = 0.01;
 
 // A floor facing +y in the +Y projection's frame (T = +x, B = -z), from the world's origin: as a
 // uv-mapped quad (uv = world_scale (x, -z)) and as a triplanar one. The map is untwisted, so the

@@ -32,6 +32,22 @@ inline bool outside_view(const glm::dvec4* const clip[3], bool keep_back_faces) 
     return (s1.x - s0.x) * (s2.y - s0.y) - (s2.x - s0.x) * (s1.y - s0.y) <= 0.0;
 }
 
+// Appends the triangle of three computed points to `out`, in their order, each point's vertex
+// once (`vertex`: its index in `out`, -1 until then), unless `view` (a view-projection, or null for
+// none) cannot see it. P: a builder's point, with `clip`, `vertex` and `data`.
+template <typename P>
+void emit_triangle(P* const p[3], const glm::dmat4* view, bool keep_back_faces, Mesh& out) {
+    const glm::dvec4* clip[3] = {&p[0]->clip, &p[1]->clip, &p[2]->clip};
+    if (view && outside_view(clip, keep_back_faces)) return;
+    for (int i = 0; i < 3; ++i) {
+        if (p[i]->vertex < 0) {
+            p[i]->vertex = static_cast<int>(out.vertices.size());
+            out.vertices.push_back(p[i]->data);
+        }
+        out.indices.push_back(static_cast<std::uint32_t>(p[i]->vertex));
+    }
+}
+
 // A triplanar material's mesh cut by the world's lattice planes and displaced by the blended
 // height (docs/design.md, "Triplanar relief"), one base triangle at a time.
 class TriplanarBuilder {

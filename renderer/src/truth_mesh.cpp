@@ -34,6 +34,19 @@ struct Point {
     Vertex data;
 };
 
+// The lattice cells the mesh's uv covers, two triangles each (k: lattice lines a texel).
+double uv_triangles_estimate(const Mesh& base, const HeightMap& map, double k) {
+    double cells = 0.0;
+    for (size_t t = 0; t + 2 < base.indices.size(); t += 3) {
+        const auto& a = base.vertices[base.indices[t]].uv;
+        const auto& b = base.vertices[base.indices[t + 1]].uv;
+        const auto& c = base.vertices[base.indices[t + 2]].uv;
+        cells += 0.5 * std::fabs((b[0] - a[0]) * (c[1] - a[1]) - (c[0] - a[0]) * (b[1] - a[1])) *
+                 map.width * map.height * k * k;
+    }
+    return 2.0 * cells;
+}
+
 // The largest bilinear twist |H00 - H10 - H01 + H11| over the map's cells (wrapping ones too).
 double max_twist(const HeightMap& m, AddressMode address) {
     const int w = m.width, h = m.height;
@@ -125,15 +138,7 @@ void Builder::compute(Point& p) {
 void Builder::emit(int a, int b, int c) {
     Point* p[3] = {&pts_[a], &pts_[b], &pts_[c]};
     for (Point* q : p) compute(*q);
-    const glm::dvec4* clip[3] = {&p[0]->clip, &p[1]->clip, &p[2]->clip};
-    if (vp_ && outside_view(clip, keep_back_faces_)) return;
-    for (Point* q : p) {
-        if (q->vertex < 0) {
-            q->vertex = static_cast<int>(out_.vertices.size());
-            out_.vertices.push_back(q->data);
-        }
-        out_.indices.push_back(static_cast<std::uint32_t>(q->vertex));
-    }
+    emit_triangle(p, vp_, keep_back_faces_, out_);
 }
 
 // A convex piece: its points in angle order around their mean, as a fan.
@@ -333,18 +338,9 @@ Tessellation displace_scene(const Scene& scene, const std::vector<LoadedMaterial
             const PassSettings& s = material->spec.settings;
             // Its height is a blend of three projections' (docs/design.md): the world's lattice.
             const bool triplanar = material->spec.triplanar.enabled;
-            // Before any work: the lattice cells the mesh's uv covers (two triangles each).
-            double cells = 0.0;
-            for (size_t t = 0; t + 2 < base.indices.size() && !triplanar; t += 3) {
-                const auto& a = base.vertices[base.indices[t]].uv;
-                const auto& b = base.vertices[base.indices[t + 1]].uv;
-                const auto& c = base.vertices[base.indices[t + 2]].uv;
-                cells += 0.5 *
-                         std::fabs((b[0] - a[0]) * (c[1] - a[1]) - (c[0] - a[0]) * (b[1] - a[1])) *
-                         material->map.width * material->map.height * k * k;
-            }
-            const double needed =
-                triplanar ? triplanar_triangles_estimate(base, *material, tpq) : 2.0 * cells;
+            // Before any work: about how many triangles the lattice makes of the mesh.
+            const double needed = triplanar ? triplanar_triangles_estimate(base, *material, tpq)
+                                            : uv_triangles_estimate(base, material->map, k);
             if (needed > 20.0 * static_cast<double>(o.max_triangles))
                 throw Error("tessellation: mesh '" + base.name + "' would need about " +
                             std::to_string(static_cast<long long>(needed)) + " triangles at " +

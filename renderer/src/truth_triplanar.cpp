@@ -130,15 +130,7 @@ void TriplanarBuilder::emit(const std::vector<int>& polygon) {
     for (size_t k = 1; k + 1 < polygon.size(); ++k) {
         Point* p[3] = {&pts_[polygon[0]], &pts_[polygon[k]], &pts_[polygon[k + 1]]};
         for (Point* q : p) compute(*q);
-        const glm::dvec4* clip[3] = {&p[0]->clip, &p[1]->clip, &p[2]->clip};
-        if (vp_ && outside_view(clip, keep_back_faces_)) continue;
-        for (Point* q : p) {
-            if (q->vertex < 0) {
-                q->vertex = static_cast<int>(out_.vertices.size());
-                out_.vertices.push_back(q->data);
-            }
-            out_.indices.push_back(static_cast<std::uint32_t>(q->vertex));
-        }
+        emit_triangle(p, vp_, keep_back_faces_, out_);
     }
 }
 
