@@ -170,6 +170,79 @@ INSTANTIATE_TEST_SUITE_P(
                  FirstRow::Top, Storage::Unorm16, Storage::Snorm16, Storage::Float, true, kSun}),
     [](const ::testing::TestParamInfo<Encoding>& info) { return std::string(info.param.name); });
 
+// A layer drawn only at some pixels: the pass with regions writes those pixels as the whole
+// frame's pass does, bit for bit, on every lane count, and leaves the rows no region's work-groups
+// reach (8 rows from each region's first) as they were. A region outside the frame is refused.
+TEST(EngineGBuffer, RegionsReconstructTheirPixelsAlone) {
+    EngineFrame f = plane_frame(small_plane(), DepthConvention::GL, FirstRow::Bottom);
+    randomise_frames(f, FrameForm::NormalTangent, 5);
+    EngineGBuffer in = f.to_device(runtime()->context());
+    in.light = kLamp;
+    const Decoded whole = reconstruct(in, true);
+    const int w = in.width, h = in.height;
+    in.regions = {{0, 3, 7, 2}, {95, 3, 7, 5}, {40, 30, 1, 1}, {60, 50, 42, 14}};
+    auto inside = [&](int x, int y) {
+        for (const PixelRegion& r : in.regions)
+            if (x >= r.x && x < r.x + r.width && y >= r.y && y < r.y + r.height) return true;
+        return false;
+    };
+    auto reached = [&](int y) {
+        for (const PixelRegion& r : in.regions)
+            if (y >= r.y && y < r.y + (r.height + 7) / 8 * 8) return true;
+        return false;
+    };
+    for (int lanes : {1, 16}) {
+        auto rt = std::make_shared<Runtime>(runtime()->context(), runtime()->device(),
+                                            runtime()->queue());
+        rt->set_lanes(lanes);
+        DeviceGBuffer out = allocate_gbuffer(*rt, w, h, true, false);
+        const size_t n = in.pixels();
+        const float kept = 1234.5f;
+        const cl::CommandQueue& q = rt->queue();
+        q.enqueueFillBuffer(out.uv, kept, 0, n * sizeof(cl_float2));
+        q.enqueueFillBuffer(out.view, kept, 0, n * sizeof(cl_float4));
+        q.enqueueFillBuffer(out.light, kept, 0, n * sizeof(cl_float4));
+        ReconstructPass(rt).enqueue(in, out).wait();
+        Decoded d;
+        d.uv.resize(n);
+        d.view.resize(n);
+        d.light.resize(n);
+        q.enqueueReadBuffer(out.uv, CL_TRUE, 0, n * sizeof(cl_float2), d.uv.data());
+        q.enqueueReadBuffer(out.view, CL_TRUE, 0, n * sizeof(cl_float4), d.view.data());
+        q.enqueueReadBuffer(out.light, CL_TRUE, 0, n * sizeof(cl_float4), d.light.data());
+        size_t written = 0, untouched = 0;
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w; ++x) {
+                const size_t k = static_cast<size_t>(y) * w + x;
+                if (inside(x, y)) {
+                    ++written;
+                    EXPECT_EQ(0, std::memcmp(&d.uv[k], &whole.uv[k], sizeof(cl_float2)))
+                        << x << ", " << y << " lanes " << lanes;
+                    EXPECT_EQ(0, std::memcmp(&d.view[k], &whole.view[k], sizeof(cl_float4)))
+                        << x << ", " << y << " lanes " << lanes;
+                    EXPECT_EQ(0, std::memcmp(&d.light[k], &whole.light[k], sizeof(cl_float4)))
+                        << x << ", " << y << " lanes " << lanes;
+                } else if (!reached(y)) {
+                    ++untouched;
+                    EXPECT_EQ(d.view[k].s[3], kept) << x << ", " << y << " lanes " << lanes;
+                    EXPECT_EQ(d.uv[k].s[0], kept) << x << ", " << y << " lanes " << lanes;
+                }
+            }
+        EXPECT_EQ(written, 14u + 35u + 1u + 42u * 14u);
+        EXPECT_GT(untouched, static_cast<size_t>(w) * 20);
+    }
+    for (const PixelRegion& bad : {PixelRegion{-1, 0, 4, 4}, PixelRegion{100, 0, 3, 1},
+                                   PixelRegion{0, 60, 1, 5}, PixelRegion{5, 5, 0, 1}}) {
+        in.regions = {{0, 0, 1, 1}, bad};
+        try {
+            reconstruct(in, true);
+            ADD_FAILURE() << "region " << bad.x << ", " << bad.y << " accepted";
+        } catch (const Error& e) {
+            EXPECT_NE(std::string(e.what()).find("region 1"), std::string::npos) << e.what();
+        }
+    }
+}
+
 // Bit for bit: the two image paths against the buffer paths of the same stored values.
 TEST(EngineGBuffer, ImagesReadTheSameAsBuffers) {
     for (Storage storage : {Storage::Float, Storage::Half}) {

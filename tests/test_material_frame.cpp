@@ -1,6 +1,7 @@
 // The material frame: tiles classified by material, one dispatch per method, each pixel with the
 // bits its material's pass alone gives it; shading per material; bad tables and ids refused.
 #include <cstring>
+#include <limits>
 #include <set>
 #include <thread>
 
@@ -328,7 +329,8 @@ OffsetTargets read_write_targets(Runtime& rt, size_t n) {
 // that leave it, uv' off its tile), the second layer other rays and materials with id 0 and empty
 // pixels. A pixel the first layer shows is its frame alone's, bit for bit, its planes untouched;
 // one it does not show takes the second layer's frame alone's result (flags with BEHIND) and
-// planes where that shows a surface, and keeps its own result where that shows none.
+// planes where that shows a surface, and keeps its own result where that shows none. In one
+// enqueue, and in two (the first layer, then the layer behind), in order and out of order.
 TEST(MaterialFrame, LayerBehindShowsWhatTheFirstLayerDoesNot) {
     auto rt = runtime();
     std::vector<TableRow> rows = table_rows();
@@ -342,58 +344,90 @@ TEST(MaterialFrame, LayerBehindShowsWhatTheFirstLayerDoesNot) {
     size_t first_entries = 0;
     for (const MaterialFrame::Dispatch& d : frame.dispatches()) first_entries += d.entries;
     const OffsetResult alone2 = run_material_frame(*rt, frame, upload(*rt, second));
+    const cl::CommandQueue ooo = out_of_order_queue(rt->context(), rt->device());
+    for (int variant : {0, 1, 2}) {
+        const bool two_steps = variant > 0;
+        SCOPED_TRACE(variant == 0   ? "one enqueue"
+                     : variant == 1 ? "enqueue, then enqueue_behind"
+                                    : "the two steps on an out-of-order queue, no events passed");
+        // In two steps the second layer holds anything at the pixels the first shows (an engine
+        // draws it only where needed): NaN, infinities, ids of no material.
+        GBuffer drawn = second;
+        const float nan = std::nanf(""), inf = std::numeric_limits<float>::infinity();
+        for (size_t k = 0; k < n && two_steps; ++k)
+            if (!(alone1.flags[k] & OM_FLAGS_SEE_BEHIND)) {
+                drawn.uv[k] = {{nan, inf}};
+                drawn.view[k] = {{inf, nan, -inf, nan}};
+                drawn.material[k] = k % 2 ? nan : 1e30f;
+            }
+        const DeviceGBuffer g = writable(*rt, first), behind = upload(*rt, drawn);
+        const OffsetTargets t = read_write_targets(*rt, n), t2 = read_write_targets(*rt, n);
+        if (variant == 2) {
+            frame.enqueue(g, t, {}, ooo);
+            frame.enqueue_behind(g, t, LayerBehind{behind, t2}, {}, ooo).wait();
+        } else if (two_steps) {
+            frame.enqueue(g, t);
+            frame.enqueue_behind(g, t, LayerBehind{behind, t2}).wait();
+        } else {
+            frame.enqueue(g, t, LayerBehind{behind, t2}).wait();
+        }
+        // The second layer's classification lists only the tiles of the pixels it traces: one entry
+        // per tile and material among them (id 0 needs none).
+        std::set<std::pair<size_t, float> > wanted;
+        for (size_t k = 0; k < n; ++k)
+            if ((alone1.flags[k] & OM_FLAGS_SEE_BEHIND) && second.material[k] != 0.0f)
+                wanted.insert(
+                    {k % first.width / OM_TILE_W + k / first.width / kDefaultTileRows * 1000,
+                     second.material[k]});
+        size_t entries = 0;
+        for (const MaterialFrame::Dispatch& d : frame.dispatches()) entries += d.entries;
+        EXPECT_EQ(entries - first_entries, wanted.size());
+        OffsetResult r;
+        r.uv = read_plane<cl_float2>(*rt, t.uv, n);
+        r.depth = read_plane<float>(*rt, t.depth, n);
+        r.fetches = read_plane<std::uint32_t>(*rt, t.fetches, n);
+        r.flags = read_plane<std::uint32_t>(*rt, t.flags, n);
+        const auto uv = read_plane<cl_float2>(*rt, g.uv, n);
+        const auto view = read_plane<cl_float4>(*rt, g.view, n);
+        const auto ids = read_plane<float>(*rt, g.material, n);
+        size_t shown = 0, taken = 0, neither = 0;
+        for (size_t k = 0; k < n; ++k) {
+            SCOPED_TRACE("pixel " + std::to_string(k));
+            const bool see_behind = alone1.flags[k] & OM_FLAGS_SEE_BEHIND;
+            const bool take = see_behind && !(alone2.flags[k] & OM_FLAGS_NOT_SHOWN);
+            const OffsetResult& want = take ? alone2 : alone1;
+            const GBuffer& planes = take ? second : first;
+            shown += !see_behind;
+            taken += take;
+            neither += see_behind && !take;
+            ASSERT_TRUE(same_bits(r.uv[k], want.uv[k]));
+            ASSERT_TRUE(same_bits(r.depth[k], want.depth[k]));
+            ASSERT_EQ(r.fetches[k], want.fetches[k]);
+            ASSERT_EQ(r.flags[k], want.flags[k] | (take ? OM_FLAG_BEHIND : 0u));
+            ASSERT_TRUE(same_bits(uv[k], planes.uv[k]));
+            ASSERT_TRUE(same_bits(view[k], planes.view[k]));
+            ASSERT_EQ(ids[k], planes.material[k]);
+        }
+        std::printf(
+            "layer behind: %zu pixels shown by the first layer, %zu by the second, %zu by "
+            "neither\n",
+            shown, taken, neither);
+        EXPECT_GT(taken, n / 20);
+        EXPECT_GT(neither, 0u);
+        EXPECT_GT(shown, n / 4);
+    }
+    // The layers' sizes must match, and the first layer's flags are what picks its pixels.
     const DeviceGBuffer g = writable(*rt, first), behind = upload(*rt, second);
     const OffsetTargets t = read_write_targets(*rt, n), t2 = read_write_targets(*rt, n);
-    frame.enqueue(g, t, LayerBehind{behind, t2}).wait();
-    // The second layer's classification lists only the tiles of the pixels it traces: one entry
-    // per tile and material among them (id 0 needs none).
-    std::set<std::pair<size_t, float> > wanted;
-    for (size_t k = 0; k < n; ++k)
-        if ((alone1.flags[k] & OM_FLAGS_SEE_BEHIND) && second.material[k] != 0.0f)
-            wanted.insert({k % first.width / OM_TILE_W + k / first.width / kDefaultTileRows * 1000,
-                           second.material[k]});
-    size_t entries = 0;
-    for (const MaterialFrame::Dispatch& d : frame.dispatches()) entries += d.entries;
-    EXPECT_EQ(entries - first_entries, wanted.size());
-    OffsetResult r;
-    r.uv = read_plane<cl_float2>(*rt, t.uv, n);
-    r.depth = read_plane<float>(*rt, t.depth, n);
-    r.fetches = read_plane<std::uint32_t>(*rt, t.fetches, n);
-    r.flags = read_plane<std::uint32_t>(*rt, t.flags, n);
-    const auto uv = read_plane<cl_float2>(*rt, g.uv, n);
-    const auto view = read_plane<cl_float4>(*rt, g.view, n);
-    const auto ids = read_plane<float>(*rt, g.material, n);
-    size_t shown = 0, taken = 0, neither = 0;
-    for (size_t k = 0; k < n; ++k) {
-        SCOPED_TRACE("pixel " + std::to_string(k));
-        const bool see_behind = alone1.flags[k] & OM_FLAGS_SEE_BEHIND;
-        const bool take = see_behind && !(alone2.flags[k] & OM_FLAGS_NOT_SHOWN);
-        const OffsetResult& want = take ? alone2 : alone1;
-        const GBuffer& planes = take ? second : first;
-        shown += !see_behind;
-        taken += take;
-        neither += see_behind && !take;
-        ASSERT_TRUE(same_bits(r.uv[k], want.uv[k]));
-        ASSERT_TRUE(same_bits(r.depth[k], want.depth[k]));
-        ASSERT_EQ(r.fetches[k], want.fetches[k]);
-        ASSERT_EQ(r.flags[k], want.flags[k] | (take ? OM_FLAG_BEHIND : 0u));
-        ASSERT_TRUE(same_bits(uv[k], planes.uv[k]));
-        ASSERT_TRUE(same_bits(view[k], planes.view[k]));
-        ASSERT_EQ(ids[k], planes.material[k]);
-    }
-    std::printf(
-        "layer behind: %zu pixels shown by the first layer, %zu by the second, %zu by "
-        "neither\n",
-        shown, taken, neither);
-    EXPECT_GT(taken, n / 20);
-    EXPECT_GT(neither, 0u);
-    EXPECT_GT(shown, n / 4);
-    // The layers' sizes must match, and the first layer's flags are what picks its pixels.
     GBuffer small = second;
     small.resize(40, 20, true, false);
     small.material.assign(small.pixels(), 2.0f);
     EXPECT_TRUE(contains(error_of([&] {
                              frame.enqueue(g, t, LayerBehind{upload(*rt, small), t2});
+                         }),
+                         "the layer behind is 40x20; the G-buffer is 77x45"));
+    EXPECT_TRUE(contains(error_of([&] {
+                             frame.enqueue_behind(g, t, LayerBehind{upload(*rt, small), t2});
                          }),
                          "the layer behind is 40x20; the G-buffer is 77x45"));
     OffsetTargets no_flags = t;

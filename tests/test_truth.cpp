@@ -592,23 +592,34 @@ TEST(Renderer, CurvedFrameMeetsTheDisplacedCylinder) {
 // frame shows: the same material (the floor) and uv' within 0.05 texel there. Agreement on 98 %
 // of those pixels at least (V from the fragment's position against V reconstructed from depth:
 // a ray that grazes a crest may be decided either way).
-TEST(Renderer, TwoLayersShowWhatTheForwardFrameShows) {
+struct SphereOverFloor {
     Scene scene;
-    scene.name = "sphere";
-    scene.meshes.push_back(
+    std::vector<LoadedMaterial> table;
+    MethodParams pom = resolve_params(find_method("pom"), {});
+};
+
+SphereOverFloor sphere_over_floor() {
+    SphereOverFloor s;
+    s.scene.name = "sphere";
+    s.scene.meshes.push_back(
         make_sphere("sphere", 1, {0.0f, 0.55f, -2.0f}, 0.5f, 64, 32, 8.0f, 4.0f));
-    scene.meshes.push_back(make_quad("floor", 2, {-3.0f, 0.0f, 1.0f}, {6.0f, 0.0f, 0.0f},
-                                     {0.0f, 0.0f, -6.0f}, 6.0f, 6.0f));
-    scene.camera = looking_at({0.2f, 1.4f, 0.0f}, {0.0f, 0.5f, -2.0f});
-    scene.light.kind = LightKind::None;
+    s.scene.meshes.push_back(make_quad("floor", 2, {-3.0f, 0.0f, 1.0f}, {6.0f, 0.0f, 0.0f},
+                                       {0.0f, 0.0f, -6.0f}, 6.0f, 6.0f));
+    s.scene.camera = looking_at({0.2f, 1.4f, 0.0f}, {0.0f, 0.5f, -2.0f});
+    s.scene.light.kind = LightKind::None;
     FlatCase c{"smooth", smooth_map(64), AddressMode::Wrap, 0.08f, 1.0f, 0.0};
     LoadedMaterial bricks = material(c), floor = material(c);
     floor.spec.id = 2;
     floor.spec.settings.scale = 0.02f;
-    const std::vector<LoadedMaterial> table = {bricks, floor};
-    const MethodParams pom = resolve_params(find_method("pom"), {});
+    s.table = {bricks, floor};
+    return s;
+}
+
+TEST(Renderer, TwoLayersShowWhatTheForwardFrameShows) {
+    const SphereOverFloor s = sphere_over_floor();
+    const MethodParams& pom = s.pom;
     const int w = 240, h = 180;
-    FrameRenderer r(runtime(), scene, table, {pom, pom}, w, h, ShadeSettings{});
+    FrameRenderer r(runtime(), s.scene, s.table, {pom, pom}, w, h, ShadeSettings{});
     r.set_curvature(true);
     const FrameRun one = r.render(FrameMode::Deferred, false, 1);
     const std::vector<float> base_depth = r.gbuffer().depth;
@@ -641,6 +652,80 @@ TEST(Renderer, TwoLayersShowWhatTheForwardFrameShows) {
     EXPECT_GT(behind, left / 2);
     EXPECT_GE(behind_agree, behind * 98 / 100);
     EXPECT_GE(near, behind_agree * 98 / 100);
+}
+
+// The layer behind drawn, read and reconstructed only at the pixels the first layer left (a fresh
+// renderer, so no earlier frame's planes stand in for the ones it reads) against the whole layer:
+// the same frame bit for bit, its colour, depth, uv', flags and ids.
+TEST(Renderer, ALayerBehindDrawnWhereNeededIsTheWholeLayer) {
+    const SphereOverFloor s = sphere_over_floor();
+    const int w = 240, h = 180;
+    std::vector<FrameRun> runs;
+    for (bool whole : {false, true}) {
+        FrameRenderer r(runtime(), s.scene, s.table, {s.pom, s.pom}, w, h, ShadeSettings{});
+        r.set_curvature(true);
+        r.set_layers(2, whole);
+        runs.push_back(r.render(FrameMode::Deferred, false, 1));
+    }
+    const FrameRun &needed = runs[0], &whole = runs[1];
+    std::printf("sphere over a floor: %zu pixels show the layer behind, %zu neither\n",
+                needed.behind_pixels, needed.missed_pixels);
+    ASSERT_GT(needed.behind_pixels, 100u);
+    EXPECT_EQ(needed.behind_pixels, whole.behind_pixels);
+    EXPECT_EQ(needed.missed_pixels, whole.missed_pixels);
+    const size_t n = static_cast<size_t>(w) * h;
+    size_t differ = 0;
+    for (size_t k = 0; k < n; ++k) {
+        const bool same =
+            std::memcmp(&needed.color[k], &whole.color[k], sizeof(cl_float4)) == 0 &&
+            std::memcmp(&needed.offset.uv[k], &whole.offset.uv[k], sizeof(cl_float2)) == 0 &&
+            std::memcmp(&needed.offset.depth[k], &whole.offset.depth[k], sizeof(float)) == 0 &&
+            std::memcmp(&needed.depth_after[k], &whole.depth_after[k], sizeof(float)) == 0 &&
+            needed.offset.flags[k] == whole.offset.flags[k] &&
+            std::memcmp(&needed.material[k], &whole.material[k], sizeof(float)) == 0;
+        if (!same && differ++ < 5) ADD_FAILURE() << "pixel " << k % w << ", " << k / w;
+    }
+    EXPECT_EQ(differ, 0u);
+}
+
+// Where the base G-buffer shows another material than the one the truth and the frame both show
+// (the frame's layer behind, or what a discarded fragment let through), the base says nothing of
+// that surface: the two are the same surface when their points lie within the relief's depth of
+// each other along the ray. Three pixels, identity view-projection (world = NDC), a wall seen
+// edge-on as the base of the first two, material 1 the base of the third.
+TEST(Renderer, CoverageBehindTheBaseComparesTheTwoSurfaces) {
+    const int w = 3, h = 1;
+    FlatCase c{"smooth", smooth_map(16), AddressMode::Wrap, 0.05f, 1.0f, 0.0};
+    LoadedMaterial floor = material(c), wall = material(c);
+    wall.spec.id = 2;
+    const std::vector<LoadedMaterial> table = {floor, wall};
+    GeometryFrame truth;
+    truth.uv = {0.5f, 0.5f, 0.5f, 0.5f, 0.5f, 0.5f};
+    truth.depth = {0.5f, 0.5f, 0.5f};
+    truth.material = {1.0f, 1.0f, 1.0f};
+    truth.density = {1.0f, 1.0f, 1.0f};
+    truth.normal = {0, 0, 1, 0, 0, 1, 0, 0, 1};
+    const std::vector<float> ids = {1.0f, 1.0f, 1.0f};
+    const std::vector<cl_float2> uv = {{{0.5f, 0.5f}}, {{0.5f, 0.5f}}, {{0.5f, 0.5f}}};
+    // 0.02 apart in world z at the first pixel (within the reach 0.05 x 1.01 + 1e-4), 0.2 at the
+    // second; the third as the truth.
+    const std::vector<float> depth = {0.51f, 0.6f, 0.5f};
+    const std::vector<std::uint32_t> flags = {OM_FLAG_BEHIND, OM_FLAG_BEHIND, 0u};
+    const ShownFrame shown{"two layers", &ids, &uv, &depth, &flags};
+    GBuffer base;
+    base.resize(w, h, false, false);
+    base.uv.assign(3, {{0.5f, 0.5f}});
+    base.view.assign(3, {{0.0f, 0.0f, 1.0f, 0.0f}});
+    base.material = {2.0f, 2.0f, 1.0f};
+    const std::vector<float> base_depth = {0.5f, 0.5f, 0.5f};
+    const std::vector<float> base_normal = {1, 0, 0, 0, 1, 0, 0, 0, 0, 0, 1, 0};
+    const std::array<float, 16> identity = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
+    const TruthComparison cmp = compare_to_truth(truth, shown, base, base_depth, base_normal,
+                                                 std::vector<std::uint8_t>(3, 0), table,
+                                                 identity, w, h);
+    EXPECT_EQ(cmp.mismatched, (std::vector<std::uint8_t>{0, 1, 0}));
+    EXPECT_EQ(cmp.compared_pixels, 2u);
+    EXPECT_FLOAT_EQ(cmp.uv_error[0], 0.0f);
 }
 #endif
 

@@ -441,9 +441,8 @@ cl::Event MaterialFrame::trace(const DeviceGBuffer& g, const OffsetTargets& t,
     }
 }
 
-cl::Event MaterialFrame::enqueue(const DeviceGBuffer& g, const OffsetTargets& t,
-                                 const LayerBehind& behind, const std::vector<cl::Event>& wait,
-                                 const cl::CommandQueue& queue_given) {
+void MaterialFrame::check_behind(const DeviceGBuffer& g, const OffsetTargets& t,
+                                 const LayerBehind& behind, const cl::CommandQueue& queue_given) {
     if (triplanar_table_.any)
         throw Error("the layer behind does not trace triplanar materials: " +
                     triplanar_table_.name + " is one");
@@ -486,7 +485,35 @@ cl::Event MaterialFrame::enqueue(const DeviceGBuffer& g, const OffsetTargets& t,
                  {g.curvature, "the G-buffer's curvature", sizeof(cl_float4)}};
     for (const auto& p : taken)
         check_buffer(context, p.plane, {p.name, "value", p.bytes, n, true, true});
-    const cl::Event first = enqueue(g, t, wait, queue);
+}
+
+cl::Event MaterialFrame::enqueue(const DeviceGBuffer& g, const OffsetTargets& t,
+                                 const LayerBehind& behind, const std::vector<cl::Event>& wait,
+                                 const cl::CommandQueue& queue_given) {
+    check_behind(g, t, behind, queue_given);
+    const cl::Event first = enqueue(g, t, wait, queue_given);
+    return trace_behind(g, t, behind, {first}, checked_queue(g, queue_given));
+}
+
+cl::Event MaterialFrame::enqueue_behind(const DeviceGBuffer& g, const OffsetTargets& t,
+                                        const LayerBehind& behind,
+                                        const std::vector<cl::Event>& wait,
+                                        const cl::CommandQueue& queue_given) {
+    check_behind(g, t, behind, queue_given);
+    // After the first layer's trace whatever the caller waits on (an out-of-order queue too).
+    std::vector<cl::Event> after = wait;
+    if (classify_event_()) after.push_back(classify_event_);
+    for (const Dispatch& d : dispatches_)
+        if (d.event()) after.push_back(d.event);
+    return trace_behind(g, t, behind, after, checked_queue(g, queue_given));
+}
+
+cl::Event MaterialFrame::trace_behind(const DeviceGBuffer& g, const OffsetTargets& t,
+                                      const LayerBehind& behind, const std::vector<cl::Event>& wait,
+                                      const cl::CommandQueue& queue) {
+    const cl::Context& context = runtime_->context();
+    const DeviceGBuffer& b = behind.gbuffer;
+    const size_t n = g.pixels();
     const std::vector<Dispatch> first_dispatches = dispatches_;
     const cl::Event first_classify = classify_event_;
     try {
@@ -496,9 +523,8 @@ cl::Event MaterialFrame::enqueue(const DeviceGBuffer& g, const OffsetTargets& t,
         const cl_int count = static_cast<cl_int>(n);
         cl::Event masked, chosen;
         set_args(behind_mask_, count, t.flags, b.material, behind_ids_);
-        const std::vector<cl::Event> after_first{first};
         queue.enqueueNDRangeKernel(behind_mask_, cl::NullRange, padded(n), cl::NDRange(kLocalSize),
-                                   &after_first, &masked);
+                                   &wait, &masked);
         DeviceGBuffer kept = b;
         kept.material = behind_ids_;
         const cl::Event second = enqueue(kept, behind.targets, {masked}, queue);

@@ -173,6 +173,15 @@ cl::Event ReconstructPass::launch(const EngineGBuffer& in, const DeviceGBuffer& 
         throw Error("the reconstructed G-buffer is " + std::to_string(out.width) + "x" +
                     std::to_string(out.height) + "; the engine G-buffer is " +
                     std::to_string(in.width) + "x" + std::to_string(in.height));
+    for (size_t r = 0; r < in.regions.size(); ++r) {
+        const PixelRegion& g = in.regions[r];
+        if (g.x < 0 || g.y < 0 || g.width < 1 || g.height < 1 || g.x > in.width - g.width ||
+            g.y > in.height - g.height)
+            throw Error("the engine G-buffer's region " + std::to_string(r) + " (" +
+                        std::to_string(g.width) + "x" + std::to_string(g.height) + " at " +
+                        std::to_string(g.x) + ", " + std::to_string(g.y) + ") is not inside its " +
+                        std::to_string(in.width) + "x" + std::to_string(in.height) + " pixels");
+    }
     const size_t n = in.pixels();
     check_buffer(context, out.uv,
                  {"the reconstructed G-buffer's uv buffer", "float2", sizeof(cl_float2), n, true});
@@ -236,13 +245,31 @@ cl::Event ReconstructPass::launch(const EngineGBuffer& in, const DeviceGBuffer& 
         }
         set_args_from(k, a, t.blend, t.ray_scale);
     }
-    const size_t items = (in.width + runtime_->lanes() - 1) / runtime_->lanes();  // per row
-    const cl::NDRange global = no_pixels
-                                   ? cl::NDRange(kGroupX, kGroupY)
-                                   : cl::NDRange((items + kGroupX - 1) / kGroupX * kGroupX,
-                                                 (in.height + kGroupY - 1) / kGroupY * kGroupY);
+    const size_t lanes = runtime_->lanes();
+    auto round_up = [](size_t v, size_t m) { return (v + m - 1) / m * m; };
+    if (no_pixels || in.regions.empty()) {
+        const size_t items = (in.width + lanes - 1) / lanes;  // per row
+        const cl::NDRange global =
+            no_pixels ? cl::NDRange(kGroupX, kGroupY)
+                      : cl::NDRange(round_up(items, kGroupX), round_up(in.height, kGroupY));
+        cl::Event done;
+        q.enqueueNDRangeKernel(k, cl::NullRange, global, cl::NDRange(kGroupX, kGroupY), &deps,
+                               &done);
+        return done;
+    }
+    std::vector<cl::Event> launched;
+    for (const PixelRegion& r : in.regions) {
+        const size_t first = static_cast<size_t>(r.x) / lanes,
+                     last = (static_cast<size_t>(r.x) + r.width + lanes - 1) / lanes;
+        cl::Event done;
+        q.enqueueNDRangeKernel(k, cl::NDRange(first, r.y),
+                               cl::NDRange(round_up(last - first, kGroupX),
+                                           round_up(static_cast<size_t>(r.height), kGroupY)),
+                               cl::NDRange(kGroupX, kGroupY), &deps, &done);
+        launched.push_back(done);
+    }
     cl::Event done;
-    q.enqueueNDRangeKernel(k, cl::NullRange, global, cl::NDRange(kGroupX, kGroupY), &deps, &done);
+    q.enqueueMarkerWithWaitList(&launched, &done);
     return done;
 }
 

@@ -42,6 +42,39 @@ std::vector<T> flip_rows(const std::vector<T>& in, int width, int height, int c)
     return out;
 }
 
+// The pixels whose first layer leaves them to the one behind (`needed`, in order), and the
+// rectangles the second layer's planes are read from: in each band of kBand rows, runs of kBand
+// columns that hold such pixels, joined across gaps of at most kGap columns.
+std::vector<PixelRect> needed_behind(const std::vector<std::uint32_t>& flags, int width, int height,
+                                     std::vector<std::uint32_t>& needed) {
+    constexpr int kBand = 16, kGap = 32;
+    needed.clear();
+    std::vector<PixelRect> regions;
+    std::vector<std::uint8_t> used((width + kBand - 1) / kBand);
+    for (int band = 0; band < height; band += kBand) {
+        const int rows = std::min(kBand, height - band);
+        std::fill(used.begin(), used.end(), 0);
+        for (int y = band; y < band + rows; ++y)
+            for (int x = 0; x < width; ++x) {
+                const size_t k = static_cast<size_t>(y) * width + x;
+                if (!(flags[k] & OM_FLAGS_SEE_BEHIND)) continue;
+                needed.push_back(static_cast<std::uint32_t>(k));
+                used[x / kBand] = 1;
+            }
+        for (int c = 0; c < static_cast<int>(used.size()); ++c) {
+            if (!used[c]) continue;
+            int end = c + 1;  // one past the run's last column of kBand
+            for (int next = end;
+                 next < static_cast<int>(used.size()) && (next - end) * kBand <= kGap; ++next)
+                if (used[next]) end = next + 1;
+            const int x = c * kBand;
+            regions.push_back({x, band, std::min(end * kBand, width) - x, rows});
+            c = end - 1;
+        }
+    }
+    return regions;
+}
+
 void flip_result(OffsetResult& r) {
     r.uv = flip_rows(r.uv, r.width, r.height, 1);
     r.depth = flip_rows(r.depth, r.width, r.height, 1);
@@ -102,6 +135,7 @@ struct FrameRenderer::Impl {
     // use.
     Scene scene;
     int layers = 1;
+    bool whole_behind = false;  // set_layers's `whole`
     struct Behind {
         std::unique_ptr<Raster> raster;
         cl::Buffer depth, normal, tangent, uv, ids, density, curvature;
@@ -214,11 +248,12 @@ void FrameRenderer::set_curvature(bool on) {
     if (impl_->shadows) impl_->shadows->light->set_curvature(on);
 }
 
-void FrameRenderer::set_layers(int layers) {
+void FrameRenderer::set_layers(int layers, bool whole) {
     if (layers != 1 && layers != 2)
         throw Error("a frame has 1 or 2 G-buffer layers, not " + std::to_string(layers));
     Impl& m = *impl_;
     m.layers = layers;
+    m.whole_behind = whole;
     if (layers == 1 || m.behind) return;
     m.gl->make_current();
     auto b = std::make_unique<Impl::Behind>();
@@ -336,6 +371,7 @@ FrameRun FrameRenderer::render(FrameMode mode, bool prepass, int repeats) {
     std::vector<std::uint32_t> forward_fetches;
     std::vector<PassTimes> times;
     std::vector<double> kernel, shade_kernel;
+    std::vector<std::uint32_t> flags(behind ? n : 0), needed;
     // The shadow map, once for the frames below (the light's view does not move with the
     // camera): the light's device depth after its offset, or its base depth for a flat map.
     Impl::Shadows* shadows = forward ? nullptr : m.shadows.get();
@@ -357,7 +393,6 @@ FrameRun FrameRenderer::render(FrameMode mode, bool prepass, int repeats) {
         auto t0 = start;
         m.raster->draw(m.view, forward ? &m.forward : nullptr, prepass, false,
                        run.curved && !forward, run.curved);
-        if (behind) behind->raster->draw_behind(m.view, *m.raster, run.curved);
         t.gbuffer = ms_since(t0);
 
         t0 = Clock::now();
@@ -365,7 +400,8 @@ FrameRun FrameRenderer::render(FrameMode mode, bool prepass, int repeats) {
         auto move_planes = [&](const Raster& raster, const cl::Buffer& depth,
                                const cl::Buffer& normal, const cl::Buffer& tangent,
                                const cl::Buffer& uv, const cl::Buffer& ids,
-                               const cl::Buffer& density, const cl::Buffer& curvature) {
+                               const cl::Buffer& density, const cl::Buffer& curvature,
+                               const std::vector<PixelRect>* regions = nullptr) {
             auto map = [&](const cl::Buffer& b, size_t floats) {
                 return static_cast<float*>(q.enqueueMapBuffer(
                     b, CL_TRUE, CL_MAP_WRITE_INVALIDATE_REGION, 0, floats * sizeof(float)));
@@ -378,7 +414,7 @@ FrameRun FrameRenderer::render(FrameMode mode, bool prepass, int repeats) {
             p.material = map(ids, n);
             p.density = map(density, n);
             if (run.curved && !forward) p.curvature = map(curvature, 4 * n);
-            raster.read_into(p);
+            raster.read_into(p, regions);
             if (p.curvature) q.enqueueUnmapMemObject(curvature, p.curvature);
             q.enqueueUnmapMemObject(depth, p.depth);
             q.enqueueUnmapMemObject(normal, p.normal);
@@ -388,9 +424,6 @@ FrameRun FrameRenderer::render(FrameMode mode, bool prepass, int repeats) {
             q.enqueueUnmapMemObject(density, p.density);
         };
         move_planes(*m.raster, m.depth, m.normal, m.tangent, m.uv, m.ids, m.density, m.curvature);
-        if (behind)
-            move_planes(*behind->raster, behind->depth, behind->normal, behind->tangent, behind->uv,
-                        behind->ids, behind->density, behind->curvature);
         if (forward) {
             forward_uv.resize(n);
             forward_fetches.resize(n);
@@ -421,13 +454,6 @@ FrameRun FrameRenderer::render(FrameMode mode, bool prepass, int repeats) {
             m.reconstruct->enqueue(g, m.dg, m.frame->triplanar_table(), *m.triplanar);
         else
             m.reconstruct->enqueue(g, m.dg);
-        if (behind) {
-            g.depth.buffer = behind->depth;
-            g.normal.buffer = behind->normal;
-            g.tangent.buffer = behind->tangent;
-            g.uv.buffer = behind->uv;
-            m.reconstruct->enqueue(g, behind->dg);
-        }
         q.finish();
         if (forward && m.triplanar) {
             // The fragment shader traced each axis's projection; the shading takes them in the
@@ -462,17 +488,60 @@ FrameRun FrameRenderer::render(FrameMode mode, bool prepass, int repeats) {
         if (!forward) {
             t0 = Clock::now();
             if (behind) {
-                m.frame->enqueue(m.dg, m.targets, LayerBehind{behind->dg, behind->targets});
-                // The depth offset's planes: the window depth and uv density of the surface shown.
-                m.frame->take_behind(m.targets.flags, behind->depth, m.depth, n, 1);
-                m.frame->take_behind(m.targets.flags, behind->density, m.density, n, 1);
+                // The first layer, then the second drawn, read and traced only where the first
+                // left its pixels for what lies behind (its times go to those passes' columns);
+                // set_layers's `whole` draws, reads and reconstructs all of it.
+                m.frame->enqueue(m.dg, m.targets);
+                q.enqueueReadBuffer(m.targets.flags, CL_TRUE, 0, n * sizeof(cl_uint), flags.data());
+                const double first_offset = ms_since(t0);
+                const auto regions = needed_behind(flags, w, h, needed);
+                const bool whole = m.whole_behind;
+                if (!needed.empty() || whole) {
+                    auto t1 = Clock::now();
+                    behind->raster->draw_behind(m.view, *m.raster, run.curved,
+                                                whole ? nullptr : &needed);
+                    t.gbuffer += ms_since(t1);
+                    t1 = Clock::now();
+                    move_planes(*behind->raster, behind->depth, behind->normal, behind->tangent,
+                                behind->uv, behind->ids, behind->density, behind->curvature,
+                                whole ? nullptr : &regions);
+                    q.finish();
+                    t.to_device += ms_since(t1);
+                    t1 = Clock::now();
+                    EngineGBuffer g2 = g;
+                    g2.depth.buffer = behind->depth;
+                    g2.normal.buffer = behind->normal;
+                    g2.tangent.buffer = behind->tangent;
+                    g2.uv.buffer = behind->uv;
+                    // One launch a band (a launch costs more than the columns between runs).
+                    for (const PixelRect& r : whole ? std::vector<PixelRect>() : regions) {
+                        if (!g2.regions.empty() && g2.regions.back().y == r.y)
+                            g2.regions.back().width = r.x + r.width - g2.regions.back().x;
+                        else
+                            g2.regions.push_back({r.x, r.y, r.width, r.height});
+                    }
+                    m.reconstruct->enqueue(g2, behind->dg);
+                    q.finish();
+                    t.reconstruct += ms_since(t1);
+                    t1 = Clock::now();
+                    m.frame->enqueue_behind(m.dg, m.targets,
+                                            LayerBehind{behind->dg, behind->targets});
+                    // The depth offset's planes: the window depth and uv density of the surface
+                    // shown.
+                    m.frame->take_behind(m.targets.flags, behind->depth, m.depth, n, 1);
+                    m.frame->take_behind(m.targets.flags, behind->density, m.density, n, 1);
+                    q.finish();
+                    t.offset += ms_since(t1);
+                }
+                t.offset += first_offset;
+                t0 = Clock::now();
             } else if (m.triplanar) {
                 m.frame->enqueue(m.dg, m.targets, *m.triplanar);
             } else {
                 m.frame->enqueue(m.dg, m.targets);
             }
             q.finish();
-            t.offset = ms_since(t0);
+            t.offset += ms_since(t0);
             kernel.push_back(m.frame->kernel_ms());
         }
 

@@ -120,10 +120,17 @@ std::vector<float> read_pixels(GLuint framebuffer, GLenum attachment, GLenum for
 
 void read_pixels_into(GLuint framebuffer, GLenum attachment, GLenum format, int width, int height,
                       float* out) {
+    read_pixels_into(framebuffer, attachment, format, 0, 0, width, height, width, out);
+}
+
+void read_pixels_into(GLuint framebuffer, GLenum attachment, GLenum format, int x, int y, int width,
+                      int height, int row_length, float* out) {
     glBindFramebuffer(GL_READ_FRAMEBUFFER, framebuffer);
     if (format != GL_DEPTH_COMPONENT) glReadBuffer(attachment);
     glPixelStorei(GL_PACK_ALIGNMENT, 4);
-    glReadPixels(0, 0, width, height, format, GL_FLOAT, out);
+    glPixelStorei(GL_PACK_ROW_LENGTH, row_length == width ? 0 : row_length);
+    glReadPixels(x, y, width, height, format, GL_FLOAT, out);
+    glPixelStorei(GL_PACK_ROW_LENGTH, 0);
     check_gl("reading back the G-buffer");
 }
 

@@ -61,5 +61,8 @@ std::vector<float> read_pixels(GLuint framebuffer, GLenum attachment, GLenum for
 // such as a mapped OpenCL buffer, so the pixels are copied once.
 void read_pixels_into(GLuint framebuffer, GLenum attachment, GLenum format, int width, int height,
                       float* out);
+// A rectangle of them into `out`, its rows `row_length` pixels apart.
+void read_pixels_into(GLuint framebuffer, GLenum attachment, GLenum format, int x, int y, int width,
+                      int height, int row_length, float* out);
 
 }  // namespace offsetmap::renderer

@@ -147,6 +147,21 @@ Raster::Raster(const Scene& scene, int width, int height) : width_(width), heigh
     deferred_peel_ =
         make_program("gbuffer_vert.glsl", "gbuffer_frag.glsl", methods + "#define OM_PEEL 1\n");
     glProgramUniform1i(deferred_peel_.get(), uniform(deferred_peel_, "u_front_depth"), 1);
+    peel_mask_ = make_program("peel_mask_vert.glsl", "peel_mask_frag.glsl");
+    glProgramUniform1i(peel_mask_.get(), uniform(peel_mask_, "u_width"), width);
+    glProgramUniform2f(peel_mask_.get(), uniform(peel_mask_, "u_size"), float(width),
+                       float(height));
+    {
+        GLuint ids[2];
+        glCreateVertexArrays(1, ids);
+        glCreateBuffers(1, ids + 1);
+        mask_vao_ = VertexArray(ids[0]);
+        mask_pixels_ = BufferObject(ids[1]);
+        glVertexArrayVertexBuffer(ids[0], 0, ids[1], 0, sizeof(std::uint32_t));
+        glEnableVertexArrayAttrib(ids[0], 0);
+        glVertexArrayAttribIFormat(ids[0], 0, 1, GL_UNSIGNED_INT, 0);
+        glVertexArrayAttribBinding(ids[0], 0, 0);
+    }
 
     depth_ = make_texture(GL_DEPTH_COMPONENT32F, width, height);
     normal_ = make_texture(GL_RGBA32F, width, height);
@@ -199,7 +214,8 @@ void Raster::draw(const View& view, const std::vector<ForwardMaterial>* forward,
     glNamedFramebufferDrawBuffers(fbo_.get(), kTargetCount, kTargets);
 }
 
-void Raster::draw_behind(const View& view, const Raster& front, bool curvature) {
+void Raster::draw_behind(const View& view, const Raster& front, bool curvature,
+                         const std::vector<std::uint32_t>* pixels) {
     if (front.width_ != width_ || front.height_ != height_)
         throw Error("the second layer's raster is not the size of the first's");
     GLenum targets[kTargetCount];
@@ -207,8 +223,40 @@ void Raster::draw_behind(const View& view, const Raster& front, bool curvature) 
     targets[3] = targets[5] = targets[7] = GL_NONE;
     if (!curvature) targets[6] = GL_NONE;
     glNamedFramebufferDrawBuffers(fbo_.get(), kTargetCount, targets);
+    // The scissor is the context's: off again however the draw ends.
+    struct ScissorOff {
+        ~ScissorOff() { glDisable(GL_SCISSOR_TEST); }
+    } scissor_off;
+    if (pixels) {
+        // No clear: the clear's values and a depth at the far plane are written at those pixels
+        // alone (a point each), and a depth of 0 elsewhere, which no fragment passes. Nothing is
+        // drawn outside their bounding box, whose tiles the raster then skips. (A box per cluster
+        // costs a pass over the vertices each, more than the tiles it skips.)
+        glViewport(0, 0, width_, height_);
+        glBindFramebuffer(GL_DRAW_FRAMEBUFFER, fbo_.get());
+        int x0 = width_, y0 = height_, x1 = -1, y1 = -1;
+        for (std::uint32_t k : *pixels) {
+            const int x = static_cast<int>(k % width_), y = static_cast<int>(k / width_);
+            x0 = std::min(x0, x);
+            x1 = std::max(x1, x);
+            y0 = std::min(y0, y);
+            y1 = std::max(y1, y);
+        }
+        glEnable(GL_SCISSOR_TEST);
+        glScissor(x0, y0, std::max(0, x1 - x0 + 1), std::max(0, y1 - y0 + 1));
+        const float near = 0.0f;
+        glClearNamedFramebufferfv(fbo_.get(), GL_DEPTH, 0, &near);
+        glNamedBufferData(mask_pixels_.get(), pixels->size() * sizeof(std::uint32_t),
+                          pixels->data(), GL_STREAM_DRAW);
+        glEnable(GL_DEPTH_TEST);
+        glDepthFunc(GL_ALWAYS);
+        glDepthMask(GL_TRUE);
+        glUseProgram(peel_mask_.get());
+        glBindVertexArray(mask_vao_.get());
+        glDrawArrays(GL_POINTS, 0, static_cast<GLsizei>(pixels->size()));
+    }
     glBindTextureUnit(1, front.depth_.get());
-    draw_with(view, nullptr, false, deferred_peel_, false);
+    draw_with(view, nullptr, false, deferred_peel_, false, !pixels);
     glBindTextureUnit(1, 0);
     glNamedFramebufferDrawBuffers(fbo_.get(), kTargetCount, kTargets);
 }
@@ -226,14 +274,14 @@ std::int64_t Raster::count_fragments(const View& view, const std::vector<Forward
 }
 
 void Raster::draw_with(const View& view, const std::vector<ForwardMaterial>* forward, bool prepass,
-                       const Program& program, bool curved) {
+                       const Program& program, bool curved, bool clear) {
     glViewport(0, 0, width_, height_);
     glBindFramebuffer(GL_DRAW_FRAMEBUFFER, fbo_.get());
     const float nan = std::numeric_limits<float>::quiet_NaN();
     const float sky_uv[4] = {nan, nan, 0.0f, 0.0f}, zero[4] = {0, 0, 0, 0};
-    for (int i = 0; i < kTargetCount; ++i)
+    for (int i = 0; i < kTargetCount && clear; ++i)
         glClearNamedFramebufferfv(fbo_.get(), GL_COLOR, i, i == 2 || i == 5 ? sky_uv : zero);
-    glClearNamedFramebufferfi(fbo_.get(), GL_DEPTH_STENCIL, 0, 1.0f, 0);
+    if (clear) glClearNamedFramebufferfi(fbo_.get(), GL_DEPTH_STENCIL, 0, 1.0f, 0);
     glEnable(GL_DEPTH_TEST);
     // A light's (orthographic) view keeps back faces: a single-sided wall the light sees from
     // behind still casts its shadow (the offset pass flags them BACKFACING and leaves their depth).
@@ -304,16 +352,22 @@ std::vector<float> Raster::read_offset_yz() const {
     return read_pixels(fbo_.get(), GL_COLOR_ATTACHMENT7, GL_RGBA, 4, width_, height_);
 }
 
-void Raster::read_into(const PlanePointers& p) const {
+void Raster::read_into(const PlanePointers& p, const std::vector<PixelRect>* regions) const {
     const GLuint f = fbo_.get();
-    read_pixels_into(f, GL_NONE, GL_DEPTH_COMPONENT, width_, height_, p.depth);
-    read_pixels_into(f, GL_COLOR_ATTACHMENT0, GL_RGBA, width_, height_, p.normal);
-    read_pixels_into(f, GL_COLOR_ATTACHMENT1, GL_RGBA, width_, height_, p.tangent);
-    read_pixels_into(f, GL_COLOR_ATTACHMENT2, GL_RG, width_, height_, p.uv);
-    read_pixels_into(f, GL_COLOR_ATTACHMENT4, GL_RED, width_, height_, p.material);
-    read_pixels_into(f, GL_COLOR_ATTACHMENT4, GL_GREEN, width_, height_, p.density);
-    if (p.curvature)
-        read_pixels_into(f, GL_COLOR_ATTACHMENT6, GL_RGBA, width_, height_, p.curvature);
+    const std::vector<PixelRect> whole{{0, 0, width_, height_}};
+    for (const PixelRect& r : regions ? *regions : whole) {
+        auto read = [&](GLenum attachment, GLenum format, int components, float* out) {
+            read_pixels_into(f, attachment, format, r.x, r.y, r.width, r.height, width_,
+                             out + (static_cast<size_t>(r.y) * width_ + r.x) * components);
+        };
+        read(GL_NONE, GL_DEPTH_COMPONENT, 1, p.depth);
+        read(GL_COLOR_ATTACHMENT0, GL_RGBA, 4, p.normal);
+        read(GL_COLOR_ATTACHMENT1, GL_RGBA, 4, p.tangent);
+        read(GL_COLOR_ATTACHMENT2, GL_RG, 2, p.uv);
+        read(GL_COLOR_ATTACHMENT4, GL_RED, 1, p.material);
+        read(GL_COLOR_ATTACHMENT4, GL_GREEN, 1, p.density);
+        if (p.curvature) read(GL_COLOR_ATTACHMENT6, GL_RGBA, 4, p.curvature);
+    }
 }
 
 std::vector<float> Raster::read_uv_derivatives() const {

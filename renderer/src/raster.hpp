@@ -65,6 +65,11 @@ struct PlanePointers {
     float* curvature = nullptr;
 };
 
+// A rectangle of pixels in GL's rows (bottom first).
+struct PixelRect {
+    int x = 0, y = 0, width = 0, height = 0;
+};
+
 struct View {
     std::array<float, 16> view_projection{};          // column-major
     std::array<float, 16> inverse_view_projection{};  // column-major
@@ -87,8 +92,12 @@ class Raster {
               bool derivatives = false, bool curvature = false, bool curved = false);
     // The G-buffer's second layer (deferred): at each pixel the nearest surface behind `front`'s
     // last draw (depth peeling against its depth target), into this raster's targets; `front`
-    // draws the same scene at the same size.
-    void draw_behind(const View& view, const Raster& front, bool curvature);
+    // draws the same scene at the same size. With `pixels` (indices in GL's rows, bottom first)
+    // only those: no target is cleared elsewhere, and the peel's fragments elsewhere fail the
+    // depth test before the shader, so a layer needed along the silhouettes costs about their
+    // fragments, not the frame's.
+    void draw_behind(const View& view, const Raster& front, bool curvature,
+                     const std::vector<std::uint32_t>* pixels = nullptr);
     // The same draw with the fragments that pass the depth test counted (an atomic counter in a
     // variant of the shader, so the timed draws carry no counter): the fragments the G-buffer
     // shader, and forward the method, runs on.
@@ -102,8 +111,9 @@ class Raster {
     // axis's), each traced where its weight is not 0 and its uv elsewhere.
     std::vector<float> read_offset_yz() const;
     // The same planes straight into the caller's memory (mapped OpenCL buffers: one copy), the
-    // material target's id and uv density as a plane each.
-    void read_into(const PlanePointers& planes) const;
+    // material target's id and uv density as a plane each; with `regions`, only their pixels.
+    void read_into(const PlanePointers& planes,
+                   const std::vector<PixelRect>* regions = nullptr) const;
     // The uv derivatives of the last draw with `derivatives`, 4 per pixel: du/dx, dv/dx, du/dy,
     // dv/dy (rows bottom first); the G-buffer file keeps them, the passes do not read them.
     std::vector<float> read_uv_derivatives() const;
@@ -126,10 +136,14 @@ class Raster {
     };
     int width_, height_;
     std::vector<DrawMesh> meshes_;
-    // `curved`: forward traces over the curved base (relief.glsl's curvature).
+    // `curved`: forward traces over the curved base (relief.glsl's curvature). Without `clear`
+    // the targets keep what the caller put there.
     void draw_with(const View& view, const std::vector<ForwardMaterial>* forward, bool prepass,
-                   const Program& program, bool curved);
-    Program deferred_, forward_, deferred_count_, forward_count_, depth_only_, deferred_peel_;
+                   const Program& program, bool curved, bool clear = true);
+    Program deferred_, forward_, deferred_count_, forward_count_, depth_only_, deferred_peel_,
+        peel_mask_;
+    VertexArray mask_vao_;
+    BufferObject mask_pixels_;  // draw_behind's pixels
     Texture depth_, normal_, tangent_, uv_, derivatives_, material_, offset_, offset2_, curvature_,
         color_, depth_after_;
     Framebuffer fbo_, depth_fbo_;

@@ -111,6 +111,15 @@ double reach_texels(const GBuffer& base, size_t k, const LoadedMaterial& m) {
     return depth * std::hypot(vx / len * m.map.width, vy / len * m.map.height) + 2.0;
 }
 
+// How far (world units, along the ray) the relief can move the surface from its base: s max(r,
+// 1 - r) / cos uv units, times the uv density, `cos` the ray's cosine with the surface's normal.
+double depth_reach(const LoadedMaterial& m, double density, double cosine) {
+    const PassSettings& s = m.spec.settings;
+    return density * s.scale * std::max(s.reference_plane, 1.0f - s.reference_plane) / cosine *
+               1.01 +
+           1e-4;
+}
+
 }  // namespace
 
 TruthComparison compare_to_truth(const GeometryFrame& truth, const ShownFrame& f,
@@ -144,24 +153,33 @@ TruthComparison compare_to_truth(const GeometryFrame& truth, const ShownFrame& f
         // lies beyond the relief's reach from the base G-buffer's uv: that is coverage too.
         bool same = t == m;
         const int x = static_cast<int>(k % w), y = static_cast<int>(k / w);
-        if (same && std::isfinite(base.uv[k].s[0])) {
+        const bool base_is_t = t && !base.material.empty() && base.material[k] == float(t->spec.id);
+        if (same && std::isfinite(base.uv[k].s[0]) && !base_is_t && !base.material.empty()) {
+            // Neither shows the base surface (a layer behind, or what a discarded fragment let
+            // through): the same surface if their points lie within the relief's depth of each
+            // other along the ray, at the angle the truth's normal makes with it.
+            const glm::dvec3 pt = world(x, y, truth.depth[k]), pf = world(x, y, (*f.depth)[k]);
+            const glm::dvec3 ray = glm::normalize(world(x, y, 1.0) - world(x, y, 0.0));
+            const glm::dvec3 nt(truth.normal[3 * k], truth.normal[3 * k + 1],
+                                truth.normal[3 * k + 2]);
+            const double cosine = std::fabs(glm::dot(ray, nt)) / std::max(glm::length(nt), 1e-12);
+            const double min_vz =
+                grazing_rule(t->spec.settings, t->map.width, t->map.height).min_vz;
+            same =
+                glm::length(pt - pf) <= depth_reach(*t, truth.density[k], std::max(cosine, min_vz));
+        } else if (same && std::isfinite(base.uv[k].s[0])) {
             const double reach = reach_texels(base, k, *t);
-            // In world units along the ray: s max(r, 1 - r) / V.z uv units, times the density.
             const double vz = base.view[k].s[2] / std::sqrt(base.view[k].s[0] * base.view[k].s[0] +
                                                             base.view[k].s[1] * base.view[k].s[1] +
                                                             base.view[k].s[2] * base.view[k].s[2]);
-            const PassSettings& ps = t->spec.settings;
-            const double depth_reach = truth.density[k] * ps.scale *
-                                           std::max(ps.reference_plane, 1.0f - ps.reference_plane) /
-                                           std::max(vz, 1e-3) * 1.01 +
-                                       1e-4;
+            const double along = depth_reach(*t, truth.density[k], std::max(vz, 1e-3));
             // And facing as the base does there (within 45 degrees: not a box's other face),
             // where the frame shows geometry with its normals (the truth, a tessellation).
             auto near = [&](double u, double v, double depth, const float* n) {
                 const float* bn = &base_normal[4 * k];
                 return (!n || n[0] * bn[0] + n[1] * bn[1] + n[2] * bn[2] > 0.7071f) &&
                        texel_distance(u, v, base.uv[k].s[0], base.uv[k].s[1], *t) <= reach &&
-                       glm::length(world(x, y, depth) - world(x, y, base_depth[k])) <= depth_reach;
+                       glm::length(world(x, y, depth) - world(x, y, base_depth[k])) <= along;
             };
             const bool truth_near =
                 near(truth.uv[2 * k], truth.uv[2 * k + 1], truth.depth[k], &truth.normal[3 * k]);

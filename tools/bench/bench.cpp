@@ -510,8 +510,9 @@ int main(int argc, char** argv) {
                  "against the offset pass, every shadow mode, in turns");
     app.add_flag("--curved", curved_only,
                  "only the curved scene's deferred frame at the main resolution: over the "
-                 "tangent plane, the curved base and with the layer behind, in turns; and the "
-                 "curvature plane's read on the offset pass");
+                 "tangent plane, the curved base and with the layer behind (drawn where the "
+                 "first layer needs it, and over the whole frame), in turns; and the curvature "
+                 "plane's read on the offset pass");
     app.add_flag("--shadow-map", shadow_only,
                  "only the room under a low sun at the main resolution, without and with its "
                  "2048^2 displaced shadow map, in turns: the light's passes a map pixel against "

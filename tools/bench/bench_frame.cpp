@@ -210,16 +210,23 @@ nlohmann::json bench_curved_frame(std::shared_ptr<Runtime> rt, const Resolution&
         const char* name;
         bool curved;
         int layers;
+        bool whole;  // the layer behind drawn over the whole frame (set_layers)
     };
-    const Mode modes[] = {{"plane", false, 1}, {"curved", true, 1}, {"two-layers", true, 2}};
+    const Mode modes[] = {{"plane", false, 1, false},
+                          {"curved", true, 1, false},
+                          {"two-layers", true, 2, false},
+                          {"two-whole", true, 2, true}};
     // samples[mode][pass], one value per round.
     std::vector<std::vector<std::vector<double> > > samples(std::size(modes),
                                                             std::vector<std::vector<double> >(10));
+    std::vector<size_t> left(std::size(modes));  // pixels the first layer left to the second
     for (int round = 0; round <= rounds; ++round)
         for (size_t m = 0; m < std::size(modes); ++m) {
             r.set_curvature(modes[m].curved);
-            r.set_layers(modes[m].layers);
-            const std::vector<double> v = pass_values(r.render(FrameMode::Deferred, false, 1));
+            r.set_layers(modes[m].layers, modes[m].whole);
+            const FrameRun run = r.render(FrameMode::Deferred, false, 1);
+            const std::vector<double> v = pass_values(run);
+            left[m] = run.behind_pixels + run.missed_pixels;
             if (round == 0) continue;  // the first round warms each mode up
             for (size_t p = 0; p < v.size(); ++p) samples[m][p].push_back(v[p]);
         }
@@ -235,6 +242,7 @@ nlohmann::json bench_curved_frame(std::shared_ptr<Runtime> rt, const Resolution&
     nlohmann::json rows = nlohmann::json::array();
     for (size_t m = 0; m < std::size(modes); ++m) {
         nlohmann::json row = {{"mode", modes[m].name}};
+        if (modes[m].layers == 2) row["pixels_behind"] = left[m];
         std::vector<double> med;
         for (size_t p = 0; p < 10; ++p) {
             med.push_back(median_of(samples[m][p]));
@@ -257,15 +265,18 @@ nlohmann::json bench_curved_frame(std::shared_ptr<Runtime> rt, const Resolution&
                      {"two_layers_over_curved_total", ratio(2, 1, 9)},
                      {"two_layers_over_plane_total", ratio(2, 0, 9)},
                      {"two_layers_over_curved_gbuffer", ratio(2, 1, 0)},
-                     {"two_layers_over_curved_offset", ratio(2, 1, 3)}};
+                     {"two_layers_over_curved_offset", ratio(2, 1, 3)},
+                     {"two_whole_over_curved_total", ratio(3, 1, 9)}};
+    std::printf("  the layer behind traced at %zu of %d pixels\n", left[2], res.w * res.h);
     std::printf(
         "  frame totals: curved / plane %.3f, two layers / curved %.3f, two layers / plane "
-        "%.3f (G-buffer pass %.3f, offset %.3f)\n",
+        "%.3f (G-buffer pass %.3f, offset %.3f); the whole layer behind / curved %.3f\n",
         out["ratios"]["curved_over_plane_total"].get<double>(),
         out["ratios"]["two_layers_over_curved_total"].get<double>(),
         out["ratios"]["two_layers_over_plane_total"].get<double>(),
         out["ratios"]["two_layers_over_curved_gbuffer"].get<double>(),
-        out["ratios"]["two_layers_over_curved_offset"].get<double>());
+        out["ratios"]["two_layers_over_curved_offset"].get<double>(),
+        out["ratios"]["two_whole_over_curved_total"].get<double>());
 
     // The curvature plane's read: a plane of zeros (every pixel traced as today) against none.
     PassSettings s;

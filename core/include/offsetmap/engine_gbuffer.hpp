@@ -63,6 +63,11 @@ struct EngineLight {
     std::array<float, 3> vector = {0, 0, 1};
 };
 
+// A rectangle of pixels, its first row and column counted as the G-buffer stores them.
+struct PixelRegion {
+    int x = 0, y = 0, width = 0, height = 0;
+};
+
 // The engine's G-buffer: per pixel depth (1 value), tangent frame (4 values each input) and uv
 // (2 values), with the camera that rendered it and the light. World units are the engine's.
 struct EngineGBuffer {
@@ -75,6 +80,10 @@ struct EngineGBuffer {
     Input tangent;  // NormalTangent only
     Input uv;
     EngineLight light;
+    // Optional: reconstruct only these rectangles (rows as stored), for a layer the engine drew
+    // only at some pixels; the rest of the output then holds what its unread input gives (lanes
+    // and work-groups round each rectangle out). Empty: every pixel.
+    std::vector<PixelRegion> regions;
 
     size_t pixels() const { return static_cast<size_t>(width) * height; }
 };

@@ -86,6 +86,16 @@ class MaterialFrame {
     cl::Event enqueue(const DeviceGBuffer& gbuffer, const OffsetTargets& targets,
                       const LayerBehind& behind, const std::vector<cl::Event>& wait = {},
                       const cl::CommandQueue& queue = cl::CommandQueue());
+    // The same in two steps, for an engine that draws its second layer only where the first
+    // needs it: after enqueue(gbuffer, targets) has traced the first layer (and the engine has
+    // read its flags, OM_FLAGS_SEE_BEHIND, and drawn the layer behind at those pixels), this
+    // traces the second layer there (after the first layer's dispatches, besides `wait`) and takes
+    // its results as the overload above does. Only those pixels' values of the second layer's
+    // planes matter: the rest may hold anything (finite or not). `dispatches()` then lists both
+    // layers'.
+    cl::Event enqueue_behind(const DeviceGBuffer& gbuffer, const OffsetTargets& targets,
+                             const LayerBehind& behind, const std::vector<cl::Event>& wait = {},
+                             const cl::CommandQueue& queue = cl::CommandQueue());
     // The same frame with triplanar materials: `planes` as the reconstruct pass's triplanar split
     // wrote them. The G-buffer's pass traces every pixel's dominant projection with the others;
     // the second and third projections are traced where they weigh (their own classification, so
@@ -162,6 +172,13 @@ class MaterialFrame {
     cl::Event trace(const DeviceGBuffer& g, const OffsetTargets& t,
                     const std::vector<cl::Event>& wait, const cl::CommandQueue& queue,
                     bool pass_through);
+    // The layer behind's checks (an Error naming what is wrong), and its trace after the first
+    // layer's enqueue: the mask, the second layer's classification and trace, the choice.
+    void check_behind(const DeviceGBuffer& g, const OffsetTargets& t, const LayerBehind& behind,
+                      const cl::CommandQueue& queue);
+    cl::Event trace_behind(const DeviceGBuffer& g, const OffsetTargets& t,
+                           const LayerBehind& behind, const std::vector<cl::Event>& wait,
+                           const cl::CommandQueue& queue);
     // Its tile entry as `variant` asks (outputs only: the tile entry takes neither images nor LOD).
     cl::Kernel& tile_kernel(Method& m, OffsetVariant variant);
     // Slot s's precomputed data built from its field (an Error naming the material on failure).

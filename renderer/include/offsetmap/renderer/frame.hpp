@@ -119,8 +119,11 @@ class FrameRenderer {
     // Deferred frames rendered after this call with 2 also draw the G-buffer's second layer
     // (depth peeling: each pixel's nearest surface behind the first, every plane the passes read)
     // and trace it where the first shows nothing of its relief (MaterialFrame's LayerBehind); 1
-    // goes back to one layer. Throws Error for another count.
-    void set_layers(int layers);
+    // goes back to one layer. Throws Error for another count. The first layer is traced first and
+    // the second drawn, moved and reconstructed only at the pixels it left (where none did, not at
+    // all); with `whole`, over the whole frame (the same frame, bit for bit, at the whole layer's
+    // cost: what an engine pays that draws its layers before it traces).
+    void set_layers(int layers, bool whole = false);
     // Deferred frames rendered after this call with settings test each pixel's point against a
     // shadow map of the scene's light (ShadowMaskPass), drawn once a render before its frames,
     // and shade with it beside the self-shadow march (ShadeInputs::shadow_mask); the forward peer

@@ -108,10 +108,13 @@ std::vector<std::uint8_t> silhouette_band(const std::vector<float>& base_materia
                                           const std::vector<std::uint32_t>& flags, int width,
                                           int height);
 
-// `base`: the frame's explicit G-buffer (uv and tangent-space V of the base meshes), window depth
-// and world normals (4 a pixel): a pixel where the truth shows a surface within the relief's reach
-// of the base (in uv and along the ray, facing within 45 degrees of it) and the frame one beyond
-// it, or the other way (the same material on another face), counts as a coverage mismatch too.
+// `base`: the frame's explicit G-buffer (uv and tangent-space V of the base meshes, and their
+// material ids), window depth and world normals (4 a pixel): a pixel where the truth shows a
+// surface within the relief's reach of the base (in uv and along the ray, facing within 45 degrees
+// of it) and the frame one beyond it, or the other way (the same material on another face), counts
+// as a coverage mismatch too. Where the base shows another material than the one both show (a
+// layer behind), the base says nothing of their surface: they are the same surface when their
+// points lie within the relief's reach of each other along the ray (at the truth normal's angle).
 TruthComparison compare_to_truth(const GeometryFrame& truth, const ShownFrame& frame,
                                  const GBuffer& base, const std::vector<float>& base_depth,
                                  const std::vector<float>& base_normal,
