@@ -441,8 +441,9 @@ cl::Event MaterialFrame::trace(const DeviceGBuffer& g, const OffsetTargets& t,
     }
 }
 
-void MaterialFrame::check_behind(const DeviceGBuffer& g, const OffsetTargets& t,
-                                 const LayerBehind& behind, const cl::CommandQueue& queue_given) {
+const cl::CommandQueue& MaterialFrame::check_behind(const DeviceGBuffer& g, const OffsetTargets& t,
+                                                    const LayerBehind& behind,
+                                                    const cl::CommandQueue& queue_given) {
     if (triplanar_table_.any)
         throw Error("the layer behind does not trace triplanar materials: " +
                     triplanar_table_.name + " is one");
@@ -485,27 +486,28 @@ void MaterialFrame::check_behind(const DeviceGBuffer& g, const OffsetTargets& t,
                  {g.curvature, "the G-buffer's curvature", sizeof(cl_float4)}};
     for (const auto& p : taken)
         check_buffer(context, p.plane, {p.name, "value", p.bytes, n, true, true});
+    return queue;
 }
 
 cl::Event MaterialFrame::enqueue(const DeviceGBuffer& g, const OffsetTargets& t,
                                  const LayerBehind& behind, const std::vector<cl::Event>& wait,
                                  const cl::CommandQueue& queue_given) {
-    check_behind(g, t, behind, queue_given);
-    const cl::Event first = enqueue(g, t, wait, queue_given);
-    return trace_behind(g, t, behind, {first}, checked_queue(g, queue_given));
+    const cl::CommandQueue& queue = check_behind(g, t, behind, queue_given);
+    const cl::Event first = enqueue(g, t, wait, queue);
+    return trace_behind(g, t, behind, {first}, queue);
 }
 
 cl::Event MaterialFrame::enqueue_behind(const DeviceGBuffer& g, const OffsetTargets& t,
                                         const LayerBehind& behind,
                                         const std::vector<cl::Event>& wait,
                                         const cl::CommandQueue& queue_given) {
-    check_behind(g, t, behind, queue_given);
+    const cl::CommandQueue& queue = check_behind(g, t, behind, queue_given);
     // After the first layer's trace whatever the caller waits on (an out-of-order queue too).
     std::vector<cl::Event> after = wait;
     if (classify_event_()) after.push_back(classify_event_);
     for (const Dispatch& d : dispatches_)
         if (d.event()) after.push_back(d.event);
-    return trace_behind(g, t, behind, after, checked_queue(g, queue_given));
+    return trace_behind(g, t, behind, after, queue);
 }
 
 cl::Event MaterialFrame::trace_behind(const DeviceGBuffer& g, const OffsetTargets& t,

@@ -45,11 +45,11 @@ std::vector<T> flip_rows(const std::vector<T>& in, int width, int height, int c)
 // The pixels whose first layer leaves them to the one behind (`needed`, in order), and the
 // rectangles the second layer's planes are read from: in each band of kBand rows, runs of kBand
 // columns that hold such pixels, joined across gaps of at most kGap columns.
-std::vector<PixelRect> needed_behind(const std::vector<std::uint32_t>& flags, int width, int height,
-                                     std::vector<std::uint32_t>& needed) {
+std::vector<PixelRegion> needed_behind(const std::vector<std::uint32_t>& flags, int width,
+                                       int height, std::vector<std::uint32_t>& needed) {
     constexpr int kBand = 16, kGap = 32;
     needed.clear();
-    std::vector<PixelRect> regions;
+    std::vector<PixelRegion> regions;
     std::vector<std::uint8_t> used((width + kBand - 1) / kBand);
     for (int band = 0; band < height; band += kBand) {
         const int rows = std::min(kBand, height - band);
@@ -401,7 +401,7 @@ FrameRun FrameRenderer::render(FrameMode mode, bool prepass, int repeats) {
                                const cl::Buffer& normal, const cl::Buffer& tangent,
                                const cl::Buffer& uv, const cl::Buffer& ids,
                                const cl::Buffer& density, const cl::Buffer& curvature,
-                               const std::vector<PixelRect>* regions = nullptr) {
+                               const std::vector<PixelRegion>* regions = nullptr) {
             auto map = [&](const cl::Buffer& b, size_t floats) {
                 return static_cast<float*>(q.enqueueMapBuffer(
                     b, CL_TRUE, CL_MAP_WRITE_INVALIDATE_REGION, 0, floats * sizeof(float)));
@@ -514,11 +514,11 @@ FrameRun FrameRenderer::render(FrameMode mode, bool prepass, int repeats) {
                     g2.tangent.buffer = behind->tangent;
                     g2.uv.buffer = behind->uv;
                     // One launch a band (a launch costs more than the columns between runs).
-                    for (const PixelRect& r : whole ? std::vector<PixelRect>() : regions) {
+                    for (const PixelRegion& r : whole ? std::vector<PixelRegion>() : regions) {
                         if (!g2.regions.empty() && g2.regions.back().y == r.y)
                             g2.regions.back().width = r.x + r.width - g2.regions.back().x;
                         else
-                            g2.regions.push_back({r.x, r.y, r.width, r.height});
+                            g2.regions.push_back(r);
                     }
                     m.reconstruct->enqueue(g2, behind->dg);
                     q.finish();

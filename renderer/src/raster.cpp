@@ -352,10 +352,10 @@ std::vector<float> Raster::read_offset_yz() const {
     return read_pixels(fbo_.get(), GL_COLOR_ATTACHMENT7, GL_RGBA, 4, width_, height_);
 }
 
-void Raster::read_into(const PlanePointers& p, const std::vector<PixelRect>* regions) const {
+void Raster::read_into(const PlanePointers& p, const std::vector<PixelRegion>* regions) const {
     const GLuint f = fbo_.get();
-    const std::vector<PixelRect> whole{{0, 0, width_, height_}};
-    for (const PixelRect& r : regions ? *regions : whole) {
+    const std::vector<PixelRegion> whole{{0, 0, width_, height_}};
+    for (const PixelRegion& r : regions ? *regions : whole) {
         auto read = [&](GLenum attachment, GLenum format, int components, float* out) {
             read_pixels_into(f, attachment, format, r.x, r.y, r.width, r.height, width_,
                              out + (static_cast<size_t>(r.y) * width_ + r.x) * components);

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "gl.hpp"
+#include "offsetmap/engine_gbuffer.hpp"
 #include "offsetmap/heightmap.hpp"
 #include "offsetmap/registry.hpp"
 #include "offsetmap/renderer/scene.hpp"
@@ -65,11 +66,6 @@ struct PlanePointers {
     float* curvature = nullptr;
 };
 
-// A rectangle of pixels in GL's rows (bottom first).
-struct PixelRect {
-    int x = 0, y = 0, width = 0, height = 0;
-};
-
 struct View {
     std::array<float, 16> view_projection{};          // column-major
     std::array<float, 16> inverse_view_projection{};  // column-major
@@ -111,9 +107,10 @@ class Raster {
     // axis's), each traced where its weight is not 0 and its uv elsewhere.
     std::vector<float> read_offset_yz() const;
     // The same planes straight into the caller's memory (mapped OpenCL buffers: one copy), the
-    // material target's id and uv density as a plane each; with `regions`, only their pixels.
+    // material target's id and uv density as a plane each; with `regions` (rows in GL's order,
+    // bottom first), only their pixels.
     void read_into(const PlanePointers& planes,
-                   const std::vector<PixelRect>* regions = nullptr) const;
+                   const std::vector<PixelRegion>* regions = nullptr) const;
     // The uv derivatives of the last draw with `derivatives`, 4 per pixel: du/dx, dv/dx, du/dy,
     // dv/dy (rows bottom first); the G-buffer file keeps them, the passes do not read them.
     std::vector<float> read_uv_derivatives() const;

@@ -153,8 +153,9 @@ TruthComparison compare_to_truth(const GeometryFrame& truth, const ShownFrame& f
         // lies beyond the relief's reach from the base G-buffer's uv: that is coverage too.
         bool same = t == m;
         const int x = static_cast<int>(k % w), y = static_cast<int>(k / w);
-        const bool base_is_t = t && !base.material.empty() && base.material[k] == float(t->spec.id);
-        if (same && std::isfinite(base.uv[k].s[0]) && !base_is_t && !base.material.empty()) {
+        const bool other_base =
+            t && !base.material.empty() && base.material[k] != float(t->spec.id);
+        if (same && std::isfinite(base.uv[k].s[0]) && other_base) {
             // Neither shows the base surface (a layer behind, or what a discarded fragment let
             // through): the same surface if their points lie within the relief's depth of each
             // other along the ray, at the angle the truth's normal makes with it.

@@ -172,10 +172,11 @@ class MaterialFrame {
     cl::Event trace(const DeviceGBuffer& g, const OffsetTargets& t,
                     const std::vector<cl::Event>& wait, const cl::CommandQueue& queue,
                     bool pass_through);
-    // The layer behind's checks (an Error naming what is wrong), and its trace after the first
-    // layer's enqueue: the mask, the second layer's classification and trace, the choice.
-    void check_behind(const DeviceGBuffer& g, const OffsetTargets& t, const LayerBehind& behind,
-                      const cl::CommandQueue& queue);
+    // The layer behind's checks (an Error naming what is wrong; then the queue to enqueue on), and
+    // its trace after the first layer's enqueue: the mask, the second layer's classification and
+    // trace, the choice.
+    const cl::CommandQueue& check_behind(const DeviceGBuffer& g, const OffsetTargets& t,
+                                         const LayerBehind& behind, const cl::CommandQueue& queue);
     cl::Event trace_behind(const DeviceGBuffer& g, const OffsetTargets& t,
                            const LayerBehind& behind, const std::vector<cl::Event>& wait,
                            const cl::CommandQueue& queue);
