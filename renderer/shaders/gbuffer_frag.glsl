@@ -28,8 +28,10 @@ layout(early_fragment_tests) in;
 layout(binding = 0, offset = 0) uniform atomic_uint om_shaded;
 #endif
 #ifdef OM_PEEL
-// The second layer (depth peeling): at each pixel the nearest surface behind the first layer's,
-// whose depth this is (the same vertex stage, invariant, gives its own fragment the same depth).
+// The whole second layer (depth peeling): at each pixel the nearest surface behind the first
+// layer's, whose depth this is (the same vertex stage, invariant, gives its own fragment the same
+// depth). The layer drawn only where it is needed takes the test in a depth-only pass instead
+// (peel_depth_frag.glsl).
 uniform sampler2D u_front_depth;
 #endif
 #ifdef OM_FORWARD

@@ -147,6 +147,8 @@ Raster::Raster(const Scene& scene, int width, int height) : width_(width), heigh
     deferred_peel_ =
         make_program("gbuffer_vert.glsl", "gbuffer_frag.glsl", methods + "#define OM_PEEL 1\n");
     glProgramUniform1i(deferred_peel_.get(), uniform(deferred_peel_, "u_front_depth"), 1);
+    peel_depth_ = make_program("gbuffer_vert.glsl", "peel_depth_frag.glsl");
+    glProgramUniform1i(peel_depth_.get(), uniform(peel_depth_, "u_front_depth"), 1);
     peel_mask_ = make_program("peel_mask_vert.glsl", "peel_mask_frag.glsl");
     glProgramUniform1i(peel_mask_.get(), uniform(peel_mask_, "u_width"), width);
     glProgramUniform2f(peel_mask_.get(), uniform(peel_mask_, "u_size"), float(width),
@@ -157,10 +159,11 @@ Raster::Raster(const Scene& scene, int width, int height) : width_(width), heigh
         glCreateBuffers(1, ids + 1);
         mask_vao_ = VertexArray(ids[0]);
         mask_pixels_ = BufferObject(ids[1]);
-        glVertexArrayVertexBuffer(ids[0], 0, ids[1], 0, sizeof(std::uint32_t));
+        glVertexArrayVertexBuffer(ids[0], 0, ids[1], 0, 2 * sizeof(std::uint32_t));
         glEnableVertexArrayAttrib(ids[0], 0);
-        glVertexArrayAttribIFormat(ids[0], 0, 1, GL_UNSIGNED_INT, 0);
+        glVertexArrayAttribIFormat(ids[0], 0, 2, GL_UNSIGNED_INT, 0);
         glVertexArrayAttribBinding(ids[0], 0, 0);
+        glVertexArrayBindingDivisor(ids[0], 0, 1);
     }
 
     depth_ = make_texture(GL_DEPTH_COMPONENT32F, width, height);
@@ -229,9 +232,14 @@ void Raster::draw_behind(const View& view, const Raster& front, bool curvature,
     } scissor_off;
     if (pixels) {
         // No clear: the clear's values and a depth at the far plane are written at those pixels
-        // alone (a point each), and a depth of 0 elsewhere, which no fragment passes. Nothing is
-        // drawn outside their bounding box, whose tiles the raster then skips. (A box per cluster
-        // costs a pass over the vertices each, more than the tiles it skips.)
+        // alone (a rectangle a run along a row), and the depth is 0 elsewhere, which no fragment
+        // passes: cleared once (and after a whole layer), then only the last call's runs closed
+        // again. Nothing is drawn outside the pixels' bounding box, whose tiles the raster then
+        // skips. (A box per cluster costs a pass over the vertices each, more than the tiles it
+        // skips.) The peel's test against the first layer's depth is a discard, which costs
+        // llvmpipe its early depth test (every fragment in the box is shaded): it runs in a
+        // depth-only pass, and the G-buffer follows at GL_EQUAL without one, as after a forward
+        // depth pre-pass.
         glViewport(0, 0, width_, height_);
         glBindFramebuffer(GL_DRAW_FRAMEBUFFER, fbo_.get());
         int x0 = width_, y0 = height_, x1 = -1, y1 = -1;
@@ -242,21 +250,44 @@ void Raster::draw_behind(const View& view, const Raster& front, bool curvature,
             y0 = std::min(y0, y);
             y1 = std::max(y1, y);
         }
-        glEnable(GL_SCISSOR_TEST);
-        glScissor(x0, y0, std::max(0, x1 - x0 + 1), std::max(0, y1 - y0 + 1));
-        const float near = 0.0f;
-        glClearNamedFramebufferfv(fbo_.get(), GL_DEPTH, 0, &near);
-        glNamedBufferData(mask_pixels_.get(), pixels->size() * sizeof(std::uint32_t),
-                          pixels->data(), GL_STREAM_DRAW);
         glEnable(GL_DEPTH_TEST);
         glDepthFunc(GL_ALWAYS);
         glDepthMask(GL_TRUE);
+        glDisable(GL_CULL_FACE);
         glUseProgram(peel_mask_.get());
         glBindVertexArray(mask_vao_.get());
-        glDrawArrays(GL_POINTS, 0, static_cast<GLsizei>(pixels->size()));
+        if (!peel_closed_) {
+            const float near = 0.0f;
+            glClearNamedFramebufferfv(fbo_.get(), GL_DEPTH, 0, &near);
+            peel_closed_ = true;
+        } else if (open_runs_ > 0) {
+            glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
+            glUniform1f(uniform(peel_mask_, "u_depth"), -1.0f);
+            glDrawArraysInstanced(GL_TRIANGLE_STRIP, 0, 4, open_runs_);
+            glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+        }
+        glEnable(GL_SCISSOR_TEST);
+        glScissor(x0, y0, std::max(0, x1 - x0 + 1), std::max(0, y1 - y0 + 1));
+        std::vector<std::uint32_t> runs;
+        for (std::uint32_t k : *pixels) {
+            if (!runs.empty() && k == runs[runs.size() - 2] + runs.back() && k % width_ != 0)
+                ++runs.back();
+            else
+                runs.insert(runs.end(), {k, 1u});
+        }
+        glNamedBufferData(mask_pixels_.get(), runs.size() * sizeof(std::uint32_t), runs.data(),
+                          GL_STREAM_DRAW);
+        open_runs_ = static_cast<GLsizei>(runs.size() / 2);
+        glUniform1f(uniform(peel_mask_, "u_depth"), 1.0f);
+        glDrawArraysInstanced(GL_TRIANGLE_STRIP, 0, 4, open_runs_);
     }
     glBindTextureUnit(1, front.depth_.get());
-    draw_with(view, nullptr, false, deferred_peel_, false, !pixels);
+    if (pixels) {
+        draw_with(view, nullptr, true, deferred_, false, false, &peel_depth_);
+    } else {
+        draw_with(view, nullptr, false, deferred_peel_, false, true);
+        peel_closed_ = false;
+    }
     glBindTextureUnit(1, 0);
     glNamedFramebufferDrawBuffers(fbo_.get(), kTargetCount, kTargets);
 }
@@ -274,7 +305,8 @@ std::int64_t Raster::count_fragments(const View& view, const std::vector<Forward
 }
 
 void Raster::draw_with(const View& view, const std::vector<ForwardMaterial>* forward, bool prepass,
-                       const Program& program, bool curved, bool clear) {
+                       const Program& program, bool curved, bool clear,
+                       const Program* prepass_program) {
     glViewport(0, 0, width_, height_);
     glBindFramebuffer(GL_DRAW_FRAMEBUFFER, fbo_.get());
     const float nan = std::numeric_limits<float>::quiet_NaN();
@@ -317,7 +349,7 @@ void Raster::draw_with(const View& view, const std::vector<ForwardMaterial>* for
         glDepthFunc(GL_LESS);
         glDepthMask(GL_TRUE);
         glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
-        draw_meshes(depth_only_, false);
+        draw_meshes(prepass_program ? *prepass_program : depth_only_, false);
         glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
         glDepthFunc(GL_EQUAL);
         glDepthMask(GL_FALSE);

@@ -89,9 +89,9 @@ class Raster {
     // The G-buffer's second layer (deferred): at each pixel the nearest surface behind `front`'s
     // last draw (depth peeling against its depth target), into this raster's targets; `front`
     // draws the same scene at the same size. With `pixels` (indices in GL's rows, bottom first)
-    // only those: no target is cleared elsewhere, and the peel's fragments elsewhere fail the
-    // depth test before the shader, so a layer needed along the silhouettes costs about their
-    // fragments, not the frame's.
+    // only those: no target is cleared elsewhere, the peel's test runs in a depth-only pass and
+    // the G-buffer's fragments meet its depth at GL_EQUAL, so a layer needed along the
+    // silhouettes costs about their fragments and the box's rasterization, not the frame's.
     void draw_behind(const View& view, const Raster& front, bool curvature,
                      const std::vector<std::uint32_t>* pixels = nullptr);
     // The same draw with the fragments that pass the depth test counted (an atomic counter in a
@@ -136,11 +136,14 @@ class Raster {
     // `curved`: forward traces over the curved base (relief.glsl's curvature). Without `clear`
     // the targets keep what the caller put there.
     void draw_with(const View& view, const std::vector<ForwardMaterial>* forward, bool prepass,
-                   const Program& program, bool curved, bool clear = true);
+                   const Program& program, bool curved, bool clear = true,
+                   const Program* prepass_program = nullptr);
     Program deferred_, forward_, deferred_count_, forward_count_, depth_only_, deferred_peel_,
-        peel_mask_;
+        peel_mask_, peel_depth_;
     VertexArray mask_vao_;
-    BufferObject mask_pixels_;  // draw_behind's pixels
+    BufferObject mask_pixels_;  // draw_behind's pixels, in runs along their rows
+    bool peel_closed_ = false;  // the depth is 0 but at the last draw_behind's open_runs_
+    GLsizei open_runs_ = 0;
     Texture depth_, normal_, tangent_, uv_, derivatives_, material_, offset_, offset2_, curvature_,
         color_, depth_after_;
     Framebuffer fbo_, depth_fbo_;
