@@ -1,6 +1,6 @@
-// What the G-buffer's clear writes (no surface: a NaN uv, id 0, zeros), and the far plane's
-// depth, at the pixels the layer behind is drawn for; every other pixel keeps a depth of 0, so
-// the peel's fragments there fail the depth test before the shader.
+// What the G-buffer's clear writes (no surface: a NaN uv, id 0, zeros) at the pixels the layer
+// behind is drawn for, whose depth the vertex stage sets to the far plane; every other pixel keeps
+// a depth of 0, so the peel's fragments there fail the depth test.
 layout(location = 0) out vec4 o_normal;
 layout(location = 1) out vec4 o_tangent;
 layout(location = 2) out vec2 o_uv;

@@ -242,13 +242,19 @@ void Raster::draw_behind(const View& view, const Raster& front, bool curvature,
         // depth pre-pass.
         glViewport(0, 0, width_, height_);
         glBindFramebuffer(GL_DRAW_FRAMEBUFFER, fbo_.get());
+        // The pixels' bounding box, and the pixels as runs along their rows (first, length).
         int x0 = width_, y0 = height_, x1 = -1, y1 = -1;
+        std::vector<std::uint32_t> runs;
         for (std::uint32_t k : *pixels) {
             const int x = static_cast<int>(k % width_), y = static_cast<int>(k / width_);
             x0 = std::min(x0, x);
             x1 = std::max(x1, x);
             y0 = std::min(y0, y);
             y1 = std::max(y1, y);
+            if (!runs.empty() && k == runs[runs.size() - 2] + runs.back() && x != 0)
+                ++runs.back();
+            else
+                runs.insert(runs.end(), {k, 1u});
         }
         glEnable(GL_DEPTH_TEST);
         glDepthFunc(GL_ALWAYS);
@@ -268,13 +274,6 @@ void Raster::draw_behind(const View& view, const Raster& front, bool curvature,
         }
         glEnable(GL_SCISSOR_TEST);
         glScissor(x0, y0, std::max(0, x1 - x0 + 1), std::max(0, y1 - y0 + 1));
-        std::vector<std::uint32_t> runs;
-        for (std::uint32_t k : *pixels) {
-            if (!runs.empty() && k == runs[runs.size() - 2] + runs.back() && k % width_ != 0)
-                ++runs.back();
-            else
-                runs.insert(runs.end(), {k, 1u});
-        }
         glNamedBufferData(mask_pixels_.get(), runs.size() * sizeof(std::uint32_t), runs.data(),
                           GL_STREAM_DRAW);
         open_runs_ = static_cast<GLsizei>(runs.size() / 2);
