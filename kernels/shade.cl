@@ -209,6 +209,7 @@ OM_INLINE void om_shade_lanes(const OmShadeParams* P, OmI active, OmF u, OmF v, 
     om_unit_or(&vx, &vy, &vz, (OmF)0.0f, (OmF)0.0f, (OmF)1.0f);
     // A light below the polygon lights nothing on it, whatever the relief normal says.
     OmI facing = lz > 0.0f;
+#ifdef OM_SHADE_MATERIALS
     const OmI tri = T ? T->on & surface : (OmI)0;
     OmI blended = 0;
     if (OM_ANY(tri)) {
@@ -258,6 +259,7 @@ OM_INLINE void om_shade_lanes(const OmShadeParams* P, OmI active, OmF u, OmF v, 
             bb = OM_SEL(bb, sb, blended);
         }
     }
+#endif
     OmF ndl = OM_SEL((OmF)0.0f, fmax(nx * lx + ny * ly + nz * lz, 0.0f), facing);
     // The march sees the relief's own occlusion within the height field, the shadow map every
     // caster at its displaced depth, the relief's own included (docs/design.md): a blocker both
@@ -265,8 +267,9 @@ OM_INLINE void om_shade_lanes(const OmShadeParams* P, OmI active, OmF u, OmF v, 
     OmF vis = 1.0f;
     if (heights && P->shadow_mode != OM_SHADOW_NONE) {
         const OmField f = om_field_of(heights, P->hf_width, P->hf_height, wrap);
-        // A triplanar projection marches toward the light over the surface, as its ray came.
         OmF mx = lx, my = ly, mz = lz;
+#ifdef OM_SHADE_MATERIALS
+        // A triplanar projection marches toward the light over the surface, as its ray came.
         if (OM_ANY(tri)) {
             OmF bx, by, bz;
             om_tri_into(T->p[0], T->nx, T->ny, T->nz, &bx, &by, &bz);
@@ -276,9 +279,11 @@ OM_INLINE void om_shade_lanes(const OmShadeParams* P, OmI active, OmF u, OmF v, 
             my = OM_SEL(ly, my, tri);
             mz = OM_SEL(lz, mz, tri);
         }
+#endif
         // A projection's march needs the light above its plane; below it, it sees no blocker.
         const OmI shadowed = surface && ndl > 0.0f && mz > 0.0f;
         if (OM_ANY(shadowed)) vis = om_light_visibility(&f, u, v, mx, my, mz, P, shadowed);
+#ifdef OM_SHADE_MATERIALS
         if (OM_ANY(blended)) {
             OmF sum = T->w[0] * vis;
             OmF wx, wy, wz;
@@ -299,6 +304,7 @@ OM_INLINE void om_shade_lanes(const OmShadeParams* P, OmI active, OmF u, OmF v, 
             }
             vis = OM_SEL(vis, sum, blended);
         }
+#endif
     }
     if (has_mask) vis = fmin(vis, mask);
     ndl *= vis;
@@ -344,6 +350,7 @@ OM_INLINE OmShadeIn om_shade_in(const OmShadeParams* P, OmBlock blk, __global co
     return in;
 }
 
+#ifndef OM_SHADE_MATERIALS
 __kernel void om_shade(const OmShadeParams P, __global const float2* uv_in,
                        __global const uint* flags_in, __global const float4* gb_view,
                        __global const float4* gb_light, __global const float4* normals,
@@ -361,11 +368,16 @@ __kernel void om_shade(const OmShadeParams P, __global const float2* uv_in,
     if (out_visibility) om_store_block_f(out_visibility, blk, vis);
 }
 
+#else
 // The material frame's shading: each pixel with its material's normals, albedo and relief (the
 // slot table of the offset pass's tiles); id 0 and ids without a slot flat, with the frame's
 // parameters F. A block takes one pass per material it holds (most hold one), each over that
 // material's lanes with its parameters and maps, so a pixel gets the bits the single-material
-// shade gives it.
+// shade gives it. Its own program (OM_SHADE_MATERIALS, with the triplanar blend above): the
+// single-material shade carries none of it. The passes take the block's slots from the smallest
+// up, a loop whose count the compiler cannot know: over an array of the lanes' slots, NIR
+// (rusticl) unrolled the loop with the whole shade inlined once per lane, and took minutes to
+// build the program at 16 lanes.
 __kernel void om_shade_materials(const OmShadeParams F, __global const OmMaterialSlot* slots,
                                  __global const int* slot_of_id, const int id_limit,
                                  __global const float* material, __global const float2* uv_in,
@@ -404,11 +416,11 @@ __kernel void om_shade_materials(const OmShadeParams F, __global const OmMateria
     for (int k = 0; k < OM_LANES; ++k) slot[k] = om_slot_of(ids[k], id_limit, slot_of_id);
     const OmI slots_v = OM_VLOAD(slot);
     OmF r = 0.0f, g = 0.0f, b = 0.0f, a = 0.0f, vis = 0.0f;
-    uint taken = 0u;  // lanes a pass has shaded
-    for (int k = 0; k < OM_LANES; ++k) {
-        if (taken & (1u << k)) continue;
-        const int s = slot[k];
-        for (int j = k; j < OM_LANES; ++j) taken |= slot[j] == s ? 1u << j : 0u;
+    OmI left = (OmI)(-1);  // lanes no pass has shaded yet
+    while (OM_ANY(left)) {
+        const int s = OM_LANE_MIN(OM_SEL((OmI)INT_MAX, slots_v, left));
+        const OmI mine = left & (slots_v == s);
+        left &= !mine;
         OmShadeParams P = F;
         __global const float4* n = 0;
         __global const float* h = 0;
@@ -420,7 +432,6 @@ __kernel void om_shade_materials(const OmShadeParams F, __global const OmMateria
             h = heights + S->heights_offset;
             c = P.has_albedo ? albedo + S->albedo_offset : 0;
         }
-        const OmI mine = slots_v == s;
         OmF pr, pg, pb, pa, pv;
         om_shade_lanes(&P, mine, in.u, in.v, in.flags, in.vx, in.vy, in.vz, in.lx, in.ly, in.lz, n,
                        h, c, shadow_mask != 0, in.mask, T, &pr, &pg, &pb, &pa, &pv);
@@ -433,3 +444,4 @@ __kernel void om_shade_materials(const OmShadeParams F, __global const OmMateria
     om_store_block4((__global float*)out_rgba, blk, r, g, b, a);
     if (out_visibility) om_store_block_f(out_visibility, blk, vis);
 }
+#endif  // OM_SHADE_MATERIALS

@@ -14,8 +14,11 @@ size=$(du -k "$tarball" | cut -f1)
 tar -C "$tmp" -xzf "$tarball"
 dir=$tmp/offsetmap-check
 echo "bundle: $size KiB; $(cd "$dir" && find . -type f | sort | tr '\n' ' ')"
-ldd "$dir/bin/offsetmap_check" | grep -q "not found" ||
-    LD_LIBRARY_PATH=$dir/lib ldd "$dir/bin/offsetmap_check" | grep -q "$dir/lib/libOpenCL.so.1" ||
+# ldd's whole output first: `ldd | grep -q` under pipefail fails whenever grep stops at its first
+# match before ldd has written its last line (ldd then dies of SIGPIPE).
+plain=$(ldd "$dir/bin/offsetmap_check" 2>&1)
+bundled=$(LD_LIBRARY_PATH=$dir/lib ldd "$dir/bin/offsetmap_check" 2>&1)
+grep -q "not found" <<<"$plain" || grep -qF "$dir/lib/libOpenCL.so.1" <<<"$bundled" ||
     fail "the check does not load the bundle's ICD loader"
 cd "$tmp"
 # PoCL, registered in /etc/OpenCL/vendors.

@@ -28,11 +28,11 @@ fail)
 quiet)
     "$@" >"$tmp/out" 2>"$tmp/err" || { echo "exit $?"; cat "$tmp/out" "$tmp/err"; exit 1; }
     [ ! -s "$tmp/err" ] || { echo "expected nothing on stderr:"; cat "$tmp/err"; exit 1; }
-    tr "\n" " " <"$tmp/out" | grep -Eq -e "$pattern" || { echo "output does not match '$pattern'"; exit 1; }
+    grep -Eq -e "$pattern" <<<"$(tr "\n" " " <"$tmp/out")" || { echo "output does not match '$pattern'"; exit 1; }
     ;;
 ok)
     "$@" >"$tmp/out" 2>&1 || { echo "exit $?"; cat "$tmp/out"; exit 1; }
-    tr "\n" " " <"$tmp/out" | grep -Eq -e "$pattern" || { echo "output does not match '$pattern'"; exit 1; }
+    grep -Eq -e "$pattern" <<<"$(tr "\n" " " <"$tmp/out")" || { echo "output does not match '$pattern'"; exit 1; }
     ;;
 analysis)
     om=$1 data=$2
@@ -49,7 +49,7 @@ analysis)
     done
     # What they measured, by content (errors, fetch counts, grids, charts not blank).
     /usr/bin/python3 "$(dirname "$0")/check_analysis.py" "$tmp" 3 || { cat "$tmp/out"; exit 1; }
-    tr "\n" " " <"$tmp/out" | grep -Eq -e "$pattern" || { echo "output does not match '$pattern'"; exit 1; }
+    grep -Eq -e "$pattern" <<<"$(tr "\n" " " <"$tmp/out")" || { echo "output does not match '$pattern'"; exit 1; }
     ;;
 esac
 exit 0

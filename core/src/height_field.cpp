@@ -176,19 +176,23 @@ void finish_field(Runtime& rt, DeviceHeightField& f, const PassSettings& setting
     rt.queue().flush();
 }
 
+// The import's clamped-value counter, zeroed as it is made.
+cl::Buffer clamp_counter(Runtime& rt) {
+    return device_buffer(rt.context(), CL_MEM_READ_WRITE | CL_MEM_COPY_HOST_PTR, sizeof(cl_uint),
+                         "the clamped-height counter", &kZero);
+}
+
 // Level 0 of `f` from `texels` (a buffer of `storage` values or an image) by the import kernel,
-// after `wait`; returns its event, and the clamped-value counter in `count`. Both uploads write
-// level 0 this way, on the device: a host-side copy into part of the pyramid is also where
-// Oclgrind 21.10 loses track of the buffer's initialised bytes (it resizes its shadow of the whole
-// buffer to the copy), so a store into level 1 then runs past that shadow.
+// after `wait`, counting clamped values in `count`; returns its event. Both uploads write level 0
+// this way, on the device: a host-side copy into part of the pyramid is also where Oclgrind 21.10
+// loses track of the buffer's initialised bytes (it resizes its shadow of the whole buffer to the
+// copy), so a store into level 1 then runs past that shadow.
 cl::Event import_level0(Runtime& rt, DeviceHeightField& f, const Input& texels, bool depth_map,
-                        std::vector<cl::Event> after, cl::Buffer& count) {
+                        std::vector<cl::Event> after, const cl::Buffer& count) {
     const bool image = texels.image() != nullptr;
     cl::Kernel k = rt.kernel(rt.program({"common/storage.cl", "prep/import.cl"},
                                         image ? "#define OM_IMAGE_HEIGHTS\n" : ""),
                              "om_import_heights");
-    count = device_buffer(rt.context(), CL_MEM_READ_WRITE | CL_MEM_COPY_HOST_PTR, sizeof(cl_uint),
-                          "the clamped-height counter", &kZero);
     if (image)
         k.setArg(0, texels.image);
     else
@@ -266,7 +270,7 @@ void rewrite_field(Runtime& rt, DeviceHeightField& f, const PassSettings& settin
                                    normal_map->texels.size() * sizeof(cl_float4), "the normal map",
                                    normal_map->texels.data())
                    : cl::Buffer();
-    cl::Buffer count;
+    const cl::Buffer count = clamp_counter(rt);
     const cl::Event filled = import_level0(rt, f, texels, depth_map, after, count);
     finish_field(rt, f, settings, normal_map, filled, after, normal_texels);
     mark_changed(f, f.ready);
@@ -279,10 +283,15 @@ DeviceHeightField upload(Runtime& rt, const HeightMap& map, const PassSettings& 
                          const Image4* normal_map, const std::vector<cl::Event>& wait) {
     validate_height_map(map, "height map");
     validate(settings);
+    // The staging buffers before the field's own (here and below): Oclgrind 21.10 hands a released
+    // buffer's record of initialised bytes to the next buffer made, and a field's pyramid that
+    // took the last upload's staging heights then read as uninitialised past their size. Made
+    // first, the staging buffers take those places and write them whole.
+    const Input texels = host_texels(rt, map);
+    const cl::Buffer count = clamp_counter(rt);
     DeviceHeightField f =
         allocate_field(rt, map.width, map.height, normal_map, packs(settings, holds_unorm16(map)));
-    cl::Buffer count;
-    const cl::Event filled = import_level0(rt, f, host_texels(rt, map), false, wait, count);
+    const cl::Event filled = import_level0(rt, f, texels, false, wait, count);
     finish_field(rt, f, settings, normal_map, filled);
     return f;
 }
@@ -293,9 +302,9 @@ DeviceHeightField upload(Runtime& rt, const DeviceHeights& heights, const PassSe
     validate(settings);
     std::vector<cl::Event> after;
     const Input texels = device_texels(rt, heights, wait, after);
+    const cl::Buffer count = clamp_counter(rt);
     DeviceHeightField f = allocate_field(rt, heights.width, heights.height, normal_map,
                                          packs(settings, at_most_16_bits(heights)));
-    cl::Buffer count;
     const cl::Event filled = import_level0(rt, f, texels, heights.depth_map != 0, after, count);
     finish_field(rt, f, settings, normal_map, filled);
     if (clamped) *clamped = count;

@@ -134,32 +134,35 @@ MaterialFrame::MaterialFrame(std::shared_ptr<Runtime> runtime, std::vector<Frame
         total += aligned(gathered_[s].aux_bytes / sizeof(float), 16);
     }
 
-    // Gather: each material's relief, normals, albedo and precomputed data copied into the frame's
-    // buffers (device copies, after each field's upload and each build).
+    // Gather: each material's relief, normals, albedo and precomputed data written into the frame's
+    // buffers by the gather kernel, after each field's upload and each build. Each buffer is made
+    // with its contents (zeros, the padding between materials), not left for the gather alone:
+    // Oclgrind 21.10 hands a released buffer's record of initialised bytes, of that buffer's size,
+    // to the next buffer made, and a kernel's stores past that size go unrecorded.
+    gather_ = rt.kernel(rt.program({"frame/gather.cl"}), "om_gather_words");
     try {
-        heights_ = device_buffer(context, CL_MEM_READ_ONLY, heights_total * sizeof(float),
-                                 "the material table's reliefs");
-        normals_ = device_buffer(context, CL_MEM_READ_ONLY, normals_total * sizeof(cl_float4),
-                                 "the material table's normals");
-        if (albedo_total > 0)
-            albedo_ = device_buffer(context, CL_MEM_READ_ONLY, albedo_total * sizeof(cl_float4),
-                                    "the material table's albedo images");
+        const std::vector<float> zeros(
+            std::max({heights_total, 4 * normals_total, 4 * albedo_total,
+                      aux_total.empty() ? size_t(0)
+                                        : *std::max_element(aux_total.begin(), aux_total.end())}));
+        auto zeroed = [&](size_t floats, const std::string& what) {
+            return device_buffer(context, CL_MEM_READ_WRITE | CL_MEM_COPY_HOST_PTR,
+                                 floats * sizeof(float), what, zeros.data());
+        };
+        heights_ = zeroed(heights_total, "the material table's reliefs");
+        normals_ = zeroed(4 * normals_total, "the material table's normals");
+        if (albedo_total > 0) albedo_ = zeroed(4 * albedo_total, "the material table's albedo images");
         for (size_t k = 0; k < methods_.size(); ++k)
             if (aux_total[k] > 0)
-                methods_[k].aux = device_buffer(
-                    context, CL_MEM_READ_ONLY, aux_total[k] * sizeof(float),
-                    "the precomputed data of '" + methods_[k].params.method->name + "'");
+                methods_[k].aux = zeroed(
+                    aux_total[k], "the precomputed data of '" + methods_[k].params.method->name + "'");
         for (size_t s = 0; s < n_slots; ++s) {
             const FrameMaterial& m = materials_[s];
             gather_field(s, built[s], {});
-            if (m.albedo.texels()) {
-                cl::Event copied;
-                queue.enqueueCopyBuffer(
-                    m.albedo.texels, albedo_, 0, gathered_[s].albedo * sizeof(cl_float4),
-                    static_cast<size_t>(m.albedo.width) * m.albedo.height * sizeof(cl_float4),
-                    nullptr, &copied);
-                gathered_[s].albedo_copied = copied;
-            }
+            if (m.albedo.texels())
+                gathered_[s].albedo_copied =
+                    gather(m.albedo.texels, albedo_, 4 * gathered_[s].albedo,
+                           4 * static_cast<size_t>(m.albedo.width) * m.albedo.height, {});
         }
         std::vector<cl_float4> triplanar(id_limit_, cl_float4{{0, 0, 0, 0}});
         for (const FrameMaterial& m : materials_) {
@@ -222,7 +225,6 @@ PrecomputeSpec::Built MaterialFrame::build_precomputed(size_t s) {
 
 void MaterialFrame::gather_field(size_t s, const PrecomputeSpec::Built& built,
                                  const std::vector<cl::Event>& after) {
-    const cl::CommandQueue& queue = runtime_->queue();
     const DeviceHeightField& f = materials_[s].field;
     Gathered& at = gathered_[s];
     // After the field's version read with the generation: a copy of a later change is gathered
@@ -231,18 +233,25 @@ void MaterialFrame::gather_field(size_t s, const PrecomputeSpec::Built& built,
     if (f.ready()) ready.push_back(f.ready);
     if (at.version.written()) ready.push_back(at.version.written);
     const size_t texels = static_cast<size_t>(f.width) * f.height;
-    at.copies.assign(2, cl::Event());
-    queue.enqueueCopyBuffer(f.heights, heights_, 0, at.heights * sizeof(float),
-                            height_buffer_bytes(f), &ready, &at.copies[0]);
-    queue.enqueueCopyBuffer(f.normals, normals_, 0, at.normals * sizeof(cl_float4),
-                            texels * sizeof(cl_float4), &ready, &at.copies[1]);
+    at.copies = {gather(f.heights, heights_, at.heights, height_buffer_bytes(f) / sizeof(float),
+                        ready),
+                 gather(f.normals, normals_, 4 * at.normals, 4 * texels, ready)};
     if (built.data()) {
         std::vector<cl::Event> done = after;
         done.insert(done.end(), built.events.begin(), built.events.end());
-        at.copies.emplace_back();
-        queue.enqueueCopyBuffer(built.data, methods_[slots_[s].method].aux, 0,
-                                at.aux * sizeof(float), at.aux_bytes, &done, &at.copies.back());
+        at.copies.push_back(gather(built.data, methods_[slots_[s].method].aux, at.aux,
+                                   at.aux_bytes / sizeof(float), done));
     }
+}
+
+cl::Event MaterialFrame::gather(const cl::Buffer& src, const cl::Buffer& dst, size_t at,
+                                size_t words, const std::vector<cl::Event>& after) {
+    if (at + words > UINT_MAX) throw Error("the material table's buffers are too large");
+    set_args(gather_, src, static_cast<cl_uint>(words), dst, static_cast<cl_uint>(at));
+    cl::Event done;
+    runtime_->queue().enqueueNDRangeKernel(gather_, cl::NullRange, padded(words),
+                                           cl::NDRange(kLocalSize), &after, &done);
+    return done;
 }
 
 std::vector<cl::Event> MaterialFrame::setup_events() const {
@@ -369,23 +378,25 @@ cl::Event MaterialFrame::trace(const DeviceGBuffer& g, const OffsetTargets& t,
             if (2 * total > UINT_MAX) throw Error("the G-buffer has too many tiles");
             counts_ = device_buffer(context, CL_MEM_READ_WRITE, counts.size() * sizeof(cl_uint),
                                     "the tile counts");
+            counts_reset_.assign(counts.size(), 0u);
+            counts_reset_.back() = 0xffffffffu;
             entries_ = device_buffer(context, CL_MEM_READ_WRITE, 2 * total * sizeof(cl_uint),
                                      "the tile lists");
             list_base_ = device_buffer(context, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR,
                                        bases_.size() * sizeof(cl_uint), "the tile list bases",
                                        bases_.data());
         }
-        cl::Event zeroed, unset;
-        queue.enqueueFillBuffer(counts_, cl_uint(0), 0, (n_methods + 1) * sizeof(cl_uint), &wait,
-                                &zeroed);
-        queue.enqueueFillBuffer(counts_, cl_uint(0xffffffffu), (n_methods + 1) * sizeof(cl_uint),
-                                sizeof(cl_uint), &wait, &unset);
+        // One write of the whole buffer, not a fill of each part: Oclgrind 21.10 takes the size of
+        // a partial host store for its record of the whole buffer's initialised bytes, and then
+        // reads the classification's counts past it as uninitialised.
+        cl::Event reset;
+        queue.enqueueWriteBuffer(counts_, CL_FALSE, 0, counts_reset_.size() * sizeof(cl_uint),
+                                 counts_reset_.data(), &wait, &reset);
         std::vector<cl::Event> deps = wait;
         const std::vector<cl::Event> setup = setup_events();
         deps.insert(deps.end(), setup.begin(), setup.end());
         deps.insert(deps.end(), previous.begin(), previous.end());
-        deps.push_back(zeroed);
-        deps.push_back(unset);
+        deps.push_back(reset);
         set_args(classify_, T, g.material, g.uv, slot_of_id_, method_of_slot_, list_base_, counts_,
                  entries_, t.uv);
         set_optional(classify_, 9, t.depth);

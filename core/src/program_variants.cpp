@@ -23,8 +23,9 @@ void add_offset_variants(std::vector<ProgramVariant>& out) {
                         if (images) name += "-images";
                         if (lod) name += "-lod";
                         if (outputs) name += "-outputs";
+                        const bool plain = lanes == 1 && !images && !lod && !outputs;
                         out.push_back(
-                            {name, offset_program_files(m), offset_program_defines(m, v)});
+                            {name, offset_program_files(m), offset_program_defines(m, v), plain});
                     }
         for (int lanes : {1, 8, 16})
             for (bool outputs : {false, true}) {
@@ -33,9 +34,11 @@ void add_offset_variants(std::vector<ProgramVariant>& out) {
                 v.depth = v.fetches = v.flags = outputs;
                 std::vector<std::string> files = offset_program_files(m);
                 files.push_back("frame/tiles.cl");
+                // frame/tiles.cl's sample: pom's entry (the room's materials' method).
+                const bool sample = m.name == "pom" && lanes == 1 && !outputs;
                 out.push_back({"tiles/" + m.name + "/lanes" + std::to_string(lanes) +
                                    (outputs ? "-outputs" : ""),
-                               files, offset_program_defines(m, v, true)});
+                               files, offset_program_defines(m, v, true), sample});
             }
         // Over a curved base (OM_CURVED), with every output: a GPU's path (one lane, images) and
         // PoCL's (16 lanes, buffers), per pixel and in the material frame's tiles.
@@ -46,9 +49,11 @@ void add_offset_variants(std::vector<ProgramVariant>& out) {
             v.curved = true;
             v.depth = v.fetches = v.flags = true;
             const std::string at = "/lanes" + std::to_string(lanes);
+            // common/curved.cl's sample: the exact walk over a curved base, a GPU's path.
             out.push_back(
                 {"offset/" + m.name + at + (v.images ? "-images" : "") + "-curved-outputs",
-                 offset_program_files(m), offset_program_defines(m, v)});
+                 offset_program_files(m), offset_program_defines(m, v),
+                 m.name == "exact" && lanes == 1});
             std::vector<std::string> files = offset_program_files(m);
             files.push_back("frame/tiles.cl");
             out.push_back({"tiles/" + m.name + at + "-curved-outputs", files,
@@ -66,6 +71,8 @@ void add_reconstruct_variants(std::vector<ProgramVariant>& out) {
                      {LightKind::None, LightKind::Directional, LightKind::Point}) {
                     // Every storage and form at one lane; at 8 and 16 the float and image forms.
                     if (lanes > 1 && storage > 0) continue;
+                    const bool sample = lanes == 1 && storage == 0 && !quaternion &&
+                                        light == LightKind::None;
                     out.push_back(
                         {"reconstruct/lanes" + std::to_string(lanes) +
                              (storage < 0 ? "-images" : "-storage" + std::to_string(storage)) +
@@ -75,7 +82,8 @@ void add_reconstruct_variants(std::vector<ProgramVariant>& out) {
                                                               : ""),
                          reconstruct_program_files(),
                          reconstruct_program_defines(lanes, {storage, storage, storage, storage},
-                                                     quaternion, light)});
+                                                     quaternion, light),
+                         sample});
                 }
     // The triplanar split: float buffers, each frame form, lit or not, with and without uv and
     // a tangent.
@@ -90,7 +98,8 @@ void add_reconstruct_variants(std::vector<ProgramVariant>& out) {
                                    reconstruct_program_files(),
                                    reconstruct_program_defines(
                                        lanes, {0, 0, tangent, uv}, quaternion,
-                                       lit ? LightKind::Directional : LightKind::None, true)});
+                                       lit ? LightKind::Directional : LightKind::None, true),
+                                   lanes == 1 && !quaternion && !lit && !bare});
                 }
 }
 
@@ -100,12 +109,12 @@ std::vector<ProgramVariant> program_variants() {
     std::vector<ProgramVariant> out;
     add_offset_variants(out);
     add_reconstruct_variants(out);
-    out.push_back({"prep/mips", {"prep/mips.cl"}, ""});
-    out.push_back({"prep/unorm16", {"prep/unorm16.cl"}, ""});
-    out.push_back({"prep/normals", sampling_program_files("prep/normals.cl"), ""});
-    out.push_back({"prep/footprint", {"prep/footprint.cl"}, ""});
+    out.push_back({"prep/mips", {"prep/mips.cl"}, "", true});
+    out.push_back({"prep/unorm16", {"prep/unorm16.cl"}, "", true});
+    out.push_back({"prep/normals", sampling_program_files("prep/normals.cl"), "", true});
+    out.push_back({"prep/footprint", {"prep/footprint.cl"}, "", true});
     const std::vector<std::string> import = {"common/storage.cl", "prep/import.cl"};
-    out.push_back({"prep/import", import, ""});
+    out.push_back({"prep/import", import, "", true});
     out.push_back({"prep/import-image", import, "#define OM_IMAGE_HEIGHTS\n"});
     std::vector<const PrecomputeSpec*> prep;  // each precompute's kernels, once
     for (const MethodInfo& m : methods())
@@ -113,19 +122,24 @@ std::vector<ProgramVariant> program_variants() {
             prep.push_back(m.precompute);
     for (const PrecomputeSpec* spec : prep) {
         const std::string file = spec->prep_file;
-        out.push_back({file.substr(0, file.rfind('.')), prep_program_files(*spec), ""});
+        out.push_back({file.substr(0, file.rfind('.')), prep_program_files(*spec), "", true});
     }
-    out.push_back({"frame/classify", classify_program_files(), ""});
-    out.push_back({"frame/behind", behind_program_files(), ""});
-    out.push_back({"frame/triplanar", {"frame/triplanar.cl"}, ""});
-    out.push_back({"frame/depth_offset", {"frame/depth_offset.cl"}, ""});
-    out.push_back({"frame/shadow_mask", {"frame/shadow_mask.cl"}, ""});
+    out.push_back({"frame/classify", classify_program_files(), "", true});
+    out.push_back({"frame/gather", {"frame/gather.cl"}, "", true});
+    out.push_back({"frame/behind", behind_program_files(), "", true});
+    out.push_back({"frame/triplanar", {"frame/triplanar.cl"}, "", true});
+    out.push_back({"frame/depth_offset", {"frame/depth_offset.cl"}, "", true});
+    out.push_back({"frame/shadow_mask", {"frame/shadow_mask.cl"}, "", true});
     for (int lanes : {1, 8, 16})
-        out.push_back(
-            {"shade/lanes" + std::to_string(lanes), shade_program_files(), lanes_define(lanes)});
+        for (bool materials : {false, true})
+            out.push_back({std::string(materials ? "shade-materials" : "shade") + "/lanes" +
+                               std::to_string(lanes),
+                           shade_program_files(), shade_program_defines(lanes, materials),
+                           lanes == 1});
     for (int lanes : {1, 8, 16})
         out.push_back({"bench/roofline/lanes" + std::to_string(lanes),
-                       sampling_program_files("bench/roofline.cl"), lanes_define(lanes)});
+                       sampling_program_files("bench/roofline.cl"), lanes_define(lanes),
+                       lanes == 1});
     return out;
 }
 

@@ -338,6 +338,10 @@ std::vector<std::string> shade_program_files() {
             "shade.cl"};
 }
 
+std::string shade_program_defines(int lanes, bool materials) {
+    return lanes_define(lanes) + (materials ? "#define OM_SHADE_MATERIALS\n" : "");
+}
+
 std::vector<std::string> classify_program_files() { return {"frame/slots.h", "frame/classify.cl"}; }
 
 std::vector<std::string> behind_program_files() { return {"frame/behind.cl"}; }

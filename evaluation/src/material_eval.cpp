@@ -28,6 +28,14 @@ OffsetResult run_materials_exact(std::shared_ptr<Runtime> rt,
     return run_materials(rt, table, exact, g, kDefaultTileRows, 0).result;
 }
 
+OffsetResult run_materials_exact(std::shared_ptr<Runtime> rt, const MaterialFrame& frame,
+                                 const DeviceGBuffer& g) {
+    std::vector<FrameMaterial> materials = frame.materials();
+    for (FrameMaterial& m : materials) m.params = resolve_params(find_method("exact"), {});
+    MaterialFrame exact(rt, std::move(materials));
+    return run_material_frame(*rt, exact, g, 1);
+}
+
 std::vector<MaterialError> material_errors(const GBuffer& gb, const OffsetResult& r,
                                            const OffsetResult& exact,
                                            const std::vector<LoadedMaterial>& table,

@@ -104,6 +104,21 @@ typedef int16 OmI;
 #endif
 #define OM_ANY_NE(a, b) OM_ANY_NE2(a, b, a, b)
 
+// The smallest of an OmI's lanes, as an int.
+#if OM_LANES == 1
+#define OM_LANE_MIN(x) (x)
+#else
+OM_INLINE int om_lane_min4(int4 v) {
+    const int2 m = min(v.lo, v.hi);
+    return min(m.x, m.y);
+}
+#if OM_LANES == 8
+#define OM_LANE_MIN(x) om_lane_min4(min((x).lo, (x).hi))
+#else
+#define OM_LANE_MIN(x) om_lane_min4(min(min((x).lo.lo, (x).lo.hi), min((x).hi.lo, (x).hi.hi)))
+#endif
+#endif
+
 // Heights come from a float buffer (the CPU path), or with OM_IMAGES through an image1d_buffer_t
 // view of the same buffer (a GPU's texture path; the same floats, so the same frame). OpenCL C
 // allows images only as function parameters, so the sampling calls carry it as a last parameter.

@@ -48,7 +48,7 @@ for t in "${targets[@]}"; do
         -name 'timeout-*' -o -name 'oom-*' \) | wc -l)
     result="nothing found"
     if [ "$rc" != 0 ] || [ "$found" != 0 ]; then
-        result="FOUND (exit $rc): $(ls "$out/$t" | { grep -E '^(crash|leak|timeout|oom)-' || true; } | head -3 | tr '\n' ' ')"
+        result="FOUND (exit $rc): $(ls "$out/$t" | { grep -E '^(crash|leak|timeout|oom)-' || true; } | sed -n 1,3p | tr '\n' ' ')"
         status=1
     fi
     printf '%-16s %12s %10s %8s  %s\n' "$t" "${runs:-?}" "${speed:-?}" "$units" "$result"
@@ -59,7 +59,7 @@ if [ $status != 0 ]; then
         # The inputs themselves, so that a finding on a machine whose files are gone can be
         # replayed: base64 -d into a file, then build/fuzz/tests/fuzz/fuzz_<target> FILE.
         for a in $(find "$out/$t" -maxdepth 1 -type f \( -name 'crash-*' -o -name 'leak-*' -o \
-            -name 'timeout-*' -o -name 'oom-*' \) | head -3); do
+            -name 'timeout-*' -o -name 'oom-*' \) | sed -n 1,3p); do
             echo "== $a ($(stat -c %s "$a") bytes, base64)"
             head -c 65536 "$a" | base64 -w 100
         done

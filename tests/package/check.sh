@@ -39,6 +39,7 @@ subdir)
 esac
 # Neither binary of the pass links OpenImageIO.
 for exe in consumer engine_example; do
-    ! ldd "$tmp/consumer/$exe" | grep -qi openimageio || { echo "$exe links OpenImageIO"; exit 1; }
+    libs=$(ldd "$tmp/consumer/$exe")  # whole, then read: no early-exit reader behind pipefail
+    ! grep -qi openimageio <<<"$libs" || { echo "$exe links OpenImageIO"; exit 1; }
 done
 echo "package ($mode): ok"

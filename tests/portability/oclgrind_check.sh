@@ -14,11 +14,23 @@
 # with its helpers as calls (-cl-opt-disable, OM_PLAIN_CALLS), since optimised Oclgrind 21.10
 # mis-evaluates `xor <N x i1>, true` (a vector `!` gives -2, not 0) and cannot run freeze,
 # llvm.ctpop or llvm.experimental.noalias.scope.decl.
-#   oclgrind_check.sh OFFSETMAP_CLI MAP WORK_DIR [CASE_FILTER [TESTS]]
+#   oclgrind_check.sh OFFSETMAP_CLI MAP WORK_DIR [CASE_FILTER | sample [TESTS]]
 # TESTS, the suite's binary, runs the kernels no CLI command reaches without a GL context (the
 # rendered frame cannot run under Oclgrind: its LLVM beside llvmpipe's aborts the process).
+# CASE_FILTER, a regular expression, picks cases by name; `sample` picks `./run test`'s: each
+# method at one lane on buffers, a case for every other kernel entry, and the room's material
+# frame; the sweep (no filter) runs every case.
 set -uo pipefail
 om=$1 map=$(realpath "$2") work=$3 only=${4:-} tests=${5:-}
+root=$(cd "$(dirname "$0")/../.." && pwd)
+methods="none parallax parallax-limited parallax-slope parallax-iterative steep relief pom secant \
+cone maxmip exact sphere"
+if [ "$only" = sample ]; then
+    only="^($(tr -s ' ' '|' <<<"$methods")|none-uninit|none-float-clamp-lod-uninit"
+    only+="|shade-hard-uninit|shade-soft|gbuffer-engine|engine-form-uninit|gbuffer-ids|materials"
+    only+="|room|room-uninit|gbuffer-curved|curved-exact|depth-offset|shadow-mask|triplanar-1"
+    only+="|layer-behind)$"
+fi
 mkdir -p "$work"
 command -v oclgrind >/dev/null || { echo "oclgrind_check: oclgrind is not installed" >&2; exit 1; }
 fails=0 runs=0
@@ -58,8 +70,7 @@ run_case() {
 frame=(--height-map "$map" --width 19 --height 13)
 # Every method at one pixel a work-item on buffers and on images, and at 16 pixels. Sphere's
 # distance map at its default 256 x 256 x 32 voxels would take Oclgrind hours: 16 x 16 x 4 here.
-for m in none parallax parallax-limited parallax-slope parallax-iterative steep relief pom secant \
-    cone maxmip exact sphere; do
+for m in $methods; do
     set=()
     [ "$m" = sphere ] && set=(--set res=16 --set layers=4)
     run_case "$m" 1 render --method "$m" "${frame[@]}" "${set[@]}"
@@ -97,6 +108,20 @@ run_case materials 1 render --materials "$work/materials.json" --gbuffer "$work/
     --color-out "$work/m.png"
 OFFSETMAP_IMAGES=1 run_case materials-images 1 render --materials "$work/materials.json" \
     --gbuffer "$work/ids.exr"
+# The room's material table (five materials, three methods) as a user renders it, each material's
+# map the small one (its own maps take Oclgrind minutes); and the same with no method that samples
+# the relief under --uninitialized (the plugin's false reports on the patch corners, below, come
+# from any such method): every value the uploads, the gather, the classification and the
+# materials' shade write is initialised.
+small_maps="s#\"height_map\": \"[^\"]*\"#\"height_map\": \"$map\"#"
+no_relief='s/"method": "[a-z-]*", "params": \{[^}]*\}/"method": "none"/'
+sed -E -e "$small_maps" "$root/data/room.json" >"$work/room.json"
+sed -E -e "$small_maps" -e "$no_relief" "$root/data/room.json" >"$work/room-none.json"
+run_case room 1 render --materials "$work/room.json" --scene plane --width 24 --height 16 \
+    --uv-out "$work/room.exr" --color-out "$work/room.png"
+uninit=--uninitialized run_case room-uninit 1 render --materials "$work/room-none.json" \
+    --scene plane --width 24 --height 16 --uv-out "$work/room-none.exr" \
+    --color-out "$work/room-none.png"
 # The engine form (depth, camera and frame) goes through the reconstruction kernel.
 run_case gbuffer-engine 1 gbuffer --engine-form reversed --width 19 --height 13 -o "$work/e.exr"
 run_case engine-form 1 render --gbuffer "$work/e.exr" --height-map "$map" --method relief

@@ -4,18 +4,21 @@
 # warning an error; llvm-spirv-15 to SPIR-V) and checked by spirv-val. A double, a 64-bit float
 # capability, an LLVM intrinsic the translator rejects (llvm.vector.reduce.*) or an extension
 # outside ALLOWED fails it. Two front-end modes: the LLVM passes at -O0 (always_inline still
-# inlines), and with the passes off (nothing inlined: every helper must have a body).
-#   spirv_gate.sh PROGRAMS_TOOL [WORK_DIR]
+# inlines), and with the passes off (nothing inlined: every helper must have a body). With
+# --sample, only the sample (one default variant a kernel file, `./run test`'s tier).
+#   spirv_gate.sh PROGRAMS_TOOL [WORK_DIR [--sample]]
 set -euo pipefail
 tool=$1
 work=${2:-$(mktemp -d)}
+sample=${3:-}
 ALLOWED=""  # OpExtension names a variant may use: none (plain OpenCL C 1.2)
 for t in clang-15 llvm-spirv-15 spirv-val spirv-dis; do
     command -v "$t" >/dev/null || { echo "spirv_gate: $t is not installed" >&2; exit 1; }
 done
 rm -rf "$work/src" "$work/out"
 mkdir -p "$work/out"
-"$tool" "$work/src"
+# shellcheck disable=SC2086  # $sample is one flag or none
+"$tool" $sample "$work/src"
 check_one() {
     local file=$1 src=$2 out=$3 allowed=$4
     local stem=${file%.cl}
@@ -60,6 +63,6 @@ cut -d' ' -f1 "$work/src/index.txt" |
         >"$work/results.txt"
 total=$(wc -l <"$work/results.txt")
 failed=$(grep -c '^FAIL' "$work/results.txt" || true)
-grep '^FAIL' "$work/results.txt" | head -20 || true
+grep '^FAIL' "$work/results.txt" | sed -n 1,20p || true
 echo "spirv_gate: $((total - failed)) of $total program variants compiled to valid SPIR-V (2 modes each)"
 [ "$failed" -eq 0 ] && [ "$total" -gt 0 ]

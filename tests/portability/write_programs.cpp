@@ -1,17 +1,22 @@
-// Every program variant (program_variants), for the portability checks:
-//   offsetmap_programs OUT_DIR          writes each as the portable source a driver other than
-//                                       PoCL is handed (Runtime::program_source without OM_POCL),
-//                                       one .cl file each, and an index of their names, for the
-//                                       offline SPIR-V gate (tests/portability/spirv_gate.sh)
-//   offsetmap_programs --build [PART]   builds each (whose name contains PART) on the device
-//                                       $OFFSETMAP_DEVICE picks and creates all its kernels: one
-//                                       line a variant with its build time, and exit 1 if any
-//                                       failed
+// Every program variant (program_variants), for the portability checks; with --sample only the
+// sample (one variant a kernel file, the one a GPU driver gets by default: `./run test`'s tier):
+//   offsetmap_programs [--sample] OUT_DIR   writes each as the portable source a driver other
+//                                           than PoCL is handed (Runtime::program_source without
+//                                           OM_POCL), one .cl file each, and an index of their
+//                                           names, for the offline SPIR-V gate
+//                                           (tests/portability/spirv_gate.sh)
+//   offsetmap_programs --build [--sample | PART [SHARD/SHARDS]]
+//                                           builds each (the sample, or those whose name contains
+//                                           PART, every SHARDS-th from SHARD) on the device
+//                                           $OFFSETMAP_DEVICE picks and creates all its kernels:
+//                                           one line a variant with its build time, and exit 1
+//                                           if any failed
 #include <chrono>
-#include <cstring>
+#include <string>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <vector>
 
 #include "offsetmap/error.hpp"
 #include "offsetmap/program_variants.hpp"
@@ -19,10 +24,26 @@
 
 namespace {
 
-int write_sources(const std::filesystem::path& dir) {
+struct Selection {
+    bool sample = false;
+    std::string part;
+    int shard = 0, shards = 1;
+};
+
+std::vector<offsetmap::ProgramVariant> selected(const Selection& s) {
+    std::vector<offsetmap::ProgramVariant> out;
+    int k = 0;
+    for (auto& v : offsetmap::program_variants()) {
+        if (s.sample ? !v.sample : v.name.find(s.part) == std::string::npos) continue;
+        if (k++ % s.shards == s.shard) out.push_back(std::move(v));
+    }
+    return out;
+}
+
+int write_sources(const std::filesystem::path& dir, const Selection& s) {
     std::filesystem::create_directories(dir);
     std::ofstream index(dir / "index.txt");
-    for (const auto& v : offsetmap::program_variants()) {
+    for (const auto& v : selected(s)) {
         std::string file = v.name;
         for (char& c : file)
             if (c == '/') c = '.';
@@ -33,13 +54,12 @@ int write_sources(const std::filesystem::path& dir) {
     return 0;
 }
 
-int build_all(const std::string& part) {
+int build_all(const Selection& s) {
     auto rt = offsetmap::Runtime::create();
     std::cout << "building on " << rt->device_name() << "\n";
     int built = 0, failed = 0;
     double total_s = 0;
-    for (const auto& v : offsetmap::program_variants()) {
-        if (v.name.find(part) == std::string::npos) continue;
+    for (const auto& v : selected(s)) {
         const auto start = std::chrono::steady_clock::now();
         try {
             std::vector<cl::Kernel> kernels;
@@ -61,17 +81,45 @@ int build_all(const std::string& part) {
     return failed == 0 && built > 0 ? 0 : 1;
 }
 
+// "SHARD/SHARDS" (0 <= SHARD < SHARDS), or false.
+bool parse_shard(const std::string& text, Selection& s) {
+    const size_t slash = text.find('/');
+    if (slash == std::string::npos) return false;
+    try {
+        s.shard = std::stoi(text.substr(0, slash));
+        s.shards = std::stoi(text.substr(slash + 1));
+    } catch (const std::exception&) {
+        return false;
+    }
+    return s.shards >= 1 && s.shard >= 0 && s.shard < s.shards;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
+    const std::vector<std::string> args(argv + 1, argv + argc);
+    Selection s;
     try {
-        if (argc >= 2 && std::strcmp(argv[1], "--build") == 0 && argc <= 3)
-            return build_all(argc == 3 ? argv[2] : "");
-        if (argc == 2 && argv[1][0] != '-') return write_sources(argv[1]);
+        if (!args.empty() && args[0] == "--build") {
+            if (args.size() == 2 && args[1] == "--sample") {
+                s.sample = true;
+                return build_all(s);
+            }
+            if (args.size() <= 3 && (args.size() < 3 || parse_shard(args[2], s))) {
+                if (args.size() >= 2) s.part = args[1];
+                return build_all(s);
+            }
+        } else if (args.size() == 2 && args[0] == "--sample") {
+            s.sample = true;
+            return write_sources(args[1], s);
+        } else if (args.size() == 1 && args[0][0] != '-') {
+            return write_sources(args[0], s);
+        }
     } catch (const std::exception& e) {
         std::cerr << "offsetmap_programs: " << e.what() << "\n";
         return 1;
     }
-    std::cerr << "usage: offsetmap_programs OUT_DIR | --build [PART]\n";
+    std::cerr << "usage: offsetmap_programs [--sample] OUT_DIR | --build [--sample | PART "
+                 "[SHARD/SHARDS]]\n";
     return 2;
 }

@@ -49,7 +49,7 @@ else
             fi
         done
         if [ -z "$path" ] && command -v ldconfig >/dev/null 2>&1; then
-            path=$(ldconfig -p 2>/dev/null | awk -v n="$name" '$1 == n && /x86-64/ {print $NF; exit}')
+            path=$(ldconfig -p 2>/dev/null | awk -v n="$name" '$1 == n && /x86-64/ && !p {print $NF; p = 1}')
         fi
         [ -n "$path" ] && found="${found:+$found:}$path"
     done

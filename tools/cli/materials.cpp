@@ -147,7 +147,7 @@ int run_materials_job(const MaterialsJob& job, const ReliefOptions& relief,
         rt->queue().enqueueReadBuffer(out, CL_TRUE, 0, n * sizeof(cl_float4), rgba.data());
     }
     // The same frame with every material traced exactly: the reference.
-    const OffsetResult exact = run_materials_exact(rt, table, dg);
+    const OffsetResult exact = run_materials_exact(rt, *frame, dg);
     std::vector<float> err;
     const std::vector<MaterialError> stats = material_errors(gb, result, exact, table, &err);
     const std::vector<double> ns = material_ns_per_pixel(*rt, *frame, gb, job.repeats);

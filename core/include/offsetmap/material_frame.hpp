@@ -168,6 +168,9 @@ class MaterialFrame {
         std::vector<cl::Event> copies;  // relief, normals and precomputed data
         cl::Event albedo_copied;
     };
+    // `words` 32-bit words of `src` into `dst` from word `at`, after `after`, on the runtime's queue.
+    cl::Event gather(const cl::Buffer& src, const cl::Buffer& dst, size_t at, size_t words,
+                     const std::vector<cl::Event>& after);
     // The enqueue above; without `pass_through` id 0's pixels get no outputs.
     cl::Event trace(const DeviceGBuffer& g, const OffsetTargets& t,
                     const std::vector<cl::Event>& wait, const cl::CommandQueue& queue,
@@ -215,7 +218,7 @@ class MaterialFrame {
     int id_limit_ = 1;
     std::vector<Gathered> gathered_;  // per slot
     cl::Event last_shade_;            // the last shade dispatch (it reads the gathered buffers)
-    cl::Kernel classify_, shade_;
+    cl::Kernel gather_, classify_, shade_;
     cl::Kernel behind_mask_, behind_choose_, behind_take_, triplanar_merge_;
     TriplanarTable triplanar_table_;
     std::vector<cl::Event> triplanar_events_;  // the last enqueue's classifications and merge
@@ -225,6 +228,7 @@ class MaterialFrame {
     // Per frame size: the classification's counts, lists and their bases.
     size_t tiles_ = 0;
     cl::Buffer counts_, entries_, list_base_;
+    std::vector<cl_uint> counts_reset_;  // the counts before a classification (written whole)
     std::vector<cl_uint> bases_;
     std::vector<Dispatch> dispatches_;
     cl::Event classify_event_;

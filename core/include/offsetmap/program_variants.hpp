@@ -10,6 +10,10 @@ struct ProgramVariant {
     std::string name;  // e.g. "offset/pom/lanes16-images-lod-outputs"
     std::vector<std::string> files;
     std::string defines;
+    // One of the portability checks' sample (tests/portability, `./run test`): the variant a GPU
+    // driver gets by default (one lane, buffers, no LOD, no optional output), one for each kernel
+    // file; the sweep (`./run test --full`) takes every variant.
+    bool sample = false;
 };
 
 // Every program the library, the material frame and the bench build, in every variant a device

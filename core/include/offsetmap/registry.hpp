@@ -114,6 +114,9 @@ std::vector<std::string> prelude_files();
 std::vector<std::string> sampling_program_files(const std::string& file);
 std::vector<std::string> prep_program_files(const PrecomputeSpec& spec);
 std::vector<std::string> shade_program_files();
+// The shade program's defines: its lanes, and the material frame's kernel (om_shade_materials,
+// with the triplanar blend) or the single-material one (om_shade).
+std::string shade_program_defines(int lanes, bool materials);
 std::vector<std::string> classify_program_files();
 std::vector<std::string> behind_program_files();  // the material frame's layer behind
 std::vector<std::string> offset_program_files(const MethodInfo& method);

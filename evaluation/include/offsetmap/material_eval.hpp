@@ -29,6 +29,10 @@ MaterialFrameRun run_materials(std::shared_ptr<Runtime> runtime,
 OffsetResult run_materials_exact(std::shared_ptr<Runtime> runtime,
                                  const std::vector<LoadedMaterial>& table,
                                  const DeviceGBuffer& gbuffer);
+// The same over a frame's materials as they are on the device (their fields shared, not uploaded
+// again).
+OffsetResult run_materials_exact(std::shared_ptr<Runtime> runtime, const MaterialFrame& frame,
+                                 const DeviceGBuffer& gbuffer);
 
 struct MaterialError {
     size_t pixels = 0, traced = 0;
