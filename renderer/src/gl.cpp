@@ -1,6 +1,9 @@
 #include "gl.hpp"
 
 #include <cstdio>
+#include <cstdlib>
+#include <fstream>
+#include <sstream>
 
 #include "offsetmap/error.hpp"
 
@@ -39,7 +42,19 @@ Texture make_texture(GLenum format, int width, int height) {
 
 namespace {
 
-const std::string& shader_text(const std::string& file) {
+// The shader's text: the embedded copy, or with OFFSETMAP_SHADER_DIR set that folder's file (as
+// OFFSETMAP_KERNEL_DIR does for the kernels: the mutation check plants its GLSL bugs in a copy
+// there instead of rebuilding the renderer for each).
+std::string shader_text(const std::string& file) {
+    if (const char* dir = std::getenv("OFFSETMAP_SHADER_DIR"); dir && *dir) {
+        const std::string path = std::string(dir) + "/" + file;
+        std::ifstream in(path, std::ios::binary);
+        if (!in)
+            throw Error("OpenGL: cannot read shader '" + path + "' (OFFSETMAP_SHADER_DIR is set)");
+        std::ostringstream text;
+        text << in.rdbuf();
+        return text.str();
+    }
     for (const auto& [name, text] : embedded_shaders())
         if (name == file) return text;
     throw Error("OpenGL: no embedded shader '" + file + "'");
@@ -48,7 +63,7 @@ const std::string& shader_text(const std::string& file) {
 // The file's text with `#include "name"` lines replaced by the named file (one level).
 std::string expand(const std::string& file) {
     std::string out;
-    const std::string& text = shader_text(file);
+    const std::string text = shader_text(file);
     size_t pos = 0;
     while (pos < text.size()) {
         size_t end = text.find('\n', pos);

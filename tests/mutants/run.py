@@ -3,10 +3,12 @@
 
     tests/mutants/run.py [--build build/release] [--only NAME ...] [--jobs N] [--table FILE]
 
-Kernel mutants are applied to a copy of kernels/ that the test binary loads through
-OFFSETMAP_KERNEL_DIR (no rebuild); host mutants are applied in place, the test binary rebuilt,
-and the source restored (and rebuilt) afterwards, whatever happens (after a build of the same tree
-running beside them, OFFSETMAP_MUTANTS_AFTER=PID, has ended). A mutant is killed when one
+Kernel and GLSL mutants are applied to a copy of kernels/ or renderer/shaders/ that the test
+binary loads through OFFSETMAP_KERNEL_DIR or OFFSETMAP_SHADER_DIR (no rebuild; they run side by
+side); host mutants are applied in place, the test binary rebuilt, and the source restored (and
+rebuilt) afterwards, whatever happens (after a build of the same tree running beside them,
+OFFSETMAP_MUTANTS_AFTER=PID, has ended). Host mutants of one file run one after the other, so a
+file is compiled once a mutant and once restored, not restored between its own. A mutant is killed when one
 of its tests fails; it survives when they all pass. A mutant whose `find` text does not occur
 exactly once, whose kernel does not build, or whose host source does not compile is stale: the
 list must be mended. A mutant with `cpu = FLAG` plants its bug in code compiled only where the
@@ -63,14 +65,23 @@ def mutate(text, m):
     return text.replace(m["find"], m["replace"]), None
 
 
-def run_tests(build, m, kernel_dir=None):
+# Sources a test binary reads at run time from a folder an environment variable names.
+FOLDERS = {"kernels/": "OFFSETMAP_KERNEL_DIR", "renderer/shaders/": "OFFSETMAP_SHADER_DIR"}
+
+
+def folder_of(m):
+    return next((f for f in FOLDERS if m["file"].startswith(f)), None)
+
+
+def run_tests(build, m, folder_env=None):
     # Figures a mutated build measures must not reach the figure check's folder.
     env = dict(os.environ, OFFSETMAP_TEST_DATA=os.path.join(ROOT, "data"),
                OFFSETMAP_FIGURES=os.path.join(tempfile.gettempdir(), "om_mutant_figures"))
-    env.pop("OFFSETMAP_KERNEL_DIR", None)
+    for var in FOLDERS.values():
+        env.pop(var, None)
     env.update(kv.split("=", 1) for kv in m.get("env", "").split())
-    if kernel_dir:
-        env["OFFSETMAP_KERNEL_DIR"] = kernel_dir
+    if folder_env:
+        env.update(folder_env)
     # One failing test kills the mutant: the rest of its tests need not run.
     cmd = [os.path.join(build, "tests", "offsetmap_tests"), "--gtest_filter=" + m["tests"],
            "--gtest_fail_fast"]
@@ -95,10 +106,11 @@ def run_tests(build, m, kernel_dir=None):
     return "survived", "every named test passed"
 
 
-def kernel_mutant(build, m):
+def folder_mutant(build, m):
+    folder = folder_of(m)
     with tempfile.TemporaryDirectory(prefix="om_mutant_") as tmp:
-        kdir = os.path.join(tmp, "kernels")
-        shutil.copytree(os.path.join(ROOT, "kernels"), kdir)
+        copy = os.path.join(tmp, folder)
+        shutil.copytree(os.path.join(ROOT, folder), copy)
         target = os.path.join(tmp, m["file"])
         with open(target) as f:
             text, err = mutate(f.read(), m)
@@ -106,7 +118,7 @@ def kernel_mutant(build, m):
             return "stale", err
         with open(target, "w") as f:
             f.write(text)
-        return run_tests(build, m, kdir)
+        return run_tests(build, m, {FOLDERS[folder]: copy})
 
 
 def build_tests(build):
@@ -178,20 +190,22 @@ def main():
         results[m["name"]] = (verdict, detail, time.time() - t0)
         print(f"  {verdict:8} {m['name']:34} {time.time() - t0:4.0f} s  {detail}", flush=True)
 
-    def one(m):  # a kernel mutant (they run side by side; host mutants edit the tree, in turn)
+    def one(m):  # a folder mutant (they run side by side; host mutants edit the tree, in turn)
         t0 = time.time()
-        report(m, *kernel_mutant(build, m), t0)
+        report(m, *folder_mutant(build, m), t0)
 
     flags = cpu_flags()
     for m in [m for m in mutants if m.get("cpu") and m["cpu"] not in flags]:
         report(m, "n/a", f"this CPU lacks {m['cpu']}: the mutated code is not compiled here",
                time.time())
     mutants = [m for m in mutants if m["name"] not in results]
-    kernels = [m for m in mutants if m["file"].startswith("kernels/")]
-    hosts = [m for m in mutants if not m["file"].startswith("kernels/")]
-    print(f"mutants: {len(kernels)} kernel (OFFSETMAP_KERNEL_DIR), {len(hosts)} host (rebuilt)")
+    folders = [m for m in mutants if folder_of(m)]
+    # Grouped by file (in the order each file first appears), the groups in turn.
+    hosts = sorted((m for m in mutants if not folder_of(m)),
+                   key=lambda m: [x["file"] for x in mutants].index(m["file"]))
+    print(f"mutants: {len(folders)} kernel and GLSL (a folder copy), {len(hosts)} host (rebuilt)")
     with ThreadPoolExecutor(max_workers=max(1, args.jobs)) as pool:
-        list(pool.map(one, kernels))
+        list(pool.map(one, folders))
     if hosts:
         wait_for_build_beside()
     try:
