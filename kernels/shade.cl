@@ -122,7 +122,7 @@ OM_INLINE OmF om_light_visibility(const OmField* f, OmF u, OmF v, OmF lx, OmF ly
     OmI blocked = 0;
     for (int i = 1; i <= n && OM_ANY(march); ++i) {
         const float fi = (float)i;
-        const OmF h = om_height_at_cell(f, fma(fi, dcx, cx0), fma(fi, dcy, cy0));
+        const OmF h = om_height_at_cell(f, OM_FMA(fi, dcx, cx0), OM_FMA(fi, dcy, cy0));
         const OmF rise = (h - h0) * ((float)n / fi);
         if (soft) {
             worst = OM_SEL(worst, fmax(worst, rise), march);

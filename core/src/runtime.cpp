@@ -159,6 +159,14 @@ bool on_oclgrind(const cl::Device& device) {
                .find("Oclgrind") != std::string::npos;
 }
 
+// Whether the device computes fma without a fused instruction (CL_FP_FMA unset): Mesa's llvmpipe
+// (rusticl) takes libclc's software fma, correctly rounded and built as a routine with branches
+// for every component, which made each 16-lane program take seconds to minutes to build
+// (docs/design.md, "Portability").
+bool soft_fma(const cl::Device& device) {
+    return (device.getInfo<CL_DEVICE_SINGLE_FP_CONFIG>() & CL_FP_FMA) == 0;
+}
+
 }  // namespace
 
 int Runtime::default_lanes(const cl::Device& device) {
@@ -197,6 +205,7 @@ Runtime::Runtime(cl::Context context, cl::Device device, cl::CommandQueue queue)
                  profiling_timer_works(context_, device_);
     is_pocl_ = on_pocl(device_);
     is_oclgrind_ = on_oclgrind(device_);
+    soft_fma_ = soft_fma(device_);
     lanes_ = default_lanes(device_);
     if (const char* env = std::getenv("OFFSETMAP_LANES"); env && *env) {
         const std::string text = env;
@@ -237,7 +246,10 @@ cl::Program Runtime::program(const std::vector<std::string>& files, const std::s
     if (it != programs_.end()) return it->second;
 
     const std::string source = program_source(
-        files, (is_oclgrind_ ? "#define OM_PLAIN_CALLS 1\n" : "") + defines, is_pocl_, kernel_dir_);
+        files,
+        std::string(is_oclgrind_ ? "#define OM_PLAIN_CALLS 1\n" : "") +
+            (soft_fma_ ? "#define OM_SOFT_FMA 1\n" : "") + defines,
+        is_pocl_, kernel_dir_);
     std::string what;
     for (const auto& f : files) what += (what.empty() ? "" : " + ") + f;
     cl::Program program(context_, source);

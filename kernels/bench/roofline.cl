@@ -59,7 +59,7 @@ __kernel void om_bench_fetch_line(const OmOffsetParams P, __global const float* 
     OmI fetches = 0;
     for (int k = 0; k < count; ++k) {
         OmF fk = (OmF)(float)k;
-        sum += om_height_cell(&f, fma(fk, 0.61f, cx), fma(fk, 0.29f, cy), (OmI)1,
+        sum += om_height_cell(&f, OM_FMA(fk, 0.61f, cx), OM_FMA(fk, 0.29f, cy), (OmI)1,
                               &fetches OM_IMG_ARG);
     }
     om_bench_store(out, id, u + v + sum * 0.0f + OM_TO_FLOAT(fetches) * 0.0f);

@@ -33,6 +33,16 @@
 #define OM_INLINE static inline __attribute__((always_inline))
 #endif
 
+// a * b + c, fused where the device has the instruction. Where it has none (CL_FP_FMA unset, the
+// runtime's OM_SOFT_FMA: Mesa's llvmpipe), fma is a correctly rounded routine per component that
+// made the 16-lane programs take minutes to build there; mad lets the driver round as it does
+// best (its result within the rounding of the product and the sum).
+#ifdef OM_SOFT_FMA
+#define OM_FMA(a, b, c) mad(a, b, c)
+#else
+#define OM_FMA(a, b, c) fma(a, b, c)
+#endif
+
 // Plain OpenCL C 1.2 for every helper lanes_pocl.h does not define (every driver but PoCL).
 #ifndef om_floor
 #define om_floor(x) floor(x)

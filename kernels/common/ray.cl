@@ -266,7 +266,7 @@ OM_INLINE OmSearchHit om_linear_search_as(const OmRay* r, const OmField* f, OmI 
     OmI searching = active;
     for (int i = 0; OM_ANY(searching); ++i) {
         OmF fi = (OmF)(float)i, lambda = fi * inv_n;
-        OmF cx = fma(fi, dcx, cx0), cy = fma(fi, dcy, cy0), eta = 1.0f - lambda;
+        OmF cx = OM_FMA(fi, dcx, cx0), cy = OM_FMA(fi, dcy, cy0), eta = 1.0f - lambda;
 #ifdef OM_CURVED
         if (curved) {
             OmF x, y, eta_c;

@@ -200,8 +200,8 @@ OM_INLINE void om_patch(const OmField* f, OmF u, OmF v, OmF* a, OmF* b, OmF* k00
 // The patch's height at (a, b): each lerp one fused multiply-add (PoCL's mix is a subtraction, a
 // product and a sum).
 OM_INLINE OmF om_bilinear(OmF k00, OmF k10, OmF k01, OmF k11, OmF a, OmF b) {
-    OmF top = fma(k10 - k00, a, k00), bottom = fma(k11 - k01, a, k01);
-    return fma(bottom - top, b, top);
+    OmF top = OM_FMA(k10 - k00, a, k00), bottom = OM_FMA(k11 - k01, a, k01);
+    return OM_FMA(bottom - top, b, top);
 }
 
 // Bilinear height in [0, 1] per lane at cell coordinates (om_patch_cell).

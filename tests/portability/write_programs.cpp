@@ -5,9 +5,9 @@
 //                                           OM_POCL), one .cl file each, and an index of their
 //                                           names, for the offline SPIR-V gate
 //                                           (tests/portability/spirv_gate.sh)
-//   offsetmap_programs --build [--sample | PART [SHARD/SHARDS]]
+//   offsetmap_programs --build [--sample | PART] [SHARD/SHARDS]
 //                                           builds each (the sample, or those whose name contains
-//                                           PART, every SHARDS-th from SHARD) on the device
+//                                           PART; every SHARDS-th from SHARD) on the device
 //                                           $OFFSETMAP_DEVICE picks and creates all its kernels:
 //                                           one line a variant with its build time, and exit 1
 //                                           if any failed
@@ -100,15 +100,16 @@ int main(int argc, char** argv) {
     const std::vector<std::string> args(argv + 1, argv + argc);
     Selection s;
     try {
-        if (!args.empty() && args[0] == "--build") {
-            if (args.size() == 2 && args[1] == "--sample") {
+        if (!args.empty() && args[0] == "--build" && args.size() <= 3) {
+            size_t k = 1;
+            if (k < args.size() && args[k] == "--sample") {
                 s.sample = true;
-                return build_all(s);
+                ++k;
+            } else if (k < args.size() && args[k].find('/') == std::string::npos) {
+                s.part = args[k++];
             }
-            if (args.size() <= 3 && (args.size() < 3 || parse_shard(args[2], s))) {
-                if (args.size() >= 2) s.part = args[1];
+            if (k == args.size() || (k + 1 == args.size() && parse_shard(args[k], s)))
                 return build_all(s);
-            }
         } else if (args.size() == 2 && args[0] == "--sample") {
             s.sample = true;
             return write_sources(args[1], s);
@@ -119,7 +120,7 @@ int main(int argc, char** argv) {
         std::cerr << "offsetmap_programs: " << e.what() << "\n";
         return 1;
     }
-    std::cerr << "usage: offsetmap_programs [--sample] OUT_DIR | --build [--sample | PART "
-                 "[SHARD/SHARDS]]\n";
+    std::cerr << "usage: offsetmap_programs [--sample] OUT_DIR | --build [--sample | PART] "
+                 "[SHARD/SHARDS]\n";
     return 2;
 }

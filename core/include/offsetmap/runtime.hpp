@@ -88,6 +88,7 @@ class Runtime {
     bool profiling_ = false;
     bool is_pocl_ = false;
     bool is_oclgrind_ = false;
+    bool soft_fma_ = false;  // no fused multiply-add in hardware: the kernels' OM_SOFT_FMA
     int lanes_ = 1;
     bool images_ = false;
     mutable std::mutex mutex_;
