@@ -215,8 +215,21 @@ def table_grazing(src):
     return "\n".join(rows) + "\n"
 
 
+def table_ci(src):
+    """CI's step table (.ci/run's last lines, docs/data/ci-steps.csv): wall time and share."""
+    steps = src.data("ci-steps")
+    total = sum(int(r["seconds"]) for r in steps if r["beside"] != "yes")
+    rows = ["| step | tier | wall (m:ss) | share of CI |", "|---|---|---|---|"]
+    for r in steps:
+        s = int(r["seconds"])
+        share = "beside" if r["beside"] == "yes" else f"{100 * s / total:.0f} %"
+        rows.append(f"| {r['step']} | {r['tier']} | {s // 60}:{s % 60:02d} | {share} |")
+    rows.append(f"| **total** | | **{total // 60}:{total % 60:02d}** | |")
+    return "\n".join(rows) + "\n"
+
+
 TABLES = {"demo": table_demo, "throughput": table_throughput, "temporal": table_temporal,
-          "grazing": table_grazing}
+          "grazing": table_grazing, "ci": table_ci}
 
 
 def sig(x):
