@@ -21,7 +21,7 @@ TEST(KernelBuild, EveryProgramBuildsWithoutWarnings) {
     rt->program(sampling_program_files("prep/normals.cl"));
     // The reconstruct pass's forms (its defines, as ReconstructPass::kernel writes them) and the
     // height import's.
-    const std::vector<std::string> reconstruct = {"common/storage.cl", "gbuffer/reconstruct.cl"};
+    const std::vector<std::string> reconstruct = reconstruct_program_files();
     for (const char* lanes : {"", "#define OM_LANES 8\n", "#define OM_LANES 16\n"})
         for (const char* form :
              {"#define OM_STORAGE_DEPTH 0\n#define OM_STORAGE_FRAME 0\n#define OM_STORAGE_TANGENT "

@@ -5,23 +5,12 @@
 #include <glm/glm.hpp>
 #include <glm/gtc/matrix_transform.hpp>
 
+#include "camera_forms.hpp"
+#include "offsetmap/shadow_mask_pass.hpp"
 #include "support.hpp"
-#ifdef OFFSETMAP_HAVE_RENDERER
-#include "offsetmap/renderer/shadow_mask.hpp"
-#endif
 
 namespace omtest {
 namespace {
-
-#ifdef OFFSETMAP_HAVE_RENDERER
-using namespace offsetmap::renderer;
-
-std::array<float, 16> floats(const glm::dmat4& m) {
-    std::array<float, 16> a;
-    for (int c = 0; c < 4; ++c)
-        for (int r = 0; r < 4; ++r) a[4 * c + r] = static_cast<float>(m[c][r]);
-    return a;
-}
 
 // Where the ray of pixel (x, y) (rows bottom first) of a w x h view meets the plane y = level
 // within x in [x0, x1], as the fraction s from its near point (NDC z -1) to its far one (+1);
@@ -94,46 +83,76 @@ ShadowScene shadow_scene(double elevation_deg, double roof, int w = 160, int h =
     return s;
 }
 
-std::vector<float> shadow_mask(const ShadowScene& s, int radius) {
+// The test of the scene's frame against its map, the frame's camera in `form` and the map's in
+// `map_form`: the mask in GL's rows (bottom first).
+std::vector<float> shadow_mask(const ShadowScene& s, int radius, const CameraForm& form = {},
+                               const CameraForm& map_form = {}) {
     auto rt = runtime();
     auto in = [&](const std::vector<float>& v) {
         return cl::Buffer(rt->context(), CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR,
                           v.size() * sizeof(float), const_cast<float*>(v.data()));
     };
-    cl::Buffer depth = in(s.depth), map = in(s.map);
+    ShadowMaskInputs p;
+    p.width = s.w;
+    p.height = s.h;
+    p.camera.inverse_view_projection = form.inverse_view_projection(s.camera);
+    p.camera.depth = form.depth;
+    p.camera.first_row = form.first_row;
+    p.depth = in(form.depth_plane(s.depth, s.w, s.h));
+    p.map.width = p.map.height = s.n;
+    p.map.camera.depth = map_form.depth;
+    p.map.camera.first_row = map_form.first_row;
+    p.map.view_projection = map_form.view_projection(s.light);
+    p.map.depth = in(map_form.depth_plane(s.map, s.n, s.n));
+    p.pcf_radius = radius;
     cl::Buffer out(rt->context(), CL_MEM_WRITE_ONLY, s.depth.size() * sizeof(float));
-    ShadowMaskPass pass(*rt);
-    pass.enqueue(rt->queue(),
-                 shadow_mask_params(floats(s.camera_inverse), s.w, s.h, floats(s.light), s.n, s.n,
-                                    radius),
-                 depth, map, out)
-        .wait();
+    ShadowMaskPass(rt).enqueue(p, {out}).wait();
     std::vector<float> mask(s.depth.size());
     rt->queue().enqueueReadBuffer(out, CL_TRUE, 0, mask.size() * sizeof(float), mask.data());
-    return mask;
+    return form.rows(mask, s.w, s.h);
 }
 
 // The map's texel along the ground: its world size over sin(elevation).
 double ground_texel(const ShadowScene& s) { return 2.0 * s.half / s.n / std::sin(s.elevation); }
 
+// Each camera form (tests/camera_forms.hpp) with the map in another: GL's own, and every depth
+// convention and row order for both, paired so that each form meets a map of a different one.
+std::vector<std::pair<CameraForm, CameraForm>> form_pairs() {
+    const std::vector<CameraForm> forms = camera_forms();
+    std::vector<std::pair<CameraForm, CameraForm>> pairs;
+    for (size_t k = 0; k < forms.size(); ++k)
+        pairs.push_back({forms[k], forms[k == 0 ? 0 : (k + 3) % forms.size()]});
+    return pairs;
+}
+
+std::string form_trace(const std::pair<CameraForm, CameraForm>& f) {
+    return "camera " + f.first.name() + ", map " + f.second.name();
+}
+
+// The receiver's plane is the bias: a lit plane meets its own map entry at every light angle, in
+// every convention (a test that compared the wrong way round in a reversed map, or unprojected a
+// row flipped, would darken the ground).
 TEST(ShadowMask, LitGroundHasNoAcneAtAnyLightAngle) {
     for (double elevation : {5.0, 12.0, 30.0, 60.0, 90.0}) {
         SCOPED_TRACE(elevation);
         const ShadowScene s = shadow_scene(elevation, 0.0);
-        for (int radius : {0, 1, 2}) {
-            const std::vector<float> mask = shadow_mask(s, radius);
-            size_t ground = 0, dark = 0;
-            for (size_t k = 0; k < mask.size(); ++k) {
-                if (s.depth[k] >= 1.0f) {
-                    EXPECT_EQ(mask[k], 1.0f) << "sky " << k;
-                    continue;
+        for (const auto& forms : form_pairs())
+            for (int radius : {0, 1, 2}) {
+                SCOPED_TRACE(form_trace(forms));
+                if (radius != 1 && forms.first.name() != "gl/bottom") continue;
+                const std::vector<float> mask = shadow_mask(s, radius, forms.first, forms.second);
+                size_t ground = 0, dark = 0;
+                for (size_t k = 0; k < mask.size(); ++k) {
+                    if (s.depth[k] >= 1.0f) {
+                        EXPECT_EQ(mask[k], 1.0f) << "sky " << k;
+                        continue;
+                    }
+                    ++ground;
+                    dark += mask[k] < 1.0f;
                 }
-                ++ground;
-                dark += mask[k] < 1.0f;
+                EXPECT_GT(ground, mask.size() / 3);
+                EXPECT_EQ(dark, 0u) << "radius " << radius << ": pixels of a lit plane in shadow";
             }
-            EXPECT_GT(ground, mask.size() / 3);
-            EXPECT_EQ(dark, 0u) << "radius " << radius << ": pixels of a lit plane in shadow";
-        }
     }
 }
 
@@ -144,31 +163,33 @@ TEST(ShadowMask, RoofCastsItsEdgeWhereTheLightPutsIt) {
         const ShadowScene s = shadow_scene(elevation, roof);
         // A ground point x is under the roof's shadow for x in [0, 10] - roof cot(elevation).
         const double edge = -roof / std::tan(s.elevation);
-        for (int radius : {0, 1}) {
-            const std::vector<float> mask = shadow_mask(s, radius);
-            // The map holds the roof's edge to half a texel; the filter reaches r texels more.
-            const double reach = (radius + 0.5) * ground_texel(s) + 1e-3;
-            size_t lit = 0, shadowed = 0, between = 0;
-            for (size_t k = 0; k < mask.size(); ++k) {
-                const glm::dvec3 p = s.points[k];
-                if (std::isnan(p.x) || std::abs(p.z) > 5.0 || p.x > 4.0) continue;
-                if (p.x < edge - reach) {
-                    EXPECT_EQ(mask[k], 1.0f) << "x " << p.x << " before the edge " << edge;
-                    ++lit;
-                } else if (p.x > edge + reach) {
-                    EXPECT_EQ(mask[k], 0.0f) << "x " << p.x << " past the edge " << edge;
-                    ++shadowed;
-                } else {
-                    ++between;
-                    if (radius > 0 && std::abs(p.x - edge) < 0.2 * ground_texel(s)) {
-                        EXPECT_GT(mask[k], 0.0f) << "the filter's penumbra at " << p.x;
+        for (const auto& forms : form_pairs())
+            for (int radius : {0, 1}) {
+                SCOPED_TRACE(form_trace(forms));
+                const std::vector<float> mask = shadow_mask(s, radius, forms.first, forms.second);
+                // The map holds the roof's edge to half a texel; the filter reaches r texels more.
+                const double reach = (radius + 0.5) * ground_texel(s) + 1e-3;
+                size_t lit = 0, shadowed = 0, between = 0;
+                for (size_t k = 0; k < mask.size(); ++k) {
+                    const glm::dvec3 p = s.points[k];
+                    if (std::isnan(p.x) || std::abs(p.z) > 5.0 || p.x > 4.0) continue;
+                    if (p.x < edge - reach) {
+                        EXPECT_EQ(mask[k], 1.0f) << "x " << p.x << " before the edge " << edge;
+                        ++lit;
+                    } else if (p.x > edge + reach) {
+                        EXPECT_EQ(mask[k], 0.0f) << "x " << p.x << " past the edge " << edge;
+                        ++shadowed;
+                    } else {
+                        ++between;
+                        if (radius > 0 && std::abs(p.x - edge) < 0.2 * ground_texel(s)) {
+                            EXPECT_GT(mask[k], 0.0f) << "the filter's penumbra at " << p.x;
+                        }
                     }
                 }
+                EXPECT_GT(lit, 500u);
+                EXPECT_GT(shadowed, 500u);
+                EXPECT_GT(between, 0u);
             }
-            EXPECT_GT(lit, 500u);
-            EXPECT_GT(shadowed, 500u);
-            EXPECT_GT(between, 0u);
-        }
     }
 }
 
@@ -194,20 +215,27 @@ TEST(ShadowMask, SmallFrameWithTapsPastTheMapsEdges) {
 TEST(ShadowMask, BadParametersAreRefused) {
     auto rt = runtime();
     cl::Buffer b(rt->context(), CL_MEM_READ_WRITE, 16);
-    ShadowMaskPass pass(*rt);
-    const std::array<float, 16> id = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
-    EXPECT_TRUE(contains(error_of([&] {
-                             pass.enqueue(rt->queue(), shadow_mask_params(id, 2, 2, id, 2, 2, 9), b,
-                                          b, b);
-                         }),
-                         "filter radius must be in [0, 8]"));
-    EXPECT_TRUE(contains(error_of([&] {
-                             pass.enqueue(rt->queue(), shadow_mask_params(id, 2, 2, id, 0, 2), b, b,
-                                          b);
-                         }),
-                         "at least 1x1"));
+    ShadowMaskPass pass(rt);
+    ShadowMaskInputs in;
+    in.width = in.height = 2;
+    in.depth = b;
+    in.map.width = in.map.height = 2;
+    in.map.view_projection = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
+    in.map.depth = b;
+    EXPECT_EQ(error_of([&] { pass.enqueue(in, {b}).wait(); }), "");
+    ShadowMaskInputs wide = in;
+    wide.pcf_radius = 9;
+    EXPECT_TRUE(
+        contains(error_of([&] { pass.enqueue(wide, {b}); }), "filter radius must be in [0, 8]"));
+    ShadowMaskInputs empty = in;
+    empty.map.width = 0;
+    EXPECT_TRUE(contains(error_of([&] { pass.enqueue(empty, {b}); }), "at least 1x1"));
+    ShadowMaskInputs small = in;
+    small.map.width = small.map.height = 3;
+    EXPECT_TRUE(contains(error_of([&] { pass.enqueue(small, {b}); }), "shadow map's depth buffer"));
+    ShadowMaskInputs odd = in;
+    odd.map.camera.first_row = static_cast<FirstRow>(0);
+    EXPECT_TRUE(contains(error_of([&] { pass.enqueue(odd, {b}); }), "first row"));
 }
-#endif
-
 }  // namespace
 }  // namespace omtest

@@ -71,8 +71,8 @@ void add_reconstruct_variants(std::vector<ProgramVariant>& out) {
                      {LightKind::None, LightKind::Directional, LightKind::Point}) {
                     // Every storage and form at one lane; at 8 and 16 the float and image forms.
                     if (lanes > 1 && storage > 0) continue;
-                    const bool sample = lanes == 1 && storage == 0 && !quaternion &&
-                                        light == LightKind::None;
+                    const bool sample =
+                        lanes == 1 && storage == 0 && !quaternion && light == LightKind::None;
                     out.push_back(
                         {"reconstruct/lanes" + std::to_string(lanes) +
                              (storage < 0 ? "-images" : "-storage" + std::to_string(storage)) +
@@ -128,8 +128,11 @@ std::vector<ProgramVariant> program_variants() {
     out.push_back({"frame/gather", {"frame/gather.cl"}, "", true});
     out.push_back({"frame/behind", behind_program_files(), "", true});
     out.push_back({"frame/triplanar", {"frame/triplanar.cl"}, "", true});
-    out.push_back({"frame/depth_offset", {"frame/depth_offset.cl"}, "", true});
-    out.push_back({"frame/shadow_mask", {"frame/shadow_mask.cl"}, "", true});
+    for (const char* pass : {"depth_offset", "shadow_mask"})
+        out.push_back({std::string("frame/") + pass,
+                       {"common/unproject.cl", std::string("frame/") + pass + ".cl"},
+                       "",
+                       true});
     for (int lanes : {1, 8, 16})
         for (bool materials : {false, true})
             out.push_back({std::string(materials ? "shade-materials" : "shade") + "/lanes" +

@@ -4,6 +4,7 @@
 #include "launch.hpp"
 #include "offsetmap/engine_gbuffer.hpp"
 #include "offsetmap/registry.hpp"
+#include "pixel_grid.hpp"
 
 namespace offsetmap {
 namespace {
@@ -11,12 +12,6 @@ namespace {
 // The work-group (work-items of OM_LANES pixels each): fixed, so PoCL compiles one work-group
 // function.
 constexpr size_t kGroupX = 8, kGroupY = 8;
-
-bool finite(const float* v, size_t n) {
-    for (size_t k = 0; k < n; ++k)
-        if (!std::isfinite(v[k])) return false;
-    return true;
-}
 
 // The planes a triplanar split reads and writes, and the engine planes it needs.
 void check_triplanar(const EngineGBuffer& in, const DeviceGBuffer& out, const TriplanarTable& table,
@@ -61,7 +56,8 @@ DeviceGBuffer allocate_gbuffer(Runtime& rt, int width, int height, bool light, b
 ReconstructPass::ReconstructPass(std::shared_ptr<Runtime> runtime) : runtime_(std::move(runtime)) {}
 
 std::vector<std::string> reconstruct_program_files() {
-    return {"common/storage.cl", "common/triplanar.cl", "gbuffer/reconstruct.cl"};
+    return {"common/storage.cl", "common/triplanar.cl", "common/unproject.cl",
+            "gbuffer/reconstruct.cl"};
 }
 
 std::string reconstruct_program_defines(int lanes, const std::array<int, 4>& inputs,
@@ -142,18 +138,7 @@ cl::Event ReconstructPass::launch(const EngineGBuffer& in, const DeviceGBuffer& 
     if (!(triplanar && !in.uv.bound()))
         check_input(context, in.uv, "the engine G-buffer's uv", 2, in.width, in.height);
     const EngineCamera& cam = in.camera;
-    if (!finite(cam.inverse_view_projection.data(), 16) || !finite(cam.eye.data(), 3))
-        throw Error("the engine camera's inverse view-projection and eye must be finite");
-    if (cam.orthographic &&
-        !(std::fabs(cam.eye[0]) + std::fabs(cam.eye[1]) + std::fabs(cam.eye[2]) > 0.0f))
-        throw Error("the orthographic engine camera's eye (its view direction) is the zero vector");
-    if (cam.depth != DepthConvention::GL && cam.depth != DepthConvention::ZeroToOne &&
-        cam.depth != DepthConvention::Reversed)
-        throw Error("the engine camera's depth convention " +
-                    std::to_string(static_cast<int>(cam.depth)) +
-                    " is not GL, zero-one or reversed");
-    if (cam.first_row != FirstRow::Top && cam.first_row != FirstRow::Bottom)
-        throw Error("the engine camera's first row must be Top or Bottom");
+    const OmPixelGrid grid = pixel_grid(cam, in.width, in.height, "the engine camera");
     const EngineLight& light = in.light;
     const bool lit = light.kind != LightKind::None;
     std::array<float, 3> lv = light.vector;
@@ -200,13 +185,11 @@ cl::Event ReconstructPass::launch(const EngineGBuffer& in, const DeviceGBuffer& 
               p.inv_view_proj);
     std::copy(cam.eye.begin(), cam.eye.end(), p.eye);
     p.eye_w = cam.orthographic ? 0.0f : 1.0f;
-    const bool gl = cam.depth == DepthConvention::GL;
-    const bool reversed = cam.depth == DepthConvention::Reversed;
-    p.depth_scale = gl ? 2.0f : 1.0f;
-    p.depth_offset = gl ? -1.0f : 0.0f;
-    p.far_depth = reversed ? 0.0f : 1.0f;
-    p.far_sign = reversed ? -1.0f : 1.0f;
-    p.row0_ndc_y = static_cast<float>(static_cast<int>(cam.first_row));
+    p.depth_scale = grid.depth_scale;
+    p.depth_offset = grid.depth_offset;
+    p.far_depth = grid.far_depth;
+    p.far_sign = grid.far_sign;
+    p.row0_ndc_y = grid.row0_ndc_y;
     std::copy(lv.begin(), lv.end(), p.light_vec);
 
     const cl::CommandQueue& q = pass_queue(*runtime_, queue);

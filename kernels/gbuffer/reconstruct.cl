@@ -235,15 +235,10 @@ __kernel void om_reconstruct(const OmReconstructParams P, OM_INPUT_ARG(depth_in,
 
     // The pixel centre in NDC, then p = (M ndc).xyz / (M ndc).w and V = (eye - p) / |eye - p|
     // (an orthographic view: eye / |eye|, with eye_w 0).
-    const OmF fx = OM_TO_FLOAT(2 * (x0 + OM_LANE_IDS) + 1);
-    const OmF nx = fx / (float)P.width - 1.0f;
-    const float ny = P.row0_ndc_y * (1.0f - (float)(2 * y + 1) / (float)P.height);
-    const OmF nz = P.depth_scale * d + P.depth_offset;  // 2d - 1 (GL) or d
-    const float* m = P.inv_view_proj;
-    const OmF cw = m[3] * nx + m[7] * ny + m[11] * nz + m[15];
-    const OmF px = (m[0] * nx + m[4] * ny + m[8] * nz + m[12]) / cw;
-    const OmF py = (m[1] * nx + m[5] * ny + m[9] * nz + m[13]) / cw;
-    const OmF pz = (m[2] * nx + m[6] * ny + m[10] * nz + m[14]) / cw;
+    const OmF nx = OM_PIXEL_NDC_X(OM_TO_FLOAT(2 * (x0 + OM_LANE_IDS) + 1), P.width);
+    const float ny = OM_PIXEL_NDC_Y(P.row0_ndc_y, y, P.height);
+    const OmF nz = OM_PIXEL_NDC_Z(P, d);  // 2d - 1 (GL) or d
+    OM_UNPROJECT(OmF, P.inv_view_proj, nx, ny, nz, px, py, pz);
     OmF vx = P.eye[0] - P.eye_w * px, vy = P.eye[1] - P.eye_w * py, vz = P.eye[2] - P.eye_w * pz;
     const OmF iv = rsqrt(OM_DOT3(v, v));
     vx *= iv;

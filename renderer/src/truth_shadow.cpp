@@ -4,8 +4,8 @@
 #include <cmath>
 
 #include "offsetmap/error.hpp"
-#include "offsetmap/renderer/shadow_mask.hpp"
 #include "offsetmap/renderer/truth.hpp"
+#include "offsetmap/shadow_mask_pass.hpp"
 
 namespace offsetmap::renderer {
 
@@ -46,12 +46,14 @@ ShadowTruth shadow_truth(const std::shared_ptr<Runtime>& rt, FrameRenderer& came
     const std::vector<float> map_rows = flip_row_order(map.depth, map_size, map_size);
     const cl::Buffer depth = upload(depth_rows), shadow_map = upload(map_rows);
     const cl::Buffer mask(rt->context(), CL_MEM_WRITE_ONLY, n * sizeof(float));
-    ShadowMaskPass test(*rt);
-    test.enqueue(rt->queue(),
-                 shadow_mask_params(camera.gbuffer().camera.inverse_view_projection, width, height,
-                                    light.view_projection(), map_size, map_size, pcf_radius),
-                 depth, shadow_map, mask)
-        .wait();
+    ShadowMaskInputs in;
+    in.width = width;
+    in.height = height;
+    in.camera = camera.pass_camera();
+    in.depth = depth;
+    in.map = light.shadow_map_view(shadow_map);
+    in.pcf_radius = pcf_radius;
+    ShadowMaskPass(rt).enqueue(in, {mask}).wait();
     ShadowTruth out;
     out.lit.resize(n);
     rt->queue().enqueueReadBuffer(mask, CL_TRUE, 0, n * sizeof(float), out.lit.data());

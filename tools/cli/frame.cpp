@@ -15,8 +15,8 @@
 #include "frame_shadows.hpp"
 #include "offsetmap/renderer/frame.hpp"
 #include "offsetmap/renderer/gltf.hpp"
-#include "offsetmap/renderer/shadow_mask.hpp"
 #include "offsetmap/renderer/truth.hpp"
+#include "offsetmap/shadow_mask_pass.hpp"
 #endif
 
 namespace offsetmap::cli {
@@ -126,8 +126,11 @@ nlohmann::json pass_json(const PassTimes& t) {
 
 nlohmann::json pass_json(const FrameRun& r) {
     nlohmann::json j = pass_json(r.ms);
-    // With the sun's shadow map: the light's passes that drew it, once before the frames.
+    // With the sun's shadow map: the light's passes that drew it, once a frame (their times are
+    // in the frame's total).
     if (!r.shadow_mask.empty()) j["shadow_map"] = pass_json(r.shadow_map_ms);
+    j["frames"] = r.frames;
+    j["light_draws"] = r.light_draws;
     return j;
 }
 
@@ -461,13 +464,14 @@ nlohmann::json light_view(const FrameCommand& cmd, const Scene& scene,
     const std::vector<float> map_rows = flip_row_order(run.depth_after, n, n);
     const cl::Buffer depth_buffer = upload(depth_rows), map_buffer = upload(map_rows);
     const cl::Buffer mask_buffer(rt->context(), CL_MEM_WRITE_ONLY, size_t(w) * h * sizeof(float));
-    ShadowMaskPass mask_pass(*rt);
-    mask_pass
-        .enqueue(
-            rt->queue(),
-            shadow_mask_params(camera.inverse_view_projection, w, h, light.view_projection(), n, n),
-            depth_buffer, map_buffer, mask_buffer)
-        .wait();
+    ShadowMaskInputs in;
+    in.width = w;
+    in.height = h;
+    in.camera = camera;
+    in.camera.first_row = FirstRow::Bottom;
+    in.depth = depth_buffer;
+    in.map = light.shadow_map_view(map_buffer);
+    ShadowMaskPass(rt).enqueue(in, {mask_buffer}).wait();
     std::vector<float> mask(size_t(w) * h);
     rt->queue().enqueueReadBuffer(mask_buffer, CL_TRUE, 0, mask.size() * sizeof(float),
                                   mask.data());

@@ -39,7 +39,7 @@ struct ShadeInputs {
     cl::Buffer flags;                     // uint per pixel (OffsetTargets::flags), or null
     const DeviceImage* albedo = nullptr;  // null: a neutral procedural checker
     // float per pixel, rows as the G-buffer's: the lit fraction a shadow map's test gave each
-    // pixel (renderer::ShadowMaskPass), or null. With one, the diffuse term takes the smaller of
+    // pixel (ShadowMaskPass), or null. With one, the diffuse term takes the smaller of
     // it and the self-shadow march, and the specular term is scaled by it; without one the
     // shading is as it was, bit for bit.
     cl::Buffer shadow_mask{};

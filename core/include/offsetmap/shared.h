@@ -3,7 +3,8 @@
 // runtime puts the library's own copy at the top of every kernel program (never a kernel folder's:
 // the host was compiled against this one). Method-internal layouts live beside their methods
 // (kernels/methods/*.h).
-// Every member is a 4-byte scalar so the layout is identical on both sides without packing pragmas.
+// Every member is a 4-byte scalar (or a struct of them) so the layout is identical on both sides
+// without packing pragmas.
 #ifndef OFFSETMAP_SHARED_H
 #define OFFSETMAP_SHARED_H
 
@@ -129,11 +130,23 @@ typedef struct {
     om_float eye_w;
 } OmReconstructParams;
 
-// The rendered frame's pixel depth offset (kernels/frame/depth_offset.cl), in GL's conventions;
-// a work-item takes OM_DEPTH_RUN pixels of a row.
-#define OM_DEPTH_RUN 16
+// A frame's pixels as a kernel that unprojects them (kernels/common/unproject.cl) or projects
+// into them reads them: the size and the engine camera's conventions (EngineCamera's depth and
+// first row), from the host's pixel_grid.
 typedef struct {
     om_int width, height;
+    om_float depth_scale, depth_offset;  // NDC z = depth_scale d + depth_offset: 2, -1 (GL); 1, 0
+    om_float ndc_depth_scale, ndc_depth_offset;  // and back: d = ndc_depth_scale z + ..._offset
+    om_float far_depth;   // d at the far plane: 1, or 0 (reversed)
+    om_float far_sign;    // sky where far_sign (d - far_depth) >= 0: +1, or -1 (reversed)
+    om_float row0_ndc_y;  // NDC y of pixel row 0's edge: +1 (top first) or -1 (bottom first)
+} OmPixelGrid;
+
+// The rendered frame's pixel depth offset (kernels/frame/depth_offset.cl), in the camera's
+// conventions; a work-item takes OM_DEPTH_RUN pixels of a row.
+#define OM_DEPTH_RUN 16
+typedef struct {
+    OmPixelGrid grid;
     om_float view_proj[16];      // world -> clip, column-major: row r, column c at [4 c + r]
     om_float inv_view_proj[16];  // NDC -> world, the same layout
     om_float eye[3];             // world position of the eye, or (eye_w 0) direction toward it
@@ -141,13 +154,13 @@ typedef struct {
 } OmDepthOffsetParams;
 
 // The receivers' shadow test (kernels/frame/shadow_mask.cl): each pixel's point after the depth
-// offset against the light's displaced shadow map (its view orthographic or perspective), both in
-// GL's conventions with rows bottom first. The receiver's plane through the point and its
-// neighbours in the frame gives its depth at each tap's texel centre, so a lit plane compares with
-// itself at any light angle; the slack allows for what is not planar over a texel.
+// offset against the light's displaced shadow map (its view orthographic or perspective), each in
+// its own camera's conventions. The receiver's plane through the point and its neighbours in the
+// frame gives its depth at each tap's texel centre, so a lit plane compares with itself at any
+// light angle; the slack allows for what is not planar over a texel.
 typedef struct {
-    om_int width, height;          // the camera's frame
-    om_int map_width, map_height;  // the light's shadow map
+    OmPixelGrid frame;             // the camera's frame
+    OmPixelGrid map;               // the light's shadow map
     om_float inv_view_proj[16];    // the camera's NDC -> world, column-major
     om_float light_view_proj[16];  // world -> the light's clip space, column-major
     om_float slack_texels;         // lit within the plane's depth change over this many texels
@@ -225,16 +238,17 @@ typedef struct {
 } OmMaterialSlot;
 
 // The layout host and device must agree on: the host uploads these structs as raw bytes (kernel
-// arguments, the material frame's slot table). Every member is a 4-byte scalar, so neither side
-// pads; a member that breaks the rule (a vector, a double, a pointer, a bool) or a field added
+// arguments, the material frame's slot table). Every member is a 4-byte scalar (or a struct of
+// them), so neither side pads; a member that breaks the rule (a vector, a double, a pointer, a bool) or a field added
 // without updating this list fails the host's build (size and the last member's offset) and every
 // kernel program's (size: C99 has no static assertion, and offsetof is not OpenCL C 1.2's), rather
 // than uploading shifted fields. Sizes and offsets in bytes.
 #define OM_LAYOUT_CHECKS(CHECK)                     \
     CHECK(OmOffsetParams, 124, p, 92)               \
     CHECK(OmReconstructParams, 120, eye_w, 116)     \
-    CHECK(OmDepthOffsetParams, 152, eye_w, 148)     \
-    CHECK(OmShadowMaskParams, 156, pcf_radius, 152) \
+    CHECK(OmPixelGrid, 36, row0_ndc_y, 32)          \
+    CHECK(OmDepthOffsetParams, 180, eye_w, 176)     \
+    CHECK(OmShadowMaskParams, 212, pcf_radius, 208) \
     CHECK(OmShadeParams, 92, grazing, 88)           \
     CHECK(OmTileParams, 44, pass_through, 40)        \
     CHECK(OmMaterialSlot, 240, albedo_offset, 236)

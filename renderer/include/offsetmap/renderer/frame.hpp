@@ -15,6 +15,7 @@
 #include "offsetmap/renderer/scene.hpp"
 #include "offsetmap/scenes.hpp"
 #include "offsetmap/shade_pass.hpp"
+#include "offsetmap/shadow_mask_pass.hpp"
 
 namespace offsetmap::renderer {
 
@@ -31,7 +32,7 @@ struct PassTimes {
     double depth_offset = 0;  // the pixel depth offset (a CL kernel)
     double shadow_mask = 0;   // with a shadow map: the receivers' test (a CL kernel)
     double to_gl = 0;         // colour and depth written to GL from mapped CL buffers
-    double total = 0;         // the whole frame, end to end
+    double total = 0;         // the whole frame, end to end (with a shadow map, its light's too)
 };
 
 struct FrameRun {
@@ -59,12 +60,19 @@ struct FrameRun {
     std::vector<float> depth_after;  // window depth after the offset (GL convention)
     // The material id each pixel shows: the G-buffer's, the layer behind's where BEHIND.
     std::vector<float> material;
-    // With a shadow map (set_shadow_map): the light's passes that drew it (the G-buffer, the
-    // planes' move, reconstruct, offset and depth offset; total their sum), and per pixel the lit
-    // fraction its test gave and the visibility the shading used (the smaller of it and the
-    // self-shadow march). Empty without one.
+    // With a shadow map (set_shadow_map): the light's passes that drew it each frame (the
+    // G-buffer, the planes' move, reconstruct, offset and depth offset; total their sum), and per
+    // pixel the lit fraction its test gave and the visibility the shading used (the smaller of it
+    // and the self-shadow march). Empty without one.
     PassTimes shadow_map_ms;
     std::vector<float> shadow_mask, light_visibility;
+    // Frames rendered (the warm-up's included) and the light's views drawn for them: one a
+    // frame with a shadow map, none without.
+    int frames = 0, light_draws = 0;
+    // With a shadow map: the last frame's map (the light's depth after its offset, and the base's
+    // before it), GL's window depth, rows top first, shadow_map_size texels a side.
+    int shadow_map_size = 0;
+    std::vector<float> shadow_map, shadow_map_base;
 };
 
 // A shadow map of the scene's directional light, drawn through the same deferred passes from
@@ -140,6 +148,12 @@ class FrameRenderer {
     // The camera's world -> clip matrix (column-major, GL conventions): a shadow map's light view
     // for the receivers' test (ShadowMaskPass).
     std::array<float, 16> view_projection() const;
+    // The camera as the device passes take this renderer's planes: GL's depth, rows bottom first
+    // (GL's; gbuffer() holds them top first).
+    EngineCamera pass_camera() const;
+    // This renderer's depth after the offset (a light's renderer: its displaced shadow map), rows
+    // bottom first, as the receivers' test reads it (ShadowMaskPass).
+    ShadowMapView shadow_map_view(const cl::Buffer& depth) const;
     // "host copies" (and why) or the sharing used between GL and CL.
     const std::string& interop() const { return interop_; }
     std::string gl_renderer() const;
