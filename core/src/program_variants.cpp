@@ -4,6 +4,7 @@
 
 #include "offsetmap/engine_gbuffer.hpp"
 #include "offsetmap/registry.hpp"
+#include "offsetmap/shadow_mask_pass.hpp"
 
 namespace offsetmap {
 namespace {
@@ -128,11 +129,11 @@ std::vector<ProgramVariant> program_variants() {
     out.push_back({"frame/gather", {"frame/gather.cl"}, "", true});
     out.push_back({"frame/behind", behind_program_files(), "", true});
     out.push_back({"frame/triplanar", {"frame/triplanar.cl"}, "", true});
-    for (const char* pass : {"depth_offset", "shadow_mask"})
-        out.push_back({std::string("frame/") + pass,
-                       {"common/unproject.cl", std::string("frame/") + pass + ".cl"},
-                       "",
-                       true});
+    out.push_back(
+        {"frame/depth_offset", {"common/unproject.cl", "frame/depth_offset.cl"}, "", true});
+    for (int lanes : {1, 8, 16})
+        out.push_back({"frame/shadow_mask/lanes" + std::to_string(lanes),
+                       shadow_mask_program_files(), lanes_define(lanes), lanes == 1});
     for (int lanes : {1, 8, 16})
         for (bool materials : {false, true})
             out.push_back({std::string(materials ? "shade-materials" : "shade") + "/lanes" +

@@ -4,13 +4,19 @@
 #include <string>
 
 #include "launch.hpp"
+#include "offsetmap/registry.hpp"
 #include "pixel_grid.hpp"
 
 namespace offsetmap {
 
+std::vector<std::string> shadow_mask_program_files() {
+    return {"common/unproject.cl", "frame/shadow_mask.cl"};
+}
+
 ShadowMaskPass::ShadowMaskPass(std::shared_ptr<Runtime> runtime)
     : runtime_(std::move(runtime)),
-      kernel_(runtime_->kernel(runtime_->program({"common/unproject.cl", "frame/shadow_mask.cl"}),
+      lanes_(runtime_->lanes()),
+      kernel_(runtime_->kernel(runtime_->program(shadow_mask_program_files(), lanes_define(lanes_)),
                                "om_shadow_mask")) {}
 
 cl::Event ShadowMaskPass::enqueue(const ShadowMaskInputs& in, const ShadowMaskTargets& out,
@@ -50,8 +56,8 @@ cl::Event ShadowMaskPass::enqueue(const ShadowMaskInputs& in, const ShadowMaskTa
     cl::Event done;
     try {
         set_args(kernel_, p, in.depth, map.depth, out.mask);
-        enqueue_grid(q, kernel_, cl::NDRange(in.width, in.height), wait.empty() ? nullptr : &wait,
-                     &done);
+        enqueue_grid(q, kernel_, cl::NDRange((in.width + lanes_ - 1) / lanes_, in.height),
+                     wait.empty() ? nullptr : &wait, &done);
     } catch (const cl::Error& e) {
         throw Error("cannot run the shadow test: " + describe_cl_error(e.err()));
     }

@@ -11,23 +11,25 @@
 // taps (the relief between pixels) is allowed slack_texels of the plane's change, and the float
 // rounding of the points slack_depth. A tap outside the map is lit (nothing there casts).
 
-// Camera pixel (x, y) at window depth d in the map: texel coordinates (centres at integers) and
-// window depth, each grid in its own conventions (common/unproject.cl).
-float3 om_light_point(const OmShadowMaskParams* P, int x, int y, float d) {
-    const float nx = OM_PIXEL_NDC_X((float)(2 * x + 1), P->frame.width);
-    const float ny = OM_PIXEL_NDC_Y(P->frame.row0_ndc_y, y, P->frame.height);
-    const float nz = OM_PIXEL_NDC_Z(P->frame, d);
-    OM_UNPROJECT(float, P->inv_view_proj, nx, ny, nz, px, py, pz);
+// A work-item's lanes, pixels (fx = 2 x + 1) at NDC y ny and window depth d, in the map: texel
+// coordinates (centres at integers) and window depth, each grid in its own conventions
+// (common/unproject.cl). The expressions are the same whatever the lanes, so a pixel's point is
+// the same bits at 1, 8 or 16 lanes.
+OM_INLINE void om_light_points(const OmShadowMaskParams* P, OmF fx, OmF ny, OmF d, OmF* tx, OmF* ty,
+                               OmF* tz) {
+    const OmF nx = OM_PIXEL_NDC_X(fx, P->frame.width);
+    const OmF nz = OM_PIXEL_NDC_Z(P->frame, d);
+    OM_UNPROJECT(OmF, P->inv_view_proj, nx, ny, nz, px, py, pz);
     const float* c = P->light_view_proj;
-    const float cx = c[0] * px + c[4] * py + c[8] * pz + c[12];
-    const float cy = c[1] * px + c[5] * py + c[9] * pz + c[13];
-    const float cz = c[2] * px + c[6] * py + c[10] * pz + c[14];
-    const float cw = c[3] * px + c[7] * py + c[11] * pz + c[15];
+    const OmF cx = c[0] * px + c[4] * py + c[8] * pz + c[12];
+    const OmF cy = c[1] * px + c[5] * py + c[9] * pz + c[13];
+    const OmF cz = c[2] * px + c[6] * py + c[10] * pz + c[14];
+    const OmF cw = c[3] * px + c[7] * py + c[11] * pz + c[15];
     // Texel row j at NDC y = row0 (1 - (2 j + 1) / H): j + 0.5 = (0.5 - 0.5 row0 y) H.
     const float half_y = -0.5f * P->map.row0_ndc_y;
-    return (float3)((0.5f * cx / cw + 0.5f) * (float)P->map.width - 0.5f,
-                    (half_y * cy / cw + 0.5f) * (float)P->map.height - 0.5f,
-                    P->map.ndc_depth_scale * cz / cw + P->map.ndc_depth_offset);
+    *tx = (0.5f * cx / cw + 0.5f) * (float)P->map.width - 0.5f;
+    *ty = (half_y * cy / cw + 0.5f) * (float)P->map.height - 0.5f;
+    *tz = P->map.ndc_depth_scale * cz / cw + P->map.ndc_depth_offset;
 }
 
 // The side (+1 or -1) of the neighbour along one axis whose depth is nearer d; 0: neither is
@@ -41,49 +43,81 @@ int om_receiver_neighbour(const OmPixelGrid* G, __global const float* depth, int
     return dh <= dl ? 1 : -1;
 }
 
-// Pixel (x, y)'s lit fraction.
-float om_shadow_mask_pixel(const OmShadowMaskParams* P, __global const float* depth,
-                           __global const float* map, int x, int y) {
-    const int k = y * P->frame.width + x;
-    const float d = depth[k];
-    if (!OM_PIXEL_DRAWN(P->frame, d)) return 1.0f;  // sky: nothing to shadow
-    const float3 p = om_light_point(P, x, y, d);
-    const int sx = om_receiver_neighbour(&P->frame, depth, k, 1, x > 0, x + 1 < P->frame.width, d);
-    const int sy = om_receiver_neighbour(&P->frame, depth, k, P->frame.width, y > 0,
-                                         y + 1 < P->frame.height, d);
-    float a = 0.0f, b = 0.0f;
-    if (sx != 0 && sy != 0) {
-        const float3 e1 = om_light_point(P, x + sx, y, depth[k + sx]) - p;
-        const float3 e2 = om_light_point(P, x, y + sy, depth[k + sy * P->frame.width]) - p;
-        const float det = e1.x * e2.y - e1.y * e2.x;
-        // A plane seen edge-on by the light (its texels do not span it) keeps no gradient.
-        if (fabs(det) > 1.0e-6f * (fabs(e1.x * e2.y) + fabs(e1.y * e2.x))) {
-            a = (e1.z * e2.y - e2.z * e1.y) / det;
-            b = (e2.z * e1.x - e1.z * e2.x) / det;
-        }
-    }
-    const float slack = P->slack_texels * (fabs(a) + fabs(b)) + P->slack_depth;
+// The lanes' taps: each point p in the map and its receiver plane's gradient (a, b) per texel;
+// the lit fraction.
+OM_INLINE OmF om_shadow_taps(const OmShadowMaskParams* P, __global const float* map, OmF px, OmF py,
+                             OmF pz, OmF a, OmF b) {
+    const OmF slack = P->slack_texels * (fabs(a) + fabs(b)) + P->slack_depth;
     const int r = P->pcf_radius;
     // A reversed map's nearer surfaces have the larger depth.
     const int nearer_is_less = P->map.far_sign > 0.0f;
-    const int i0 = (int)floor(p.x + 0.5f), j0 = (int)floor(p.y + 0.5f);
-    int lit = 0;
-    for (int j = j0 - r; j <= j0 + r; ++j)
-        for (int i = i0 - r; i <= i0 + r; ++i) {
-            if (i < 0 || j < 0 || i >= P->map.width || j >= P->map.height) {
-                ++lit;
-                continue;
-            }
-            const float z = p.z + a * ((float)i - p.x) + b * ((float)j - p.y);
-            const float m = map[j * P->map.width + i];
-            lit += nearer_is_less ? z <= m + slack : z >= m - slack;
+    const OmI i0 = OM_TO_INT(floor(px + 0.5f)), j0 = OM_TO_INT(floor(py + 0.5f));
+    OmI lit = 0;
+    for (int dj = -r; dj <= r; ++dj)
+        for (int di = -r; di <= r; ++di) {
+            const OmI i = i0 + di, j = j0 + dj;
+            // A tap outside the map is lit (nothing there casts); its read is the map's corner.
+            const OmI out = (i < 0) | (j < 0) | (i >= P->map.width) | (j >= P->map.height);
+            const OmF z = pz + a * (OM_TO_FLOAT(i) - px) + b * (OM_TO_FLOAT(j) - py);
+            const OmF m = OM_GATHER(map, OM_SEL(j * P->map.width + i, (OmI)0, out));
+            const OmI passes = nearer_is_less ? z <= m + slack : z >= m - slack;
+            lit -= OM_LANES == 1 ? -(out | passes) : (out | passes);  // vector true is -1
         }
-    return (float)lit / (float)((2 * r + 1) * (2 * r + 1));
+    return OM_TO_FLOAT(lit) / (float)((2 * r + 1) * (2 * r + 1));
 }
 
+// A work-item takes OM_LANES consecutive pixels of a row (lanes.h): their points and their
+// neighbours' in the map as vectors, then each pixel's taps. The host launches
+// ceil(width / OM_LANES) x height.
 __kernel void om_shadow_mask(const OmShadowMaskParams P, __global const float* depth,
                              __global const float* map, __global float* mask) {
-    const int x = (int)get_global_id(0), y = (int)get_global_id(1);
-    if (x >= P.frame.width || y >= P.frame.height) return;
-    mask[y * P.frame.width + x] = om_shadow_mask_pixel(&P, depth, map, x, y);
+    const int x0 = (int)get_global_id(0) * OM_LANES, y = (int)get_global_id(1);
+    const int w = P.frame.width;
+    if (x0 >= w || y >= P.frame.height) return;
+    // Per lane (past the row's end, its last pixel again): the pixel's, its neighbour's along x
+    // and along y (side sx, sy; 0 where neither is drawn: then the pixel's own) column and depth.
+    float fx[OM_LANES], fx1[OM_LANES], d0[OM_LANES], d1[OM_LANES], d2[OM_LANES], ny2[OM_LANES];
+    int drawn[OM_LANES];
+    float plane[OM_LANES];
+    const float ny = OM_PIXEL_NDC_Y(P.frame.row0_ndc_y, y, P.frame.height);
+    const float ny_lo = OM_PIXEL_NDC_Y(P.frame.row0_ndc_y, y - 1, P.frame.height);
+    const float ny_hi = OM_PIXEL_NDC_Y(P.frame.row0_ndc_y, y + 1, P.frame.height);
+    for (int l = 0; l < OM_LANES; ++l) {
+        const int x = min(x0 + l, w - 1), k = y * w + x;
+        const float d = depth[k];
+        drawn[l] = OM_PIXEL_DRAWN(P.frame, d);
+        const int sx = om_receiver_neighbour(&P.frame, depth, k, 1, x > 0, x + 1 < w, d);
+        const int sy =
+            om_receiver_neighbour(&P.frame, depth, k, w, y > 0, y + 1 < P.frame.height, d);
+        plane[l] = sx != 0 && sy != 0 ? 1.0f : 0.0f;
+        fx[l] = (float)(2 * x + 1);
+        fx1[l] = (float)(2 * (x + sx) + 1);
+        d0[l] = d;
+        d1[l] = depth[k + sx];
+        d2[l] = depth[k + sy * w];
+        ny2[l] = sy > 0 ? ny_hi : ny_lo;
+    }
+    OmF px, py, pz, e1x, e1y, e1z, e2x, e2y, e2z;
+    om_light_points(&P, OM_VLOAD(fx), (OmF)ny, OM_VLOAD(d0), &px, &py, &pz);
+    om_light_points(&P, OM_VLOAD(fx1), (OmF)ny, OM_VLOAD(d1), &e1x, &e1y, &e1z);
+    om_light_points(&P, OM_VLOAD(fx), OM_VLOAD(ny2), OM_VLOAD(d2), &e2x, &e2y, &e2z);
+    e1x -= px, e1y -= py, e1z -= pz;
+    e2x -= px, e2y -= py, e2z -= pz;
+    const OmF det = e1x * e2y - e1y * e2x;
+    // A plane seen edge-on by the light (its texels do not span it) keeps no gradient.
+    const OmI spans = fabs(det) > 1.0e-6f * (fabs(e1x * e2y) + fabs(e1y * e2x));
+    const OmF a = OM_SEL((OmF)0.0f, (e1z * e2y - e2z * e1y) / det, spans);
+    const OmF b = OM_SEL((OmF)0.0f, (e2z * e1x - e1z * e2x) / det, spans);
+    const OmI has_plane = OM_VLOAD(plane) != 0.0f;
+    // A point the float range cannot place in texels (sky, a point at infinity) reads no texel:
+    // lit, as a tap outside the map.
+    const OmI wild = !(fabs(px) < 1.0e8f) | !(fabs(py) < 1.0e8f);
+    px = OM_SEL(px, (OmF)-1.0e6f, wild);
+    py = OM_SEL(py, (OmF)-1.0e6f, wild);
+    float lit[OM_LANES];
+    OM_VSTORE(om_shadow_taps(&P, map, px, py, pz, OM_SEL((OmF)0.0f, a, has_plane),
+                             OM_SEL((OmF)0.0f, b, has_plane)),
+              lit);
+    for (int l = 0; l < OM_LANES && x0 + l < w; ++l)
+        mask[y * w + x0 + l] = drawn[l] ? lit[l] : 1.0f;  // sky: nothing to shadow
 }

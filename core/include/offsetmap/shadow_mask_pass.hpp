@@ -5,6 +5,7 @@
 #pragma once
 #include <array>
 #include <memory>
+#include <string>
 #include <vector>
 
 #include "offsetmap/cl.hpp"
@@ -39,6 +40,10 @@ struct ShadowMaskTargets {
     cl::Buffer mask;  // float a pixel: the lit fraction of the taps (1 on sky)
 };
 
+// The test's program (its OM_LANES from the runtime: each work-item tests that many pixels of a
+// row).
+std::vector<std::string> shadow_mask_program_files();
+
 class ShadowMaskPass {
   public:
     explicit ShadowMaskPass(std::shared_ptr<Runtime> runtime);
@@ -51,6 +56,7 @@ class ShadowMaskPass {
 
   private:
     std::shared_ptr<Runtime> runtime_;
+    int lanes_ = 1;  // the kernel's, from the runtime when it was built
     cl::Kernel kernel_;
 };
 
