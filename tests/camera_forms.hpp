@@ -51,6 +51,14 @@ struct CameraForm {
         for (float& d : out) d = depth_to_gl(d);
         return out;
     }
+    // The camera of a GL view-projection in this form: its inverse, depth convention and rows.
+    offsetmap::EngineCamera camera(const glm::dmat4& gl_vp) const {
+        offsetmap::EngineCamera c;
+        c.inverse_view_projection = inverse_view_projection(gl_vp);
+        c.depth = depth;
+        c.first_row = first_row;
+        return c;
+    }
     // A GL view-projection (world -> GL clip) and its inverse in this form, as floats.
     std::array<float, 16> view_projection(const glm::dmat4& gl_vp) const {
         return floats(glm::inverse(to_gl_ndc()) * gl_vp);

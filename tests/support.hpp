@@ -55,6 +55,12 @@ inline std::shared_ptr<Runtime> runtime() {
     return rt;
 }
 
+// A read-only device copy of `values`.
+inline cl::Buffer device_floats(Runtime& rt, const std::vector<float>& values) {
+    return cl::Buffer(rt.context(), CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR,
+                      values.size() * sizeof(float), const_cast<float*>(values.data()));
+}
+
 // An out-of-order queue where the device has one, else an in-order queue (rusticl over llvmpipe
 // has none): the tests built on one check that every step is ordered by events, and still run
 // their frames in order elsewhere.

@@ -35,22 +35,16 @@ struct DepthFrame {
 std::vector<float> depth_offset(const DepthFrame& f, const CameraForm& form) {
     auto rt = runtime();
     const size_t bytes = f.depth.size() * sizeof(float);
-    auto in = [&](const std::vector<float>& v) {
-        return cl::Buffer(rt->context(), CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, bytes,
-                          const_cast<float*>(v.data()));
-    };
     DepthOffsetInputs p;
     p.width = f.w;
     p.height = f.h;
-    p.camera.inverse_view_projection = form.inverse_view_projection(f.vp);
+    p.camera = form.camera(f.vp);
     p.camera.eye = f.eye;
     p.camera.orthographic = f.orthographic;
-    p.camera.depth = form.depth;
-    p.camera.first_row = form.first_row;
     p.view_projection = form.view_projection(f.vp);
-    p.depth = in(form.depth_plane(f.depth, f.w, f.h));
-    p.t = in(form.rows(f.t, f.w, f.h));
-    p.density = in(form.rows(f.density, f.w, f.h));
+    p.depth = device_floats(*rt, form.depth_plane(f.depth, f.w, f.h));
+    p.t = device_floats(*rt, form.rows(f.t, f.w, f.h));
+    p.density = device_floats(*rt, form.rows(f.density, f.w, f.h));
     cl::Buffer out(rt->context(), CL_MEM_WRITE_ONLY, bytes);
     DepthOffsetPass(rt).enqueue(p, {out}).wait();
     std::vector<float> after(f.depth.size());

@@ -88,22 +88,15 @@ ShadowScene shadow_scene(double elevation_deg, double roof, int w = 160, int h =
 std::vector<float> shadow_mask(const ShadowScene& s, int radius, const CameraForm& form = {},
                                const CameraForm& map_form = {}) {
     auto rt = runtime();
-    auto in = [&](const std::vector<float>& v) {
-        return cl::Buffer(rt->context(), CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR,
-                          v.size() * sizeof(float), const_cast<float*>(v.data()));
-    };
     ShadowMaskInputs p;
     p.width = s.w;
     p.height = s.h;
-    p.camera.inverse_view_projection = form.inverse_view_projection(s.camera);
-    p.camera.depth = form.depth;
-    p.camera.first_row = form.first_row;
-    p.depth = in(form.depth_plane(s.depth, s.w, s.h));
+    p.camera = form.camera(s.camera);
+    p.depth = device_floats(*rt, form.depth_plane(s.depth, s.w, s.h));
     p.map.width = p.map.height = s.n;
-    p.map.camera.depth = map_form.depth;
-    p.map.camera.first_row = map_form.first_row;
+    p.map.camera = map_form.camera(s.light);
     p.map.view_projection = map_form.view_projection(s.light);
-    p.map.depth = in(map_form.depth_plane(s.map, s.n, s.n));
+    p.map.depth = device_floats(*rt, map_form.depth_plane(s.map, s.n, s.n));
     p.pcf_radius = radius;
     cl::Buffer out(rt->context(), CL_MEM_WRITE_ONLY, s.depth.size() * sizeof(float));
     ShadowMaskPass(rt).enqueue(p, {out}).wait();

@@ -239,10 +239,10 @@ typedef struct {
 
 // The layout host and device must agree on: the host uploads these structs as raw bytes (kernel
 // arguments, the material frame's slot table). Every member is a 4-byte scalar (or a struct of
-// them), so neither side pads; a member that breaks the rule (a vector, a double, a pointer, a bool) or a field added
-// without updating this list fails the host's build (size and the last member's offset) and every
-// kernel program's (size: C99 has no static assertion, and offsetof is not OpenCL C 1.2's), rather
-// than uploading shifted fields. Sizes and offsets in bytes.
+// them), so neither side pads; a member that breaks the rule (a vector, a double, a pointer, a
+// bool) or a field added without updating this list fails the host's build (size and the last
+// member's offset) and every kernel program's (size: C99 has no static assertion, and offsetof is
+// not OpenCL C 1.2's), rather than uploading shifted fields. Sizes and offsets in bytes.
 #define OM_LAYOUT_CHECKS(CHECK)                     \
     CHECK(OmOffsetParams, 124, p, 92)               \
     CHECK(OmReconstructParams, 120, eye_w, 116)     \

@@ -1,15 +1,12 @@
 #include "light.hpp"
 
 #include "../timing.hpp"
-#include "offsetmap/error.hpp"
 
 namespace offsetmap::renderer {
 
 namespace {
 
 Scene light_view_of(const Scene& scene) {
-    if (scene.light.kind != LightKind::Directional)
-        throw Error("a shadow map needs the scene's light to be directional");
     Scene lit = scene;
     const std::array<float, 3>& l = scene.light.vector;
     lit.camera = light_camera(scene, {l[0], l[1], l[2]});
@@ -20,10 +17,14 @@ Scene light_view_of(const Scene& scene) {
 
 LightStage::LightStage(std::shared_ptr<Runtime> runtime, const Scene& scene,
                        const std::vector<FrameMaterial>& materials, int size)
+    : LightStage(std::move(runtime), light_view_of(scene), materials, size, 0) {}
+
+LightStage::LightStage(std::shared_ptr<Runtime> runtime, const Scene& lit,
+                       const std::vector<FrameMaterial>& materials, int size, int)
     : rt_(std::move(runtime)),
       size_(size),
-      view_(make_view(light_view_of(scene).camera, size, size)),
-      raster_(light_view_of(scene), size, size),
+      view_(make_view(lit.camera, size, size)),
+      raster_(lit, size, size),
       planes_(*rt_, static_cast<size_t>(size) * size, true),
       // No light vector: nothing in the light's view is shaded.
       dg_(allocate_gbuffer(*rt_, size, size, false, false)),

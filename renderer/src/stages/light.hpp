@@ -21,8 +21,8 @@ namespace offsetmap::renderer {
 
 class LightStage {
   public:
-    // `scene`'s light must be directional; `materials` the camera's frame's (their fields shared).
-    // The camera's GL context must be current.
+    // `scene`'s light must be directional (FrameRenderer::set_shadow_map checks it); `materials`
+    // the camera's frame's (their fields shared). The camera's GL context must be current.
     LightStage(std::shared_ptr<Runtime> runtime, const Scene& scene,
                const std::vector<FrameMaterial>& materials, int size);
 
@@ -34,6 +34,11 @@ class LightStage {
     int size() const { return size_; }
 
   private:
+    // `lit`: the scene seen from its light (light_camera); the last argument only tells the two
+    // constructors apart.
+    LightStage(std::shared_ptr<Runtime> runtime, const Scene& lit,
+               const std::vector<FrameMaterial>& materials, int size, int);
+
     std::shared_ptr<Runtime> rt_;
     int size_;
     View view_;

@@ -130,13 +130,6 @@ void FrameRenderer::Impl::read_back(FrameRun& run, bool prepass, FrameScratch& s
     if (shadows && !forward) {
         run.shadow_mask = flip_rows(read<float>(q, shadows->mask, n), w, h, 1);
         run.light_visibility = flip_rows(read<float>(q, shadows->visibility, n), w, h, 1);
-        const int size = shadows->light->size();
-        const size_t texels = static_cast<size_t>(size) * size;
-        run.shadow_map_size = size;
-        run.shadow_map =
-            flip_rows(read<float>(q, shadows->light->map(true).depth, texels), size, size, 1);
-        run.shadow_map_base =
-            flip_rows(read<float>(q, shadows->light->map(false).depth, texels), size, size, 1);
     }
     run.shaded_fragments =
         raster->count_fragments(view, forward ? &this->forward : nullptr, prepass, run.curved);

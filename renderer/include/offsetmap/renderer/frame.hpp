@@ -69,10 +69,6 @@ struct FrameRun {
     // Frames rendered (the warm-up's included) and the light's views drawn for them: one a
     // frame with a shadow map, none without.
     int frames = 0, light_draws = 0;
-    // With a shadow map: the last frame's map (the light's depth after its offset, and the base's
-    // before it), GL's window depth, rows top first, shadow_map_size texels a side.
-    int shadow_map_size = 0;
-    std::vector<float> shadow_map, shadow_map_base;
 };
 
 // A shadow map of the scene's directional light, drawn through the same deferred passes from
