@@ -280,6 +280,11 @@ TEST(Renderer, ADisplacedShadowMapShadowsWhatTheDisplacedMeshShadows) {
     map.displaced = false;
     r.set_shadow_map(map);
     const FrameRun flat = r.render(FrameMode::Deferred, false, 1);
+    // The light's view is drawn once a frame (the warm-up's included), and never without a map.
+    EXPECT_EQ(plain.light_draws, 0);
+    EXPECT_EQ(displaced.frames, 2);
+    EXPECT_EQ(displaced.light_draws, displaced.frames);
+    EXPECT_EQ(flat.light_draws, flat.frames);
     r.set_shadow_map(std::nullopt);
     const FrameRun again = r.render(FrameMode::Deferred, false, 1);
     ASSERT_EQ(again.color.size(), plain.color.size());
