@@ -139,8 +139,11 @@ run_case shade-soft-lanes16 16 render --method relief "${frame[@]}" --shadows so
 # The material frame's layer behind (its mask, choice and plane copies), through the suite's test.
 [ -n "$tests" ] && bin=$tests run_case layer-behind 1 \
     --gtest_filter=MaterialFrame.LayerBehindShowsWhatTheFirstLayerDoesNot
-# The receivers' shadow test (its receiver plane, filter taps past the map's edges).
+# The receivers' shadow test (its receiver plane, filter taps past the map's edges), one pixel a
+# work-item and in 16 lanes (the vector projections, the gathers and the row's last lanes).
 [ -n "$tests" ] && bin=$tests run_case shadow-mask 1 \
+    --gtest_filter=ShadowMask.SmallFrameWithTapsPastTheMapsEdges
+[ -n "$tests" ] && bin=$tests run_case shadow-mask-lanes16 16 \
     --gtest_filter=ShadowMask.SmallFrameWithTapsPastTheMapsEdges
 # The shade pass with a shadow mask beside the march, and the visibility it writes.
 for lanes in 1 16; do
