@@ -275,8 +275,25 @@ TEST(Renderer, ADisplacedShadowMapShadowsWhatTheDisplacedMeshShadows) {
                              r.set_shadow_map(bad);
                          }),
                          "size"));
+    EXPECT_TRUE(contains(error_of([&] { r.light_maps(); }), "no shadow map drawn"));
     r.set_shadow_map(map);
     const FrameRun displaced = r.render(FrameMode::Deferred, false, 1);
+    {
+        // The map the frame drew: the relief moves the light's depth away from it, never toward.
+        const LightMaps maps = r.light_maps();
+        ASSERT_EQ(maps.size, size);
+        ASSERT_EQ(maps.base.size(), size_t(size) * size);
+        ASSERT_EQ(maps.displaced.size(), maps.base.size());
+        size_t covered = 0, moved = 0;
+        for (size_t k = 0; k < maps.base.size(); ++k) {
+            if (maps.base[k] >= 1.0f) continue;
+            ++covered;
+            moved += maps.displaced[k] > maps.base[k];
+            ASSERT_GE(maps.displaced[k], maps.base[k]) << k;
+        }
+        EXPECT_GT(covered, maps.base.size() / 10);
+        EXPECT_GT(moved, covered / 2);
+    }
     map.displaced = false;
     r.set_shadow_map(map);
     const FrameRun flat = r.render(FrameMode::Deferred, false, 1);

@@ -222,6 +222,7 @@ PassTimes FrameRenderer::Impl::render_frame(const FrameRun& run, bool prepass, F
     if (shadows && !forward) {
         // The light's view first, as an engine draws its shadow maps: depth only.
         s.light = shadows->light->draw(*reconstruct, run.curved);
+        shadows->drawn = true;
         ++s.light_draws;
         clock.lap();
     }

@@ -69,6 +69,7 @@ struct FrameRenderer::Impl {
         std::unique_ptr<LightStage> light;
         std::unique_ptr<ShadowMaskPass> test;
         cl::Buffer mask, visibility;
+        bool drawn = false;  // the light's stage holds a map
     };
     std::unique_ptr<Shadows> shadows;
 

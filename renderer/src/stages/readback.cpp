@@ -4,6 +4,8 @@
 #include <cmath>
 
 #include "../frame_impl.hpp"
+#include "light.hpp"
+#include "offsetmap/error.hpp"
 
 namespace offsetmap::renderer {
 
@@ -141,6 +143,20 @@ void FrameRenderer::Impl::read_back(FrameRun& run, bool prepass, FrameScratch& s
     explicit_gbuffer.view = flip_rows(read<cl_float4>(q, dg.view, n), w, h, 1);
     if (dg.light()) explicit_gbuffer.light = flip_rows(read<cl_float4>(q, dg.light, n), w, h, 1);
     explicit_gbuffer.material = run.material;
+}
+
+LightMaps FrameRenderer::light_maps() const {
+    const Impl& m = *impl_;
+    if (!m.shadows || !m.shadows->drawn)
+        throw offsetmap::Error(
+            "no shadow map drawn: light_maps needs a deferred render with set_shadow_map");
+    const int n = m.shadows->light->size();
+    const auto rows = [&](bool displaced) {
+        return flip_rows(
+            read<float>(m.rt->queue(), m.shadows->light->map(displaced).depth, size_t(n) * n), n, n,
+            1);
+    };
+    return {n, rows(false), rows(true)};
 }
 
 }  // namespace offsetmap::renderer

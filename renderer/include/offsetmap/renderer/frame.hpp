@@ -81,6 +81,13 @@ struct ShadowMapSettings {
     bool displaced = true;
 };
 
+// The shadow map a frame last drew (FrameRenderer::light_maps): the light's view's window depth
+// (GL), rows top first, of the base meshes and after the relief's offset.
+struct LightMaps {
+    int size = 0;
+    std::vector<float> base, displaced;
+};
+
 // A scene drawn by the G-buffer raster alone (the truth's displaced meshes, a tessellation level),
 // rows top first.
 struct GeometryFrame {
@@ -147,6 +154,9 @@ class FrameRenderer {
     // The camera as the device passes take this renderer's planes: GL's depth, rows bottom first
     // (GL's; gbuffer() holds them top first).
     EngineCamera pass_camera() const;
+    // After a deferred render with a shadow map: the light's view that frame drew (the map the
+    // shading read). Throws Error when no shadow map was drawn.
+    LightMaps light_maps() const;
     // This renderer's depth after the offset (a light's renderer: its displaced shadow map), rows
     // bottom first, as the receivers' test reads it (ShadowMaskPass).
     ShadowMapView shadow_map_view(const cl::Buffer& depth) const;

@@ -1,5 +1,5 @@
 #ifdef OFFSETMAP_HAVE_RENDERER
-#include "frame_shadows.hpp"
+#include "shadow_truth.hpp"
 
 #include <algorithm>
 #include <cstdio>
@@ -10,36 +10,25 @@ namespace offsetmap::cli {
 
 using namespace offsetmap::renderer;
 
-ShadowChoice parse_shadows(const std::string& value) {
-    ShadowChoice c;
-    c.map = value.rfind("map", 0) == 0;
-    c.march = !c.map ? value : value == "map+hard" ? "hard" : value == "map+soft" ? "soft" : "none";
-    return c;
-}
-
-nlohmann::json shadow_truth_section(const FrameCommand& cmd, const Scene& scene,
-                                    const std::vector<LoadedMaterial>& table,
-                                    const std::vector<MethodParams>& methods,
-                                    const std::shared_ptr<Runtime>& rt, FrameRenderer& frame,
-                                    const ShadeSettings& shading,
-                                    const std::optional<ShadowMapSettings>& shown_map,
-                                    std::vector<std::pair<std::string, Rgb8> >& tiles) {
+nlohmann::json shadow_truth_section(const FrameRequest& r, const std::shared_ptr<Runtime>& rt,
+                                    FrameRuns& runs, Tiles& tiles) {
+    const FrameCommand& cmd = *r.cmd;
+    FrameRenderer& frame = *runs.renderer;
     const int w = cmd.width, h = cmd.height;
     // The light's view holds the whole scene: the lattice of both views no finer than a texel a
     // quad (the tessellation table puts that lattice's uv error at hundredths of a texel). Its
     // map as the frame's, filtered alike, unless --shadow-truth-size asks for a finer one.
     const ShadowMapSettings as_frame;
     const int truth_size = cmd.shadow_truth_size ? cmd.shadow_truth_size : cmd.shadow_size;
-    const ShadowTruth t = shadow_truth(rt, frame, scene, table, methods, w, h, truth_size,
+    const ShadowTruth t = shadow_truth(rt, frame, r.scene, r.table, r.methods, w, h, truth_size,
                                        as_frame.pcf_radius, std::max(cmd.truth_level, 1.0f));
-    const std::array<float, 3> toward = scene.light.vector;
+    const std::array<float, 3> toward = r.scene.light.vector;
     struct Variant {
         const char* name;
         bool displaced;
         ShadowMode march;
     };
-    const ShadowMode march =
-        parse_shadows(cmd.shadows).march == "hard" ? ShadowMode::Hard : ShadowMode::Soft;
+    const ShadowMode march = r.shadows.march == "hard" ? ShadowMode::Hard : ShadowMode::Soft;
     const Variant variants[] = {{"flat", false, ShadowMode::None},
                                 {"displaced", true, ShadowMode::None},
                                 {"displaced-march", true, march}};
@@ -48,7 +37,7 @@ nlohmann::json shadow_truth_section(const FrameCommand& cmd, const Scene& scene,
                 truth_size, truth_size, t.triangles, t.ms);
     size_t compared = 0;
     for (const Variant& v : variants) {
-        ShadeSettings s = shading;
+        ShadeSettings s = r.shading;
         s.shadow = v.march;
         frame.set_shading(s);
         ShadowMapSettings map;
@@ -77,13 +66,11 @@ nlohmann::json shadow_truth_section(const FrameCommand& cmd, const Scene& scene,
                              ": light visibility, red where lit or shadowed unlike the truth",
                          picture});
     }
-    frame.set_shading(shading);
-    frame.set_shadow_map(shown_map);
+    frame.set_shading(r.shading);
+    frame.set_shadow_map(r.shadow_map);
     doc["pixels"] = pixels;
     doc["compared_pixels"] = compared;
-    double elevation = 0, azimuth = 0;
-    std::sscanf(cmd.sun.c_str(), "%lf,%lf", &elevation, &azimuth);  // checked before the frame
-    doc["sun_deg"] = {elevation, azimuth};
+    doc["sun_deg"] = {r.sun->elevation, r.sun->azimuth};
     doc["map_size"] = cmd.shadow_size;
     doc["truth_map_size"] = truth_size;
     doc["truth_triangles"] = t.triangles;
