@@ -1,12 +1,14 @@
 // The base surface's curvature per vertex (derive_curvature) against the primitives' analytic
 // second fundamental form: exact on a sphere and a cylinder (their vertex normals are a linear
 // function of the position, so every face's fit is the surface's own tensor), first order with a
-// second-order rate on a torus, and k_TB's sign on a cylinder whose uv runs diagonally.
+// second-order rate on a torus, and k_TB's sign on a cylinder whose uv runs diagonally; core's
+// helper (mesh_curvature.hpp) on an engine's packed arrays, and what it refuses.
 #include <algorithm>
 #include <glm/glm.hpp>
 #include <vector>
 
 #include "offsetmap/image_io.hpp"
+#include "offsetmap/mesh_curvature.hpp"
 #include "support.hpp"
 #ifdef OFFSETMAP_HAVE_RENDERER
 #include "offsetmap/renderer/frame.hpp"
@@ -251,7 +253,56 @@ TEST(Curvature, FlatAndHardEdgedMeshesHaveNone) {
     for (const Vertex& v : box.vertices)
         ASSERT_EQ(v.curvature, (std::array<float, 3>{0.0f, 0.0f, 0.0f}));
 }
+
+// The installed helper as an engine's import calls it, on packed arrays of its own: the same
+// values the renderer's interleaved vertices get, bit for bit.
+TEST(Curvature, PackedArraysGiveTheInterleavedVerticesValues) {
+    const Mesh sphere = make_sphere("sphere", 1, {0.5f, 1, -2}, 0.8f, 24, 12, 2, 1);
+    std::vector<float> positions, normals, tangents;
+    for (const Vertex& v : sphere.vertices) {
+        positions.insert(positions.end(), v.position.begin(), v.position.end());
+        normals.insert(normals.end(), v.normal.begin(), v.normal.end());
+        tangents.insert(tangents.end(), v.tangent.begin(), v.tangent.end());
+    }
+    offsetmap::CurvatureMesh mesh;
+    mesh.positions = positions.data();
+    mesh.normals = normals.data();
+    mesh.tangents = tangents.data();
+    mesh.vertex_count = sphere.vertices.size();
+    mesh.indices = sphere.indices.data();
+    mesh.index_count = sphere.indices.size();
+    const std::vector<std::array<float, 3> > k = offsetmap::derive_curvature(mesh);
+    ASSERT_EQ(k.size(), sphere.vertices.size());
+    for (size_t v = 0; v < k.size(); ++v) ASSERT_EQ(k[v], sphere.vertices[v].curvature) << v;
+}
 #endif
+
+TEST(Curvature, TheHelperRefusesWhatIsNotAMesh) {
+    const float p[9] = {0, 0, 0, 1, 0, 0, 0, 1, 0}, n[9] = {0, 0, 1, 0, 0, 1, 0, 0, 1};
+    const float t[12] = {1, 0, 0, 1, 1, 0, 0, 1, 1, 0, 0, 1};
+    const std::uint32_t tri[4] = {0, 1, 2, 3};
+    offsetmap::CurvatureMesh m;
+    m.positions = p;
+    m.normals = n;
+    m.tangents = t;
+    m.vertex_count = 3;
+    m.indices = tri;
+    m.index_count = 3;
+    const std::vector<std::array<float, 3> > flat = offsetmap::derive_curvature(m);
+    ASSERT_EQ(flat.size(), 3u);
+    for (const auto& k : flat) EXPECT_EQ(k, (std::array<float, 3>{0.0f, 0.0f, 0.0f}));
+    offsetmap::CurvatureMesh bad = m;
+    bad.index_count = 4;
+    EXPECT_TRUE(contains(error_of([&] { offsetmap::derive_curvature(bad); }), "whole triangles"));
+    bad.index_count = 3;
+    bad.indices = tri + 1;
+    EXPECT_TRUE(contains(error_of([&] { offsetmap::derive_curvature(bad); }),
+                         "index 2 is 3, past the mesh's 3 vertices"));
+    bad = m;
+    bad.normals = nullptr;
+    EXPECT_TRUE(contains(error_of([&] { offsetmap::derive_curvature(bad); }), "no positions"));
+    EXPECT_TRUE(offsetmap::derive_curvature({}).empty());
+}
 
 }  // namespace
 }  // namespace omtest

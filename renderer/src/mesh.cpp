@@ -4,7 +4,8 @@
 #include <cmath>
 #include <cstdint>
 #include <glm/glm.hpp>
-#include <map>
+
+#include "offsetmap/mesh_curvature.hpp"
 
 namespace offsetmap::renderer {
 
@@ -41,123 +42,21 @@ void add_revolution(Mesh& m, int rows, int segments, float tiles_u, Place place)
         }
 }
 
-// x turned by the rotation that takes the unit vector `from` onto `to` about their common
-// perpendicular (Rodrigues); from and to must not be opposite.
-glm::dvec3 rotate_onto(const glm::dvec3& x, const glm::dvec3& from, const glm::dvec3& to) {
-    const glm::dvec3 axis = glm::cross(from, to);
-    const double s = glm::length(axis), c = glm::dot(from, to);
-    if (s < 1e-15) return x;
-    const glm::dvec3 k = axis / s;
-    return x * c + glm::cross(k, x) * s + k * glm::dot(k, x) * (1.0 - c);
-}
-
-// Groups of vertices at one place with one normal (a uv seam's two sides, a revolved mesh's
-// first and last ring): within a millionth of the mesh's size and 1e-4 radian, found through a
-// grid of cells of that size (each vertex against the 27 cells around its own).
-std::vector<size_t> weld(const Mesh& mesh, size_t& count) {
-    glm::dvec3 lo(INFINITY), hi(-INFINITY);
-    for (const Vertex& v : mesh.vertices) {
-        lo = glm::min(lo, glm::dvec3(g(v.position)));
-        hi = glm::max(hi, glm::dvec3(g(v.position)));
-    }
-    const double eps = std::max(1e-6 * glm::length(hi - lo), 1e-30);
-    std::map<std::array<long long, 3>, std::vector<size_t>> cells;  // representatives
-    std::vector<size_t> group(mesh.vertices.size());
-    count = 0;
-    for (size_t k = 0; k < mesh.vertices.size(); ++k) {
-        const Vertex& v = mesh.vertices[k];
-        const glm::dvec3 p(g(v.position)), n = glm::normalize(glm::dvec3(g(v.normal)));
-        const glm::dvec3 c = glm::floor((p - lo) / eps);
-        size_t found = SIZE_MAX;
-        for (int dz = -1; dz <= 1 && found == SIZE_MAX; ++dz)
-            for (int dy = -1; dy <= 1 && found == SIZE_MAX; ++dy)
-                for (int dx = -1; dx <= 1 && found == SIZE_MAX; ++dx) {
-                    const auto it = cells.find({static_cast<long long>(c.x) + dx,
-                                                static_cast<long long>(c.y) + dy,
-                                                static_cast<long long>(c.z) + dz});
-                    if (it == cells.end()) continue;
-                    for (size_t r : it->second) {
-                        const Vertex& w = mesh.vertices[r];
-                        if (glm::length(glm::dvec3(g(w.position)) - p) <= eps &&
-                            glm::dot(glm::normalize(glm::dvec3(g(w.normal))), n) > 1.0 - 5e-9) {
-                            found = group[r];
-                            break;
-                        }
-                    }
-                }
-        if (found == SIZE_MAX) {
-            found = count++;
-            cells[{static_cast<long long>(c.x), static_cast<long long>(c.y),
-                   static_cast<long long>(c.z)}]
-                .push_back(k);
-        }
-        group[k] = found;
-    }
-    return group;
-}
-
 }  // namespace
 
 void derive_curvature(Mesh& mesh) {
-    const size_t n = mesh.vertices.size();
-    size_t groups = 0;
-    const std::vector<size_t> group = weld(mesh, groups);
-    // Per group: the area-weighted sum of the faces' tensors as 3 x 3 world tensors, each face's
-    // first turned so its normal is the group's.
-    std::vector<glm::dmat3> sum(groups, glm::dmat3(0.0));
-    std::vector<double> weight(groups, 0.0);
-    for (size_t t = 0; t + 2 < mesh.indices.size(); t += 3) {
-        glm::dvec3 p[3], nv[3];
-        for (int c = 0; c < 3; ++c) {
-            const Vertex& v = mesh.vertices[mesh.indices[t + c]];
-            p[c] = glm::dvec3(g(v.position));
-            nv[c] = glm::normalize(glm::dvec3(g(v.normal)));
-        }
-        const glm::dvec3 cross = glm::cross(p[1] - p[0], p[2] - p[0]);
-        const double area = 0.5 * glm::length(cross);
-        if (!(area > 1e-20)) continue;
-        const glm::dvec3 nf = cross / (2.0 * area);
-        const glm::dvec3 uf = glm::normalize(p[1] - p[0]), vf = glm::cross(nf, uf);
-        // Least squares for the symmetric [[a, b], [b, c]] with K (e.u, e.v) = (dn.u, dn.v)
-        // over the three edges: the normal equations of rows (eu, ev, 0) and (0, eu, ev).
-        glm::dmat3 ata(0.0);
-        glm::dvec3 atb(0.0);
-        for (int i = 0; i < 3; ++i) {
-            const glm::dvec3 e = p[(i + 2) % 3] - p[(i + 1) % 3];
-            const glm::dvec3 dn = nv[(i + 2) % 3] - nv[(i + 1) % 3];
-            const double eu = glm::dot(e, uf), ev = glm::dot(e, vf);
-            const double du = glm::dot(dn, uf), dv = glm::dot(dn, vf);
-            const glm::dvec3 r1(eu, ev, 0.0), r2(0.0, eu, ev);
-            ata += glm::outerProduct(r1, r1) + glm::outerProduct(r2, r2);
-            atb += r1 * du + r2 * dv;
-        }
-        if (!(std::fabs(glm::determinant(ata)) > 1e-30)) continue;
-        const glm::dvec3 abc = glm::inverse(ata) * atb;
-        for (int c = 0; c < 3; ++c) {
-            if (glm::dot(nv[c], nf) <= 0.0) continue;  // a normal against its face's winding
-            const glm::dvec3 u = rotate_onto(uf, nf, nv[c]), v = rotate_onto(vf, nf, nv[c]);
-            const glm::dmat3 face = abc.x * glm::outerProduct(u, u) +
-                                    abc.y * (glm::outerProduct(u, v) + glm::outerProduct(v, u)) +
-                                    abc.z * glm::outerProduct(v, v);
-            const size_t k = group[mesh.indices[t + c]];
-            sum[k] += area * face;
-            weight[k] += area;
-        }
-    }
-    for (size_t k = 0; k < n; ++k) {
-        Vertex& v = mesh.vertices[k];
-        const size_t q = group[k];
-        if (!(weight[q] > 0.0)) {
-            v.curvature = {0.0f, 0.0f, 0.0f};
-            continue;
-        }
-        const glm::dmat3 K = sum[q] / weight[q];
-        const glm::dvec3 nn = glm::normalize(glm::dvec3(g(v.normal)));
-        const glm::dvec3 tt = glm::normalize(glm::dvec3(v.tangent[0], v.tangent[1], v.tangent[2]));
-        const glm::dvec3 bb = double(v.tangent[3] < 0.0f ? -1.0f : 1.0f) * glm::cross(nn, tt);
-        v.curvature = {float(glm::dot(tt, K * tt)), float(glm::dot(tt, K * bb)),
-                       float(glm::dot(bb, K * bb))};
-    }
+    // Core's, reading the interleaved vertices in place.
+    const float* base = mesh.vertices.empty() ? nullptr : mesh.vertices[0].position.data();
+    CurvatureMesh view;
+    view.positions = base;
+    view.normals = mesh.vertices.empty() ? nullptr : mesh.vertices[0].normal.data();
+    view.tangents = mesh.vertices.empty() ? nullptr : mesh.vertices[0].tangent.data();
+    view.position_stride = view.normal_stride = view.tangent_stride = sizeof(Vertex);
+    view.vertex_count = mesh.vertices.size();
+    view.indices = mesh.indices.data();
+    view.index_count = mesh.indices.size();
+    const std::vector<std::array<float, 3> > k = offsetmap::derive_curvature(view);
+    for (size_t v = 0; v < k.size(); ++v) mesh.vertices[v].curvature = k[v];
 }
 
 void derive_tangents(Mesh& mesh) {

@@ -41,12 +41,8 @@ struct Mesh {
 // triangles give no usable dP/du (degenerate uv) gets any unit tangent orthogonal to its normal.
 // Ends with derive_curvature.
 void derive_tangents(Mesh& mesh);
-// Each vertex's curvature from its normals' change across the triangles around it
-// (Rusinkiewicz's per-face estimate: the 2 x 2 tensor that maps each edge to its normals'
-// difference, fitted to the three edges, each face's rotated into the vertex's frame and averaged
-// by area). Vertices at one place with one normal (a uv seam's two sides) are averaged together;
-// a split normal (a hard edge) keeps its sides apart. Exact where the normals are a linear function
-// of the position (a sphere's and a cylinder's vertex normals); first order elsewhere.
+// Each vertex's curvature (Vertex::curvature): core's derive_curvature
+// (offsetmap/mesh_curvature.hpp, which says how) over the mesh's vertices in place.
 void derive_curvature(Mesh& mesh);
 // A mesh whose material projects the world (triplanar, `world_scale` tiles a world unit): its
 // uv density the projection's (1 / world_scale, for the depth offset), no curvature and no
