@@ -6,7 +6,6 @@
 #include <map>
 #include <sstream>
 
-#include "exr.hpp"
 #include "image_read.hpp"
 #include "offsetmap/error.hpp"
 #include "offsetmap/image_io.hpp"

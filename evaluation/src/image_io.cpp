@@ -8,7 +8,6 @@
 #include <array>
 #include <cmath>
 
-#include "exr.hpp"
 #include "offsetmap/error.hpp"
 
 namespace offsetmap {

@@ -384,7 +384,7 @@ OffsetResult FrameRenderer::exact() const {
 
 }  // namespace offsetmap::renderer
 
-#include "exr.hpp"
+#include "offsetmap/image_io.hpp"
 
 namespace offsetmap::renderer {
 std::vector<float> flip_row_order(const std::vector<float>& in, int width, int height, int c) {

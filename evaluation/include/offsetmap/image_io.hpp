@@ -1,5 +1,6 @@
 #pragma once
 #include <cstdint>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -92,5 +93,10 @@ void write_image(const std::string& path, const Rgb8& image);
 
 // Writes the offset pass outputs as float EXR with channels u v depth fetches flags.
 void write_uv_exr(const std::string& path, const OffsetResult& result);
+// Interleaved float channels, zip-compressed, with string attributes in the header (the writer
+// the G-buffer and uv' files share); throws Error naming `what` and the file.
+void write_float_exr(const std::string& path, const std::string& what, int width, int height,
+                     const std::vector<std::string>& channels, const std::vector<float>& data,
+                     const std::map<std::string, std::string>& attributes = {});
 
 }  // namespace offsetmap
