@@ -14,6 +14,7 @@
 #include "offsetmap/error.hpp"
 #include "offsetmap/oracle.hpp"
 #include "offsetmap/scenes.hpp"
+#include "offsetmap/timing.hpp"
 
 namespace offsetmap {
 
@@ -262,10 +263,8 @@ void measure(const std::shared_ptr<Runtime>& rt, const LoadedMaterial& m, const 
             e.wait();
             ms[c].push_back(event_ms(e));
         }
-    for (size_t c = 0; c < passes.size(); ++c) {
-        std::nth_element(ms[c].begin(), ms[c].begin() + ms[c].size() / 2, ms[c].end());
-        out.candidates[c].ns_per_pixel = ms[c][ms[c].size() / 2] * 1e6 / n_timed;
-    }
+    for (size_t c = 0; c < passes.size(); ++c)
+        out.candidates[c].ns_per_pixel = median(ms[c]) * 1e6 / n_timed;
 }
 
 // The cheapest candidate within the budget, and the next; throws Error naming the material and

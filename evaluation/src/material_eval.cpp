@@ -6,6 +6,7 @@
 #include <limits>
 
 #include "offsetmap/registry.hpp"
+#include "offsetmap/timing.hpp"
 
 namespace offsetmap {
 
@@ -76,10 +77,7 @@ std::vector<double> time_frames_in_turns(Runtime& rt, const std::vector<Material
             if (r == 0) continue;  // the warm-up round
             ms[f].push_back(frames[f]->kernel_ms());
         }
-    for (size_t f = 0; f < frames.size(); ++f) {
-        std::nth_element(ms[f].begin(), ms[f].begin() + ms[f].size() / 2, ms[f].end());
-        out[f] = ms[f][ms[f].size() / 2];
-    }
+    for (size_t f = 0; f < frames.size(); ++f) out[f] = median(ms[f]);
     return out;
 }
 
@@ -110,9 +108,7 @@ std::vector<double> material_ns_per_pixel(Runtime& rt, MaterialFrame& frame, con
             if (r > 0) ms[s].push_back(event_ms(frame.dispatches().at(0).event));  // r = 0: warm-up
         }
     for (size_t s = 0; s < table.size(); ++s) {
-        if (ms[s].empty()) continue;
-        std::nth_element(ms[s].begin(), ms[s].begin() + ms[s].size() / 2, ms[s].end());
-        out[s] = ms[s][ms[s].size() / 2] * 1e6 / static_cast<double>(pixels[s]);
+        if (!ms[s].empty()) out[s] = median(ms[s]) * 1e6 / static_cast<double>(pixels[s]);
     }
     return out;
 }

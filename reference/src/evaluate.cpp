@@ -7,14 +7,12 @@
 
 #include "launch.hpp"
 #include "offsetmap/shared.h"
+#include "offsetmap/timing.hpp"
 
 namespace offsetmap {
 
 double OffsetResult::median_kernel_ms() const {
-    if (kernel_ms.empty()) return std::numeric_limits<double>::quiet_NaN();
-    std::vector<double> v = kernel_ms;
-    std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
-    return v[v.size() / 2];
+    return median(kernel_ms, std::numeric_limits<double>::quiet_NaN());
 }
 
 bool traced(std::uint32_t flags) {

@@ -15,7 +15,7 @@
 #include "stages/behind.hpp"
 #include "stages/light.hpp"
 #include "stages/planes.hpp"
-#include "timing.hpp"
+#include "offsetmap/timing.hpp"
 
 namespace offsetmap::renderer {
 

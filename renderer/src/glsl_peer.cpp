@@ -1,11 +1,11 @@
 #include "offsetmap/renderer/glsl_peer.hpp"
 
-#include <chrono>
 #include <cmath>
 
 #include "offsetmap/error.hpp"
 #include "offsetmap/renderer/context.hpp"
 #include "offsetmap/renderer/frame.hpp"
+#include "offsetmap/timing.hpp"
 #include "raster.hpp"
 
 namespace offsetmap::renderer {
@@ -69,7 +69,7 @@ double GlslPeer::run() {
     Impl& m = *impl_;
     m.gl->make_current();
     glFinish();
-    const auto t0 = std::chrono::steady_clock::now();
+    const Stopwatch clock;
     glViewport(0, 0, m.width, m.height);
     glBindFramebuffer(GL_DRAW_FRAMEBUFFER, m.fbo.get());
     glDisable(GL_DEPTH_TEST);
@@ -88,8 +88,7 @@ double GlslPeer::run() {
     glBindVertexArray(m.empty_vao.get());
     glDrawArrays(GL_TRIANGLES, 0, 3);
     glFinish();
-    const double ms =
-        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    const double ms = clock.total();
     check_gl("the full-screen peer's draw");
     return ms;
 }

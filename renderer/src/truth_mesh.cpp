@@ -8,7 +8,6 @@
 // smaller vertex first), so the two triangles sharing the edge make the same point, bit for bit,
 // and the displaced mesh has no cracks where its base mesh had none.
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <glm/glm.hpp>
 #include <tuple>
@@ -17,6 +16,7 @@
 #include "offsetmap/error.hpp"
 #include "offsetmap/oracle.hpp"
 #include "offsetmap/renderer/truth.hpp"
+#include "offsetmap/timing.hpp"
 #include "raster.hpp"
 #include "truth_internal.hpp"
 
@@ -301,7 +301,7 @@ void Builder::triangle(std::uint32_t ia, std::uint32_t ib, std::uint32_t ic) {
 
 Tessellation displace_scene(const Scene& scene, const std::vector<LoadedMaterial>& table,
                             const TessellationOptions& o) {
-    const auto t0 = std::chrono::steady_clock::now();
+    const Stopwatch clock;
     const double tpq = o.texels_per_quad;
     if (!(tpq > 0.0 && tpq <= 64.0))
         throw Error("tessellation: texels per quad must be in (0, 64], got " + std::to_string(tpq));
@@ -386,8 +386,7 @@ Tessellation displace_scene(const Scene& scene, const std::vector<LoadedMaterial
         out.bytes += m.vertices.size() * sizeof(Vertex) + m.indices.size() * sizeof(std::uint32_t);
         out.meshes.push_back(info);
     }
-    out.build_ms =
-        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    out.build_ms = clock.total();
     return out;
 }
 

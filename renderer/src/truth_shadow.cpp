@@ -1,11 +1,11 @@
 // The truth's shadows: the displaced meshes' own shadow map from the light, and the truth frame's
 // points tested against it (renderer/truth.hpp).
-#include <chrono>
 #include <cmath>
 
 #include "offsetmap/error.hpp"
 #include "offsetmap/renderer/truth.hpp"
 #include "offsetmap/shadow_mask_pass.hpp"
+#include "offsetmap/timing.hpp"
 
 namespace offsetmap::renderer {
 
@@ -13,7 +13,7 @@ ShadowTruth shadow_truth(const std::shared_ptr<Runtime>& rt, FrameRenderer& came
                          const Scene& scene, const std::vector<LoadedMaterial>& table,
                          const std::vector<MethodParams>& methods, int width, int height,
                          int map_size, int pcf_radius, float texels_per_quad) {
-    const auto t0 = std::chrono::steady_clock::now();
+    const Stopwatch clock;
     if (scene.light.kind != LightKind::Directional)
         throw Error("the shadow truth needs the scene's light to be directional");
     if (camera.gbuffer().width != width || camera.gbuffer().height != height)
@@ -62,8 +62,7 @@ ShadowTruth shadow_truth(const std::shared_ptr<Runtime>& rt, FrameRenderer& came
     for (size_t k = 0; k < n; ++k)
         if (!(truth.depth[k] < 1.0f)) out.lit[k] = std::nanf("");
     out.triangles = tess.triangles;
-    out.ms =
-        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    out.ms = clock.total();
     return out;
 }
 

@@ -12,7 +12,6 @@
 #include <CLI/CLI.hpp>
 #include <algorithm>
 #include <array>
-#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -32,6 +31,7 @@
 #include "cpu_peer.hpp"
 #include "offsetmap/evaluation.hpp"
 #include "offsetmap/shared.h"
+#include "offsetmap/timing.hpp"
 
 using namespace offsetmap;
 using namespace offsetmap::bench;
@@ -47,7 +47,7 @@ double host_memcpy_gbps(size_t bytes, int reps = 7, const std::function<void()>&
     std::vector<double> ts;
     for (int rep = 0; rep < reps; ++rep) {
         if (before) before();
-        auto t0 = std::chrono::steady_clock::now();
+        Stopwatch clock;
         std::vector<std::thread> pool;
         for (unsigned t = 0; t < threads; ++t)
             pool.emplace_back([&, t] {
@@ -55,10 +55,9 @@ double host_memcpy_gbps(size_t bytes, int reps = 7, const std::function<void()>&
                 std::memcpy(dst.data() + a, src.data() + a, b - a);
             });
         for (auto& th : pool) th.join();
-        ts.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+        ts.push_back(clock.total());
     }
-    std::sort(ts.begin(), ts.end());
-    return 2.0 * bytes / ts[ts.size() / 2] * 1e-9;
+    return 2.0 * bytes / median(ts) * 1e-6;
 }
 
 // The share of lane-steps that fetch for a live lane when pixels are grouped in tw x th tiles
@@ -208,8 +207,7 @@ struct Bench {
         double memcpy_gbps = host_memcpy_gbps(18 * n, reps, [&] {
             kernel_ms.push_back(launch_ms([&] { return pass.enqueue(g, f, s, t); }));
         });
-        std::sort(kernel_ms.begin(), kernel_ms.end());
-        double kernel_gbps = 36.0 * n / (kernel_ms[kernel_ms.size() / 2] * 1e-3) * 1e-9;
+        double kernel_gbps = 36.0 * n / (median(kernel_ms) * 1e-3) * 1e-9;
         std::printf(
             "\nnone moves 36 B/pixel at %.1f GB/s: %.0f%% of the host memcpy of the same "
             "traffic (%.1f GB/s), timed in turns\n",

@@ -1,7 +1,6 @@
 #include "bench_frame.hpp"
 
 #include <algorithm>
-#include <chrono>
 #include <cstdio>
 #include <cstring>
 
@@ -46,19 +45,12 @@ namespace {
 
 using namespace offsetmap::renderer;
 
-double median_of(std::vector<double> v) {
-    if (v.empty()) return 0.0;
-    std::sort(v.begin(), v.end());
-    const size_t n = v.size();
-    return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
-
 // A host memcpy of `bytes`, in ms: the copies' yardstick, timed beside them.
 double memcpy_ms(std::vector<char>& from, std::vector<char>& to, size_t bytes) {
     if (from.size() < bytes) from.assign(bytes, 1), to.assign(bytes, 0);
-    const auto t0 = std::chrono::steady_clock::now();
+    const Stopwatch clock;
     std::memcpy(to.data(), from.data(), bytes);
-    return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    return clock.total();
 }
 
 const char* const kPasses[] = {"gbuffer",       "to_device", "reconstruct",  "offset",
@@ -119,7 +111,7 @@ nlohmann::json bench_frame(std::shared_ptr<Runtime> rt, const Resolution& res,
                 copy_in.push_back(memcpy_ms(from, to, in_bytes));
                 copy_out.push_back(memcpy_ms(from, to, out_bytes));
             }
-    const double memcpy_in = median_of(copy_in), memcpy_out = median_of(copy_out);
+    const double memcpy_in = median(copy_in), memcpy_out = median(copy_out);
     nlohmann::json out;
     out["resolution"] = {res.w, res.h};
     out["rounds"] = rounds;
@@ -144,7 +136,7 @@ nlohmann::json bench_frame(std::shared_ptr<Runtime> rt, const Resolution& res,
             row["shadows"] = modes[mi].first;
             std::vector<double> med;
             for (size_t p = 0; p < std::size(kPasses); ++p) {
-                med.push_back(median_of(samples[d][mi][p]));
+                med.push_back(median(samples[d][mi][p]));
                 row[std::string(kPasses[p]) + "_ms"] = med.back();
             }
             // Kernel against kernel where events time them, else the passes' wall clocks.
@@ -180,7 +172,7 @@ nlohmann::json bench_frame(std::shared_ptr<Runtime> rt, const Resolution& res,
                 for (int r = 0; r < rounds; ++r)
                     if (samples[0][mi][p][r] > 0.0)
                         q.push_back(samples[1][mi][p][r] / samples[0][mi][p][r]);
-                return median_of(q);
+                return median(q);
             };
             std::printf(
                 "  B/A %-5s: shade kernel %.3f (again alone %.3f), offset kernel %.3f (alone "
@@ -245,7 +237,7 @@ nlohmann::json bench_curved_frame(std::shared_ptr<Runtime> rt, const Resolution&
         if (modes[m].layers == 2) row["pixels_behind"] = left[m];
         std::vector<double> med;
         for (size_t p = 0; p < 10; ++p) {
-            med.push_back(median_of(samples[m][p]));
+            med.push_back(median(samples[m][p]));
             row[std::string(kPasses[p]) + "_ms"] = med.back();
         }
         std::printf("  %-10s %8.2f %8.2f %8.2f %8.2f %8.2f %8.2f %8.2f\n", modes[m].name, med[0],
@@ -257,7 +249,7 @@ nlohmann::json bench_curved_frame(std::shared_ptr<Runtime> rt, const Resolution&
         std::vector<double> q;
         for (size_t k = 0; k < samples[a][pass].size(); ++k)
             q.push_back(samples[a][pass][k] / samples[b][pass][k]);
-        return median_of(q);
+        return median(q);
     };
     out["rows"] = rows;
     out["ratios"] = {{"curved_over_plane_total", ratio(1, 0, 9)},
@@ -349,13 +341,13 @@ nlohmann::json bench_shadow_map(std::shared_ptr<Runtime> rt, const Resolution& r
                           {"map_size", map_size},
                           {"rounds", rounds},
                           {"sun_deg", {20.0, 60.0}},
-                          {"camera_ns_per_pixel", median_of(camera_px)},
-                          {"light_ns_per_pixel", median_of(light_px)},
-                          {"light_over_camera_per_pixel", median_of(ratio)},
-                          {"light_passes_ms", median_of(light_ms)},
-                          {"receivers_test_ms", median_of(mask_ms)},
-                          {"shade_ms", median_of(shade_plain)},
-                          {"shade_with_mask_ms", median_of(shade_mapped)}};
+                          {"camera_ns_per_pixel", median(camera_px)},
+                          {"light_ns_per_pixel", median(light_px)},
+                          {"light_over_camera_per_pixel", median(ratio)},
+                          {"light_passes_ms", median(light_ms)},
+                          {"receivers_test_ms", median(mask_ms)},
+                          {"shade_ms", median(shade_plain)},
+                          {"shade_with_mask_ms", median(shade_mapped)}};
     std::printf(
         "\nthe room under a sun at 20 degrees, %dx%d with a %d^2 displaced shadow map (medians of "
         "%d rounds in turns):\n  light's passes %.1f ms, %.1f ns a map pixel; camera's %.1f ns a "
@@ -406,7 +398,7 @@ nlohmann::json bench_triplanar_frame(std::shared_ptr<Runtime> rt, const Resoluti
     auto ratio = [&](size_t pass) {
         std::vector<double> q;
         for (size_t k = 0; k < a[pass].size(); ++k) q.push_back(a[pass][k] / b[pass][k]);
-        return median_of(q);
+        return median(q);
     };
     nlohmann::json rows = nlohmann::json::array();
     std::printf(
@@ -418,7 +410,7 @@ nlohmann::json bench_triplanar_frame(std::shared_ptr<Runtime> rt, const Resoluti
         nlohmann::json row = {{"frame", name}};
         std::vector<double> med;
         for (size_t p = 0; p < 10; ++p) {
-            med.push_back(median_of((*v)[p]));
+            med.push_back(median((*v)[p]));
             row[std::string(kPasses[p]) + "_ms"] = med.back();
         }
         std::printf("  %-10s %8.2f %8.2f %8.2f %8.2f %8.2f %8.2f %8.2f\n", name, med[0], med[1],

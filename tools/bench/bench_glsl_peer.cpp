@@ -1,6 +1,5 @@
 #include "bench_glsl_peer.hpp"
 
-#include <chrono>
 #include <cstdio>
 
 #ifdef OFFSETMAP_HAVE_RENDERER
@@ -55,11 +54,9 @@ nlohmann::json bench_glsl_peer(std::shared_ptr<Runtime> rt, const Resolution& re
             const OffsetResult kernel = run_offset(*rt, pass, g, f, s, 1);
             peer.set_method(params);
             const auto kernel_run = [&] {
-                const auto t0 = std::chrono::steady_clock::now();
+                const Stopwatch clock;
                 pass.enqueue(g, f, s, t).wait();
-                return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() -
-                                                                 t0)
-                    .count();
+                return clock.total();
             };
             const std::vector<Timing> tm =
                 time_interleaved_ms({kernel_run, [&] { return peer.run(); }}, target_ms);

@@ -3,7 +3,6 @@
 // height.
 #include "bench_materials.hpp"
 
-#include <chrono>
 #include <cstdio>
 #include <random>
 
@@ -35,11 +34,10 @@ struct FrameTime {
     double kernel_ms = 0, wall_ms = 0;
 };
 FrameTime run_frame(MaterialFrame& frame, const DeviceGBuffer& g, const OffsetTargets& t) {
-    const auto t0 = std::chrono::steady_clock::now();
+    const Stopwatch clock;
     frame.enqueue(g, t).wait();
     FrameTime f;
-    f.wall_ms =
-        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    f.wall_ms = clock.total();
     f.kernel_ms = frame.kernel_ms();
     return f;
 }

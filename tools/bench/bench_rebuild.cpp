@@ -4,24 +4,15 @@
 
 #include <algorithm>
 #include <array>
-#include <chrono>
 #include <cstdio>
 #include <string>
+
+#include "offsetmap/timing.hpp"
 
 namespace offsetmap::bench {
 namespace {
 
 using json = nlohmann::json;
-using Clock = std::chrono::steady_clock;
-
-double ms_since(Clock::time_point t0) {
-    return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
-}
-
-double median(std::vector<double> v) {
-    std::sort(v.begin(), v.end());
-    return v.empty() ? 0.0 : v[v.size() / 2];
-}
 
 void wait_for(const DeviceHeightField& f) {
     for (const cl::Event& e : field_ready(f)) e.wait();
@@ -80,21 +71,20 @@ json bench_rebuild(std::shared_ptr<Runtime> rt, const std::vector<int>& sizes, i
         std::vector<std::vector<double>> wall(precomputing.size()), kernel(precomputing.size());
         for (int r = 0; r <= rounds; ++r) {  // round 0 warms up
             const int next = (r + 1) % 2;
-            auto t0 = Clock::now();
+            Stopwatch clock;
             update(*rt, field, maps[next], s);
             wait_for(field);
-            const double host = ms_since(t0);
-            t0 = Clock::now();
+            const double host = clock.lap();
             update(*rt, field, on_device[next], s);
             wait_for(field);
-            const double device = ms_since(t0);
+            const double device = clock.lap();
             if (r > 0) host_ms.push_back(host), device_ms.push_back(device);
             for (size_t k = 0; k < passes.size(); ++k) {
-                t0 = Clock::now();
+                clock.lap();
                 passes[k]->prepare(field, s);
                 const double ms = passes[k]->precomputed().build_ms;  // waits for the build
                 if (r == 0) continue;
-                wall[k].push_back(ms_since(t0));
+                wall[k].push_back(clock.lap());
                 kernel[k].push_back(ms);
             }
         }

@@ -1,12 +1,12 @@
 // What the bench's parts share: timing in turns, the synthetic height map, camera G-buffers.
 #pragma once
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <functional>
 #include <vector>
 
 #include "offsetmap/evaluation.hpp"
+#include "offsetmap/timing.hpp"
 
 namespace offsetmap::bench {
 
@@ -23,14 +23,9 @@ inline bool& host_clock() {
     return on;
 }
 
-// One launch's milliseconds: its profiling event's, or by the host's clock from the enqueue to the
-// event's end (which adds the enqueue and the wake-up, tens of microseconds).
+// One launch's milliseconds by the clock main chose (offsetmap/timing.hpp).
 inline double launch_ms(const std::function<cl::Event()>& launch) {
-    const auto t0 = std::chrono::steady_clock::now();
-    cl::Event e = launch();
-    e.wait();
-    if (!host_clock()) return event_ms(e);
-    return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    return offsetmap::launch_ms(launch, host_clock());
 }
 
 inline Timing time_launches(const std::function<cl::Event()>& launch, double target_ms) {
@@ -39,8 +34,7 @@ inline Timing time_launches(const std::function<cl::Event()>& launch, double tar
     int runs = std::clamp(static_cast<int>(target_ms / t0), target_ms > 0 ? 3 : 1, 30);
     std::vector<double> ts = {t0};
     for (int r = 1; r < runs; ++r) ts.push_back(launch_ms(launch));
-    std::sort(ts.begin(), ts.end());
-    return {ts[ts.size() / 2], ts.front(), static_cast<int>(ts.size())};
+    return {median(ts), *std::min_element(ts.begin(), ts.end()), static_cast<int>(ts.size())};
 }
 
 // Runs (each returns its milliseconds) timed in turns (a, b, c, a, b, c, ...), each after a
@@ -59,10 +53,7 @@ inline std::vector<Timing> time_interleaved_ms(const std::vector<std::function<d
     for (int r = 0; r < rounds; ++r)
         for (size_t k = 0; k < runs.size(); ++k) ts[k].push_back(runs[k]());
     std::vector<Timing> out;
-    for (auto& t : ts) {
-        std::sort(t.begin(), t.end());
-        out.push_back({t[t.size() / 2], t.front(), rounds});
-    }
+    for (auto& t : ts) out.push_back({median(t), *std::min_element(t.begin(), t.end()), rounds});
     return out;
 }
 

@@ -5,13 +5,13 @@
 // failure one line on stderr: device, kernel, case, worst pixel), 2 for a usage error.
 #include <algorithm>
 #include <cctype>
-#include <chrono>
 #include <cstdio>
 #include <fstream>
 #include <iostream>
 #include <sstream>
 
 #include "check.hpp"
+#include "offsetmap/timing.hpp"
 
 namespace {
 
@@ -110,7 +110,7 @@ DeviceReport check_device(const cl::Device& device, const Options& o, bool list_
     r.name = rt->device_name();
     r.facts = describe_device(*rt);
     if (list_only) return r;
-    const auto t0 = std::chrono::steady_clock::now();
+    const Stopwatch clock;
     auto stage = [&](const char* what, const std::function<void()>& run) {
         std::fprintf(stderr, "offsetmap_check: %s on %s...\n", what, r.name.c_str());
         try {
@@ -130,7 +130,7 @@ DeviceReport check_device(const cl::Device& device, const Options& o, bool list_
     stage("reconstruct", [&] { check_reconstruct(rt, o, r); });
     if (o.timing) stage("timing", [&] { time_methods(rt, o, r); });
     collect_failures(r);
-    const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    const double s = clock.total() / 1000.0;
     std::ostringstream secs;
     secs << s;
     r.facts.push_back({"check_seconds", secs.str(), true});

@@ -1,7 +1,8 @@
 // Each method's time per pixel on a camera view and on random rays, and the device's roofline:
 // the G-buffer moved with no work, and a bilinear fetch dependent (a march) and independent.
+#include "offsetmap/timing.hpp"
+
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <functional>
@@ -12,23 +13,13 @@
 namespace offsetmap::check {
 namespace {
 
-// Milliseconds of one launch: its event's, or the host's clock from enqueue to completion where
-// the device's events carry no times.
-double launch_ms(const Runtime& rt, const std::function<cl::Event()>& launch) {
-    const auto t0 = std::chrono::steady_clock::now();
-    cl::Event e = launch();
-    e.wait();
-    if (rt.profiling()) return event_ms(e);
-    return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-}
-
-// The median of `runs` launches after one to warm up.
+// The median of `runs` launches after one to warm up (the host's clock where the device's events
+// carry no times).
 double median_ms(const Runtime& rt, int runs, const std::function<cl::Event()>& launch) {
     launch().wait();
     std::vector<double> t;
-    for (int r = 0; r < runs; ++r) t.push_back(launch_ms(rt, launch));
-    std::sort(t.begin(), t.end());
-    return t[t.size() / 2];
+    for (int r = 0; r < runs; ++r) t.push_back(launch_ms(launch, !rt.profiling()));
+    return median(t);
 }
 
 struct Frame {

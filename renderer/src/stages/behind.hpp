@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "../raster.hpp"
-#include "../timing.hpp"
+#include "offsetmap/timing.hpp"
 #include "offsetmap/engine_gbuffer.hpp"
 #include "offsetmap/material_frame.hpp"
 #include "offsetmap/renderer/frame.hpp"

@@ -1,6 +1,6 @@
 #include "light.hpp"
 
-#include "../timing.hpp"
+#include "offsetmap/timing.hpp"
 
 namespace offsetmap::renderer {
 
