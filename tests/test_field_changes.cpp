@@ -253,7 +253,7 @@ Shaded run_frame(Runtime& rt, MaterialFrame& frame, const DeviceGBuffer& g) {
     cl::Buffer rgba(rt.context(), CL_MEM_WRITE_ONLY, n * sizeof(cl_float4));
     ShadeSettings shade;
     shade.shadow = ShadowMode::Soft;
-    frame.shade(uv, cl::Buffer(), g, shade, rgba).wait();
+    frame.shade(g, {uv}, shade, {rgba}).wait();
     out.rgba.resize(n);
     rt.queue().enqueueReadBuffer(rgba, CL_TRUE, 0, n * sizeof(cl_float4), out.rgba.data());
     return out;

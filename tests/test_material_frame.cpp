@@ -221,7 +221,7 @@ TEST(MaterialFrame, ShadesEachMaterialWithItsOwnMaps) {
                      const_cast<std::uint32_t*>(r.flags.data()));
     cl::Buffer rgba(rt->context(), CL_MEM_WRITE_ONLY, n * sizeof(cl_float4));
     std::vector<cl_float4> color(n);
-    frame.shade(uv, flags, g, shade, rgba).wait();
+    frame.shade(g, {uv, flags}, shade, {rgba}).wait();
     rt->queue().enqueueReadBuffer(rgba, CL_TRUE, 0, n * sizeof(cl_float4), color.data());
     ShadePass alone(rt);
     for (size_t s = 0; s < table.rows.size(); ++s) {
@@ -466,7 +466,8 @@ void one_frame(MaterialFrame& frame, const DeviceGBuffer& g, FrameTargets& ft,
     ShadeSettings shade;
     shade.shadow = ShadowMode::Hard;
     const cl::Event offset = frame.enqueue(g, ft.t, {}, queue);
-    const cl::Event shaded = frame.shade(ft.t.uv, ft.t.flags, g, shade, ft.rgba, {offset}, queue);
+    const cl::Event shaded =
+        frame.shade(g, frame_shade_inputs(ft.t), shade, {ft.rgba}, {offset}, queue);
     if (out) {
         out->uv.resize(n);
         out->rgba.resize(n);

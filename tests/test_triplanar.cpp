@@ -186,7 +186,7 @@ TriRun run_frame(const EngineFrame& f, const FrameSetup& s, bool triplanar,
         const TriplanarPlanes planes = allocate_triplanar(*rt, f.width, f.height);
         reconstruct.enqueue(in, g, frame.triplanar_table(), planes);
         frame.enqueue(g, t, planes);
-        frame.shade(t.uv, t.flags, g, s.shading, rgba, cl::Buffer(), cl::Buffer(), &planes);
+        frame.shade(g, frame_shade_inputs(t, &planes), s.shading, {rgba});
         r.blend = read_plane<cl_float4>(*rt, planes.blend, n);
         r.uv2 = read_plane<cl_float2>(*rt, planes.second.uv, n);
         r.uv3 = read_plane<cl_float2>(*rt, planes.third.uv, n);
@@ -211,7 +211,7 @@ TriRun run_frame(const EngineFrame& f, const FrameSetup& s, bool triplanar,
     } else {
         reconstruct.enqueue(in, g);
         frame.enqueue(g, t);
-        frame.shade(t.uv, t.flags, g, s.shading, rgba);
+        frame.shade(g, frame_shade_inputs(t), s.shading, {rgba});
     }
     r.uv = read_plane<cl_float2>(*rt, g.uv, n);
     r.view = read_plane<cl_float4>(*rt, g.view, n);
@@ -554,7 +554,7 @@ TEST(Triplanar, BadInputIsNamed) {
                          "material 3 (cliff) is triplanar: the material frame's enqueue needs its "
                          "projections"));
     cl::Buffer rgba(rt->context(), CL_MEM_READ_WRITE, f.pixels() * sizeof(cl_float4));
-    EXPECT_TRUE(contains(error_of([&] { frame.shade(all.uv, all.flags, g, {}, rgba); }),
+    EXPECT_TRUE(contains(error_of([&] { frame.shade(g, frame_shade_inputs(all), {}, {rgba}); }),
                          "the material frame's shade needs its projections"));
     EXPECT_TRUE(contains(error_of([&] {
                              frame.enqueue(g, all, LayerBehind{g, all});

@@ -94,8 +94,8 @@ std::pair<double, double> FrameRenderer::rerun_kernels(int repeats) {
     std::vector<double> shade, offset;
     for (int k = 0; k < repeats && m.rt->profiling(); ++k) {
         const TriplanarPlanes* tri = m.triplanar ? &*m.triplanar : nullptr;
-        const cl::Event s = m.frame->shade(m.targets.uv, m.targets.flags, m.dg, m.shading, m.rgba,
-                                           cl::Buffer(), cl::Buffer(), tri);
+        const cl::Event s =
+            m.frame->shade(m.dg, frame_shade_inputs(m.targets, tri), m.shading, {m.rgba});
         s.wait();
         shade.push_back(event_ms(s));
         (tri ? m.frame->enqueue(m.dg, m.targets, *tri) : m.frame->enqueue(m.dg, m.targets)).wait();
@@ -312,10 +312,11 @@ void FrameRenderer::Impl::light_and_shade(const FrameRun& run, FrameScratch& s, 
         q.finish();
         t.shadow_mask = clock.lap();
     }
+    FrameShadeInputs in = frame_shade_inputs(targets, triplanar ? &*triplanar : nullptr);
+    if (forward) in.flags = cl::Buffer();
+    if (sh) in.shadow_mask = sh->mask;
     const cl::Event shaded =
-        frame->shade(targets.uv, forward ? cl::Buffer() : targets.flags, dg, shading, rgba,
-                     sh ? sh->mask : cl::Buffer(), sh ? sh->visibility : cl::Buffer(),
-                     triplanar ? &*triplanar : nullptr);
+        frame->shade(dg, in, shading, {rgba, sh ? sh->visibility : cl::Buffer()});
     q.finish();
     t.shade = clock.lap();
     if (rt->profiling()) s.shade_kernel.push_back(event_ms(shaded));

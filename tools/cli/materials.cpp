@@ -158,7 +158,7 @@ std::vector<cl_float4> shade_frame(JobRun& j, const ShadingOptions& shading) {
     cl::Buffer flags(c, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, n * sizeof(cl_uint),
                      const_cast<std::uint32_t*>(result.flags.data()));
     cl::Buffer out(c, CL_MEM_WRITE_ONLY, n * sizeof(cl_float4));
-    j.run.pass->shade(uv, flags, j.dg, shading.shade_settings(), out).wait();
+    j.run.pass->shade(j.dg, {uv, flags}, shading.shade_settings(), {out}).wait();
     std::vector<cl_float4> rgba(n);
     j.rt->queue().enqueueReadBuffer(out, CL_TRUE, 0, n * sizeof(cl_float4), rgba.data());
     return rgba;

@@ -40,6 +40,22 @@ struct FrameMaterial {
 };
 
 inline constexpr int kMaxMaterialId = 65535;
+
+// What a material frame's shade reads beside the G-buffer: ShadePass's inputs, with the albedo
+// each material's own and the triplanar split for a table that projects from the world.
+struct FrameShadeInputs {
+    cl::Buffer uv{};     // float2 per pixel, uv' (OffsetTargets::uv)
+    cl::Buffer flags{};  // uint per pixel (OffsetTargets::flags), or null
+    // float per pixel: a shadow map's lit fraction (ShadowMaskPass), or null, as
+    // ShadeInputs::shadow_mask.
+    cl::Buffer shadow_mask{};
+    const TriplanarPlanes* triplanar = nullptr;  // the reconstruct pass's split, or null
+};
+// A frame's offset targets as its shade's inputs.
+inline FrameShadeInputs frame_shade_inputs(const OffsetTargets& offsets,
+                                           const TriplanarPlanes* triplanar = nullptr) {
+    return {offsets.uv, offsets.flags, cl::Buffer(), triplanar};
+}
 // Tile rows (tiles are OM_TILE_W = 16 pixels wide): the tile measurement in docs/materials.md chose
 // it.
 inline constexpr int kDefaultTileRows = 8;
@@ -114,27 +130,15 @@ class MaterialFrame {
                           size_t pixels, int words, const std::vector<cl::Event>& wait = {},
                           const cl::CommandQueue& queue = cl::CommandQueue());
 
-    // Shades uv' (and the offset pass's flags, optional) with each pixel's material: its normals,
-    // albedo and self-shadows; id 0 flat with the checker. One dispatch.
-    cl::Event shade(const cl::Buffer& uv, const cl::Buffer& flags, const DeviceGBuffer& gbuffer,
-                    const ShadeSettings& shade, const cl::Buffer& out_rgba,
+    // Shades uv' with each pixel's material: its normals, albedo and self-shadows (and a shadow
+    // map's test where `inputs.shadow_mask` is given); id 0 flat with the checker. With triplanar
+    // planes each triplanar pixel is shaded with the blend of its projections' albedo, relief
+    // normals (reoriented onto the G-buffer's normal) and self-shadows (docs/design.md); a table
+    // with a triplanar material refuses to shade without them. One dispatch, as ShadePass's
+    // targets say.
+    cl::Event shade(const DeviceGBuffer& gbuffer, const FrameShadeInputs& inputs,
+                    const ShadeSettings& shade, const ShadeTargets& targets,
                     const std::vector<cl::Event>& wait = {},
-                    const cl::CommandQueue& queue = cl::CommandQueue());
-    // The same with a shadow map's test (`shadow_mask`, float per pixel, or null) and the light's
-    // visibility written (`out_visibility`, or null), as ShadeInputs and ShadeTargets say.
-    cl::Event shade(const cl::Buffer& uv, const cl::Buffer& flags, const DeviceGBuffer& gbuffer,
-                    const ShadeSettings& shade, const cl::Buffer& out_rgba,
-                    const cl::Buffer& shadow_mask, const cl::Buffer& out_visibility,
-                    const std::vector<cl::Event>& wait = {},
-                    const cl::CommandQueue& queue = cl::CommandQueue());
-
-    // The same with the triplanar planes: each triplanar pixel shaded with the blend of its
-    // projections' albedo, relief normals (reoriented onto the G-buffer's normal) and
-    // self-shadows (docs/design.md).
-    cl::Event shade(const cl::Buffer& uv, const cl::Buffer& flags, const DeviceGBuffer& gbuffer,
-                    const ShadeSettings& shade, const cl::Buffer& out_rgba,
-                    const cl::Buffer& shadow_mask, const cl::Buffer& out_visibility,
-                    const TriplanarPlanes* planes, const std::vector<cl::Event>& wait = {},
                     const cl::CommandQueue& queue = cl::CommandQueue());
 
     // The last enqueue's dispatches, one per method present on screen (with a layer behind, the
@@ -168,7 +172,21 @@ class MaterialFrame {
         std::vector<cl::Event> copies;  // relief, normals and precomputed data
         cl::Event albedo_copied;
     };
-    // `words` 32-bit words of `src` into `dst` from word `at`, after `after`, on the runtime's queue.
+    // The construction's steps: the table's checks (an Error naming the material); each slot's
+    // place in the gathered buffers (`Layout`, with each precomputed data built); the buffers made
+    // and gathered, with the id, method and projection tables; the kernels built.
+    struct Layout {
+        size_t heights = 0, normals = 0, albedo = 0;  // the gathered buffers' elements
+        std::vector<size_t> aux;                      // per method: its precomputed data's
+        std::vector<PrecomputeSpec::Built> built;     // per slot
+    };
+    void check_table();
+    void lay_out(Layout& layout);
+    void gather_table(const Layout& layout);
+    void write_tables();
+    void build_kernels();
+    // `words` 32-bit words of `src` into `dst` from word `at`, after `after`, on the runtime's
+    // queue.
     cl::Event gather(const cl::Buffer& src, const cl::Buffer& dst, size_t at, size_t words,
                      const std::vector<cl::Event>& after);
     // The enqueue above; without `pass_through` id 0's pixels get no outputs.
