@@ -26,7 +26,7 @@ install)
     quiet cmake --build "$tmp/consumer" -j "$jobs"
     # The installed library needs no source tree: the checkout is out of reach while it runs.
     (cd / && "$tmp/consumer/consumer" && "$tmp/consumer/consumer_evaluation" &&
-        "$tmp/consumer/engine_example")
+        "$tmp/consumer/engine_example" && "$tmp/consumer/engine_frame_example")
     ;;
 subdir)
     quiet cmake -S "$src/tests/package" -B "$tmp/consumer" -DCMAKE_BUILD_TYPE=Release \
@@ -34,7 +34,8 @@ subdir)
     quiet cmake --build "$tmp/consumer" -j "$jobs"
     [ ! -e "$tmp/consumer/offsetmap/offsetmap" ] || { echo "the CLI was built"; exit 1; }
     [ ! -e "$tmp/consumer/consumer_evaluation" ] || { echo "the evaluation library was built"; exit 1; }
-    (cd / && "$tmp/consumer/consumer" && "$tmp/consumer/engine_example")
+    (cd / && "$tmp/consumer/consumer" && "$tmp/consumer/engine_example" &&
+        "$tmp/consumer/engine_frame_example")
     ;;
 esac
 # Neither binary of the pass links OpenImageIO.
