@@ -303,11 +303,24 @@ std::int64_t Raster::count_fragments(const View& view, const std::vector<Forward
     return count;
 }
 
+void Raster::set_scissor(const PixelRegion* region) {
+    scissor_.reset();
+    if (region) scissor_ = *region;
+}
+
 void Raster::draw_with(const View& view, const std::vector<ForwardMaterial>* forward, bool prepass,
                        const Program& program, bool curved, bool clear,
                        const Program* prepass_program) {
     glViewport(0, 0, width_, height_);
     glBindFramebuffer(GL_DRAW_FRAMEBUFFER, fbo_.get());
+    // The clears too keep to the scissor; off again however the draw ends.
+    struct ScissorOff {
+        ~ScissorOff() { glDisable(GL_SCISSOR_TEST); }
+    } scissor_off;
+    if (scissor_) {
+        glEnable(GL_SCISSOR_TEST);
+        glScissor(scissor_->x, scissor_->y, scissor_->width, scissor_->height);
+    }
     const float nan = std::numeric_limits<float>::quiet_NaN();
     const float sky_uv[4] = {nan, nan, 0.0f, 0.0f}, zero[4] = {0, 0, 0, 0};
     for (int i = 0; i < kTargetCount && clear; ++i)

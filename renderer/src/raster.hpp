@@ -5,6 +5,7 @@
 #pragma once
 #include <array>
 #include <cstdint>
+#include <optional>
 #include <vector>
 
 #include "gl.hpp"
@@ -86,6 +87,9 @@ class Raster {
     // curved base and discards the rays that leave it, as the tile mask's.
     void draw(const View& view, const std::vector<ForwardMaterial>* forward, bool prepass,
               bool derivatives = false, bool curvature = false, bool curved = false);
+    // The draws after this call clear and write only `region` (GL's rows, bottom first): the rest
+    // of every target keeps what it holds. Null: the whole frame again.
+    void set_scissor(const PixelRegion* region);
     // The G-buffer's second layer (deferred): at each pixel the nearest surface behind `front`'s
     // last draw (depth peeling against its depth target), into this raster's targets; `front`
     // draws the same scene at the same size. With `pixels` (indices in GL's rows, bottom first)
@@ -133,6 +137,7 @@ class Raster {
     };
     int width_, height_;
     std::vector<DrawMesh> meshes_;
+    std::optional<PixelRegion> scissor_;
     // `curved`: forward traces over the curved base (relief.glsl's curvature). Without `clear`
     // the targets keep what the caller put there.
     void draw_with(const View& view, const std::vector<ForwardMaterial>* forward, bool prepass,

@@ -324,6 +324,7 @@ nlohmann::json bench_shadow_map(std::shared_ptr<Runtime> rt, const Resolution& r
         return t.gbuffer + t.to_device + t.reconstruct + t.offset + t.depth_offset;
     };
     std::vector<double> camera_px, light_px, ratio, light_ms, mask_ms, shade_plain, shade_mapped;
+    std::vector<PassTimes> light_each, camera_each;
     for (int round = 0; round < rounds; ++round) {
         const FrameRun p = plain.render(FrameMode::Deferred, false, 1);
         const FrameRun m = mapped.render(FrameMode::Deferred, false, 1);
@@ -336,7 +337,23 @@ nlohmann::json bench_shadow_map(std::shared_ptr<Runtime> rt, const Resolution& r
         mask_ms.push_back(m.ms.shadow_mask);
         shade_plain.push_back(p.ms.shade);
         shade_mapped.push_back(m.ms.shade);
+        light_each.push_back(m.shadow_map_ms);
+        camera_each.push_back(p.ms);
     }
+    // Each of those passes' median, the light's and the camera's (ms).
+    auto each = [](const std::vector<PassTimes>& times) {
+        nlohmann::json j;
+        for (const auto& [name, field] : {std::pair{"gbuffer", &PassTimes::gbuffer},
+                                          {"to_device", &PassTimes::to_device},
+                                          {"reconstruct", &PassTimes::reconstruct},
+                                          {"offset", &PassTimes::offset},
+                                          {"depth_offset", &PassTimes::depth_offset}}) {
+            std::vector<double> v;
+            for (const PassTimes& t : times) v.push_back(t.*field);
+            j[name] = median(v);
+        }
+        return j;
+    };
     nlohmann::json out = {{"resolution", {res.w, res.h}},
                           {"map_size", map_size},
                           {"rounds", rounds},
@@ -345,6 +362,8 @@ nlohmann::json bench_shadow_map(std::shared_ptr<Runtime> rt, const Resolution& r
                           {"light_ns_per_pixel", median(light_px)},
                           {"light_over_camera_per_pixel", median(ratio)},
                           {"light_passes_ms", median(light_ms)},
+                          {"light_passes", each(light_each)},
+                          {"camera_passes", each(camera_each)},
                           {"receivers_test_ms", median(mask_ms)},
                           {"shade_ms", median(shade_plain)},
                           {"shade_with_mask_ms", median(shade_mapped)}};

@@ -1,5 +1,8 @@
 #include "light.hpp"
 
+#include <algorithm>
+#include <cmath>
+
 #include "offsetmap/timing.hpp"
 
 namespace offsetmap::renderer {
@@ -13,6 +16,39 @@ Scene light_view_of(const Scene& scene) {
     return lit;
 }
 
+// The texels (GL's rows) that `scene`'s meshes can cover in `view`: their vertices' bounding box
+// in the map, a texel around (a triangle lies within its vertices' hull; clipping only takes
+// away), clamped to the map.
+PixelRegion covered_texels(const Scene& scene, const View& view, int size) {
+    float lo[2] = {INFINITY, INFINITY}, hi[2] = {-INFINITY, -INFINITY};
+    const std::array<float, 16>& m = view.view_projection;
+    for (const Mesh& mesh : scene.meshes)
+        for (const Vertex& v : mesh.vertices) {
+            const Vec3& p = v.position;
+            const float w = m[3] * p[0] + m[7] * p[1] + m[11] * p[2] + m[15];
+            for (int a = 0; a < 2; ++a) {
+                const float c = m[a] * p[0] + m[4 + a] * p[1] + m[8 + a] * p[2] + m[12 + a];
+                const float texel = (0.5f * c / w + 0.5f) * float(size);
+                lo[a] = std::min(lo[a], texel);
+                hi[a] = std::max(hi[a], texel);
+            }
+        }
+    if (!(lo[0] <= hi[0] && lo[1] <= hi[1])) return {0, 0, size, size};
+    const auto clamp = [&](float t) { return std::clamp(static_cast<int>(t), 0, size); };
+    const int x0 = clamp(std::floor(lo[0]) - 1), y0 = clamp(std::floor(lo[1]) - 1);
+    const int x1 = clamp(std::ceil(hi[0]) + 2), y1 = clamp(std::ceil(hi[1]) + 2);
+    return {x0, y0, x1 - x0, y1 - y0};
+}
+
+// What the depth offset reads of the offset: t (and uv', which every trace writes); no fetches or
+// flags.
+OffsetTargets light_targets(Runtime& rt, size_t n) {
+    OffsetTargets t;
+    t.uv = cl::Buffer(rt.context(), CL_MEM_READ_WRITE, n * sizeof(cl_float2));
+    t.depth = cl::Buffer(rt.context(), CL_MEM_READ_WRITE, n * sizeof(float));
+    return t;
+}
+
 }  // namespace
 
 LightStage::LightStage(std::shared_ptr<Runtime> runtime, const Scene& scene,
@@ -24,11 +60,12 @@ LightStage::LightStage(std::shared_ptr<Runtime> runtime, const Scene& lit,
     : rt_(std::move(runtime)),
       size_(size),
       view_(make_view(lit.camera, size, size)),
+      covered_(covered_texels(lit, view_, size)),
       raster_(lit, size, size),
       planes_(*rt_, static_cast<size_t>(size) * size, true),
       // No light vector: nothing in the light's view is shaded.
       dg_(allocate_gbuffer(*rt_, size, size, false, false)),
-      targets_(allocate_targets(*rt_, static_cast<size_t>(size) * size)),
+      targets_(light_targets(*rt_, static_cast<size_t>(size) * size)),
       frame_(rt_, materials),
       depth_offset_(rt_),
       depth_after_(rt_->context(), CL_MEM_READ_WRITE,
@@ -41,14 +78,22 @@ PassTimes LightStage::draw(ReconstructPass& reconstruct, bool curved) {
     const cl::CommandQueue& q = rt_->queue();
     const size_t n = static_cast<size_t>(size_) * size_;
     dg_.curvature = curved ? planes_.curvature : cl::Buffer();
+    // The whole map first, and again when the curvature plane joins (its texels outside the box
+    // then hold the empty map's too).
+    const bool whole = !whole_drawn_ || (curved && !whole_curved_);
+    whole_drawn_ = true;
+    whole_curved_ = whole_curved_ || curved;
+    const std::vector<PixelRegion> box = {covered_};
     PassTimes t;
     Stopwatch clock;
+    raster_.set_scissor(whole ? nullptr : &covered_);
     raster_.draw(view_, nullptr, false, false, curved, curved);
     t.gbuffer = clock.lap();
-    planes_.move_from(q, raster_, n, curved);
+    planes_.move_from(q, raster_, n, curved, whole ? nullptr : &box);
     t.to_device = clock.lap();
     EngineCamera camera = pass_camera_of(view_);
-    const EngineGBuffer g = planes_.engine(size_, size_, camera, EngineLight());
+    EngineGBuffer g = planes_.engine(size_, size_, camera, EngineLight());
+    if (!whole) g.regions = box;
     if (triplanar_)
         reconstruct.enqueue(g, dg_, frame_.triplanar_table(), *triplanar_);
     else

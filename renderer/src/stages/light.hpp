@@ -27,6 +27,8 @@ class LightStage {
                const std::vector<FrameMaterial>& materials, int size);
 
     // Draws the map (blocking); with `curved`, each ray over the base's curvature as the camera's.
+    // Bit for bit the whole map's draw: the texels outside the scene's box hold the empty
+    // map's values each time.
     // The times of its passes (shade and to_gl 0; total their sum).
     PassTimes draw(ReconstructPass& reconstruct, bool curved);
     // The map the last draw made: displaced (after the offset) or the base's depth.
@@ -42,6 +44,11 @@ class LightStage {
     std::shared_ptr<Runtime> rt_;
     int size_;
     View view_;
+    // The map's texels the scene's meshes can cover (their vertices' bounding box, a texel
+    // around; GL's rows): after a first whole draw (and whenever the curvature plane joins) only
+    // they are cleared, drawn, moved and reconstructed; the rest keeps the empty map's values.
+    PixelRegion covered_;
+    bool whole_drawn_ = false, whole_curved_ = false;
     Raster raster_;
     GBufferPlanes planes_;
     DeviceGBuffer dg_;

@@ -18,9 +18,10 @@ GBufferPlanes::GBufferPlanes(Runtime& rt, size_t n, bool taken) {
 
 void GBufferPlanes::move_from(const cl::CommandQueue& q, const Raster& raster, size_t n,
                               bool with_curvature, const std::vector<PixelRegion>* regions) const {
+    // With regions the rest keeps its values (a plain write map); else all is overwritten.
+    const cl_map_flags how = regions ? CL_MAP_WRITE : CL_MAP_WRITE_INVALIDATE_REGION;
     auto map = [&](const cl::Buffer& b, size_t floats) {
-        return static_cast<float*>(q.enqueueMapBuffer(b, CL_TRUE, CL_MAP_WRITE_INVALIDATE_REGION, 0,
-                                                      floats * sizeof(float)));
+        return static_cast<float*>(q.enqueueMapBuffer(b, CL_TRUE, how, 0, floats * sizeof(float)));
     };
     PlanePointers p;
     p.depth = map(depth, n);
