@@ -187,7 +187,7 @@ OM_INLINE void om_tri_normal(const OmTriShade* T, int j, OmF* x, OmF* y, OmF* z)
 OM_INLINE void om_shade_lanes(const OmShadeParams* P, OmI active, OmF u, OmF v, OmI flags, OmF vx,
                               OmF vy, OmF vz, OmF lx, OmF ly, OmF lz,
                               __global const float4* normals, __global const float* heights,
-                              __global const float4* albedo, int has_mask, OmF mask,
+                              __global const float4* albedo, int has_mask, OmF mask, OmF cone,
                               const OmTriShade* T, OmF* r, OmF* g, OmF* b, OmF* a,
                               OmF* visibility) {
     const OmI surface = active && (flags & (int)OM_FLAGS_NOT_SHOWN) == 0 &&
@@ -317,6 +317,13 @@ OM_INLINE void om_shade_lanes(const OmShadeParams* P, OmI active, OmF u, OmF v, 
     const OmF ndh = fmax(nx * hx + ny * hy + nz * hz, FLT_MIN);
     OmF spec = OM_SEL((OmF)0.0f, exp2(P->shininess * log2(ndh)), ndl > 0.0f);
     if (has_mask) spec *= mask;  // a map's penumbra dims the glint too
+    // A spot light's cone (the light plane's w; 1 for every other light) dims both terms; the
+    // others' values stay the same bits.
+    const OmI coned = cone < 1.0f;
+    if (OM_ANY(coned)) {
+        ndl = OM_SEL(ndl, ndl * cone, coned);
+        spec = OM_SEL(spec, spec * cone, coned);
+    }
     const OmF lit = P->ambient + P->diffuse * ndl, glint = P->specular * spec;
     // The background: no surface here.
     *r = OM_SEL((OmF)0.16f, br * lit + glint, surface);
@@ -329,6 +336,7 @@ OM_INLINE void om_shade_lanes(const OmShadeParams* P, OmI active, OmF u, OmF v, 
 // parameters where the G-buffer has none).
 typedef struct {
     OmF u, v, vx, vy, vz, lx, ly, lz, mask;
+    OmF cone;  // the light's share its cone lets through (a spot's; 1 otherwise)
     OmI flags;
 } OmShadeIn;
 
@@ -340,8 +348,11 @@ OM_INLINE OmShadeIn om_shade_in(const OmShadeParams* P, OmBlock blk, __global co
     om_load_block2((__global const float*)uv_in, blk, &in.u, &in.v);
     in.flags = flags_in ? OM_AS_INT(om_load_block_f((__global const float*)flags_in, blk)) : (OmI)0;
     om_load_block3((__global const float*)gb_view, blk, &in.vx, &in.vy, &in.vz);
+    in.cone = 1.0f;
     if (P->has_light) {
-        om_load_block3((__global const float*)gb_light, blk, &in.lx, &in.ly, &in.lz);
+        OmF dark;
+        om_load_block4((__global const float*)gb_light, blk, &in.lx, &in.ly, &in.lz, &dark);
+        in.cone = 1.0f - dark;
     } else {
         in.lx = P->light_x;
         in.ly = P->light_y;
@@ -363,7 +374,8 @@ __kernel void om_shade(const OmShadeParams P, __global const float2* uv_in,
     const OmShadeIn in = om_shade_in(&P, blk, uv_in, flags_in, gb_view, gb_light, shadow_mask);
     OmF r, g, b, a, vis;
     om_shade_lanes(&P, (OmI)(-1), in.u, in.v, in.flags, in.vx, in.vy, in.vz, in.lx, in.ly, in.lz,
-                   normals, heights, albedo, shadow_mask != 0, in.mask, 0, &r, &g, &b, &a, &vis);
+                   normals, heights, albedo, shadow_mask != 0, in.mask, in.cone, 0, &r, &g, &b, &a,
+                   &vis);
     om_store_block4((__global float*)out_rgba, blk, r, g, b, a);
     if (out_visibility) om_store_block_f(out_visibility, blk, vis);
 }
@@ -434,7 +446,7 @@ __kernel void om_shade_materials(const OmShadeParams F, __global const OmMateria
         }
         OmF pr, pg, pb, pa, pv;
         om_shade_lanes(&P, mine, in.u, in.v, in.flags, in.vx, in.vy, in.vz, in.lx, in.ly, in.lz, n,
-                       h, c, shadow_mask != 0, in.mask, T, &pr, &pg, &pb, &pa, &pv);
+                       h, c, shadow_mask != 0, in.mask, in.cone, T, &pr, &pg, &pb, &pa, &pv);
         r = OM_SEL(r, pr, mine);
         g = OM_SEL(g, pg, mine);
         b = OM_SEL(b, pb, mine);

@@ -723,3 +723,96 @@ TEST(EngineGBuffer, OrthographicViewHasOneViewDirection) {
 
 }  // namespace
 }  // namespace omtest
+namespace omtest {
+namespace {
+
+// A spot light is a point light within its cone: the light plane's L the point light's bits, its
+// w the cone's share of the light's absence within the double reference's bound (the rate of the
+// smoothstep over the cone's span times L's bound); the shade pass dims the light by it, so the
+// pixels inside the inner cone shade as under the point light, bit for bit, and those outside the
+// outer one as with no diffuse or specular term, bit for bit. A cone the pass cannot take is
+// refused.
+TEST(EngineGBuffer, SpotLightIsAPointLightWithinItsCone) {
+    EngineFrame f = plane_frame(small_plane(), DepthConvention::ZeroToOne, FirstRow::Top);
+    EngineGBuffer in = f.to_device(runtime()->context());
+    const EngineLight point{LightKind::Point, {1.0f, -0.3f, 1.0f}};
+    EngineLight spot = point;
+    spot.kind = LightKind::Spot;
+    spot.axis = {0.1f, 0.0f, -1.0f};
+    spot.cone_inner = 0.25f;
+    spot.cone_outer = 0.45f;
+    in.light = point;
+    const Decoded p = reconstruct(in, true);
+    in.light = spot;
+    const Decoded s = reconstruct(in, true);
+    const size_t n = in.pixels();
+    size_t whole = 0, fading = 0, none = 0;
+    double worst = 0.0;
+    for (size_t k = 0; k < n; ++k) {
+        ASSERT_EQ(std::memcmp(&p.light[k], &s.light[k], 3 * sizeof(float)), 0) << k;
+        ASSERT_EQ(p.light[k].s[3], 0.0f) << k;
+        const Reference ref = reference(f, k, spot);
+        if (ref.sky) continue;
+        const double w = s.light[k].s[3], bound = ref.cone_slope * 4.0 * ref.l_bound + 1e-6;
+        ASSERT_LE(std::abs(w - ref.cone_dark), bound) << k;
+        worst = std::max(worst, std::abs(w - ref.cone_dark) / bound);
+        whole += w == 0.0, none += w == 1.0, fading += w > 0.0 && w < 1.0;
+    }
+    std::printf("spot: %zu pixels whole, %zu fading, %zu outside; worst w %.3f of its bound\n",
+                whole, fading, none, worst);
+    EXPECT_GT(whole, n / 20);
+    EXPECT_GT(fading, n / 20);
+    EXPECT_GT(none, n / 20);
+
+    // The shading: a flat field, the G-buffer's light as reconstructed.
+    PassSettings settings;
+    settings.scale = 0.05f;
+    HeightMap flat;
+    flat.width = flat.height = 8;
+    flat.h.assign(64, 0.5f);
+    const DeviceHeightField field = upload(*runtime(), flat, settings);
+    auto shade = [&](const Decoded& d, const ShadeSettings& how) {
+        DeviceGBuffer g = allocate_gbuffer(*runtime(), in.width, in.height, true, false);
+        const cl::CommandQueue& q = runtime()->queue();
+        q.enqueueWriteBuffer(g.uv, CL_TRUE, 0, n * sizeof(cl_float2), d.uv.data());
+        q.enqueueWriteBuffer(g.view, CL_TRUE, 0, n * sizeof(cl_float4), d.view.data());
+        q.enqueueWriteBuffer(g.light, CL_TRUE, 0, n * sizeof(cl_float4), d.light.data());
+        const cl::Buffer rgba(runtime()->context(), CL_MEM_READ_WRITE, n * sizeof(cl_float4));
+        ShadeInputs inputs;
+        inputs.uv = g.uv;
+        ShadePass(runtime()).enqueue(g, field, inputs, settings, how, {rgba}).wait();
+        std::vector<cl_float4> c(n);
+        q.enqueueReadBuffer(rgba, CL_TRUE, 0, n * sizeof(cl_float4), c.data());
+        return c;
+    };
+    ShadeSettings dark;
+    dark.diffuse = dark.specular = 0.0f;
+    const std::vector<cl_float4> under_point = shade(p, {}), under_spot = shade(s, {}),
+                                 ambient = shade(s, dark);
+    size_t compared = 0;
+    for (size_t k = 0; k < n; ++k) {
+        const float w = s.light[k].s[3];
+        if (w == 0.0f) {
+            ASSERT_EQ(std::memcmp(&under_spot[k], &under_point[k], sizeof(cl_float4)), 0) << k;
+            ++compared;
+        } else if (w == 1.0f) {
+            ASSERT_EQ(std::memcmp(&under_spot[k], &ambient[k], sizeof(cl_float4)), 0) << k;
+            ++compared;
+        }
+    }
+    EXPECT_EQ(compared, n - fading);
+
+    for (const auto& [inner, outer] : {std::pair{0.5f, 0.4f}, {-0.1f, 0.3f}, {0.2f, 1.6f}}) {
+        spot.cone_inner = inner;
+        spot.cone_outer = outer;
+        in.light = spot;
+        EXPECT_TRUE(contains(error_of([&] { reconstruct(in, true); }), "0 <= inner <= outer"));
+    }
+    spot.cone_inner = 0.2f;
+    spot.axis = {0, 0, 0};
+    in.light = spot;
+    EXPECT_TRUE(contains(error_of([&] { reconstruct(in, true); }), "axis"));
+}
+
+}  // namespace
+}  // namespace omtest

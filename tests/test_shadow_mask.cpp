@@ -205,6 +205,40 @@ TEST(ShadowMask, SmallFrameWithTapsPastTheMapsEdges) {
     EXPECT_GT(partly, 0u) << "the roof's penumbra or the map's edge";
 }
 
+// A spot light's perspective map: the ground points in front of the light and inside its view
+// meet a map whose every texel is at the near plane (in shadow); those behind the light (clip w
+// <= 0, which the projection would flip into the map) and those outside its view are lit, as a
+// tap past the map's edge is: the spot's cone darkens them in the shading.
+TEST(ShadowMask, PointsBehindASpotLightAreOutsideItsMap) {
+    ShadowScene s = shadow_scene(35.0, 0.0);
+    const glm::dvec3 lamp(-1.5, 0.5, 0.0);
+    s.light = glm::perspective(glm::radians(50.0), 1.0, 0.1, 30.0) *
+              glm::lookAt(lamp, lamp + glm::dvec3(1.0, 0.2, 0.0), glm::dvec3(0, 1, 0));
+    s.map.assign(size_t(s.n) * s.n, 0.0f);
+    const std::vector<float> mask = shadow_mask(s, 0);
+    size_t behind = 0, inside = 0, mirrored = 0;
+    for (size_t k = 0; k < mask.size(); ++k) {
+        if (s.depth[k] >= 1.0f) continue;
+        const glm::dvec4 c = s.light * glm::dvec4(s.points[k], 1.0);
+        mirrored += c.w < 0.0 && std::abs(c.x) < -c.w && std::abs(c.y) < -c.w;
+        const bool in_view = c.w > 0.0 && std::abs(c.x) < 0.99 * c.w && std::abs(c.y) < 0.99 * c.w;
+        if (c.w <= 0.0) {
+            ++behind;
+            ASSERT_EQ(mask[k], 1.0f) << "behind the light: " << k;
+        } else if (in_view && c.w > 0.2) {
+            ++inside;
+            ASSERT_EQ(mask[k], 0.0f) << "in its view: " << k;
+        }
+    }
+    EXPECT_GT(behind, mask.size() / 20);
+    EXPECT_GT(mirrored, mask.size() / 50) << "points whose flipped projection lands in the map";
+    EXPECT_GT(inside, mask.size() / 50);
+    std::printf(
+        "spot map: %zu points behind the light (%zu of them flipped into the map), %zu "
+        "inside its view\n",
+        behind, mirrored, inside);
+}
+
 TEST(ShadowMask, BadParametersAreRefused) {
     auto rt = runtime();
     cl::Buffer b(rt->context(), CL_MEM_READ_WRITE, 16);

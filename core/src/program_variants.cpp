@@ -86,6 +86,12 @@ void add_reconstruct_variants(std::vector<ProgramVariant>& out) {
                                                      quaternion, light),
                          sample});
                 }
+    // A spot light: float buffers, the normal and tangent form, at one lane and at 16.
+    for (int lanes : {1, 16})
+        out.push_back({"reconstruct/lanes" + std::to_string(lanes) + "-storage0-spot",
+                       reconstruct_program_files(),
+                       reconstruct_program_defines(lanes, {0, 0, 0, 0}, false, LightKind::Spot),
+                       false});
     // The triplanar split: float buffers, each frame form, lit or not, with and without uv and
     // a tangent.
     for (int lanes : {1, 8, 16})

@@ -33,6 +33,20 @@ void check_triplanar(const EngineGBuffer& in, const DeviceGBuffer& out, const Tr
             throw Error("the triplanar planes are not the G-buffer's size (allocate_triplanar)");
 }
 
+// A spot light's axis (finite, not zero) and cone (0 <= inner <= outer < pi / 2).
+void check_spot(const EngineLight& light) {
+    const std::array<float, 3>& a = light.axis;
+    if (!finite(a.data(), 3) ||
+        !(double(a[0]) * a[0] + double(a[1]) * a[1] + double(a[2]) * a[2] > 0.0))
+        throw Error("the engine spot light's axis must be finite and not the zero vector");
+    const double inner = light.cone_inner, outer = light.cone_outer;
+    if (!(inner >= 0.0 && inner <= outer && outer < M_PI / 2))
+        throw Error(
+            "the engine spot light's cone must have 0 <= inner <= outer < pi / 2 radians, "
+            "got inner " +
+            std::to_string(inner) + ", outer " + std::to_string(outer));
+}
+
 }  // namespace
 
 DeviceGBuffer allocate_gbuffer(Runtime& rt, int width, int height, bool light, bool lod) {
@@ -75,7 +89,9 @@ std::string reconstruct_program_defines(int lanes, const std::array<int, 4>& inp
     }
     if (quaternion) defines += "#define OM_QUATERNION_FRAME\n";
     if (light != LightKind::None) defines += "#define OM_LIT\n";
-    if (light == LightKind::Point) defines += "#define OM_POINT_LIGHT\n";
+    if (light == LightKind::Point || light == LightKind::Spot)
+        defines += "#define OM_POINT_LIGHT\n";
+    if (light == LightKind::Spot) defines += "#define OM_SPOT_LIGHT\n";
     if (triplanar) {
         defines += "#define OM_TRIPLANAR\n";
         if (inputs[3] == kNoInput) defines += "#define OM_NO_UV\n";
@@ -149,9 +165,11 @@ cl::Event ReconstructPass::launch(const EngineGBuffer& in, const DeviceGBuffer& 
                 std::sqrt(double(lv[0]) * lv[0] + double(lv[1]) * lv[1] + double(lv[2]) * lv[2]);
             if (!(len > 0.0)) throw Error("the engine light's direction is the zero vector");
             for (float& c : lv) c = static_cast<float>(c / len);
+        } else if (light.kind == LightKind::Spot) {
+            check_spot(light);
         } else if (light.kind != LightKind::Point) {
             throw Error("the engine light's kind " + std::to_string(static_cast<int>(light.kind)) +
-                        " is not None, Directional or Point");
+                        " is not None, Directional, Point or Spot");
         }
     }
     if (out.width != in.width || out.height != in.height)
@@ -191,6 +209,14 @@ cl::Event ReconstructPass::launch(const EngineGBuffer& in, const DeviceGBuffer& 
     p.far_sign = grid.far_sign;
     p.row0_ndc_y = grid.row0_ndc_y;
     std::copy(lv.begin(), lv.end(), p.light_vec);
+    if (light.kind == LightKind::Spot) {
+        const std::array<float, 3>& a = light.axis;
+        const double len =
+            std::sqrt(double(a[0]) * a[0] + double(a[1]) * a[1] + double(a[2]) * a[2]);
+        for (int c = 0; c < 3; ++c) p.light_axis[c] = static_cast<float>(a[c] / len);
+        p.cone_cos_outer = static_cast<float>(std::cos(double(light.cone_outer)));
+        p.cone_cos_inner = static_cast<float>(std::cos(double(light.cone_inner)));
+    }
 
     const cl::CommandQueue& q = pass_queue(*runtime_, queue);
     // The inputs as the kernel reads them (a copy for the one image form PoCL misreads).

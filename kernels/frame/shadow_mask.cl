@@ -16,7 +16,7 @@
 // (common/unproject.cl). The expressions are the same whatever the lanes, so a pixel's point is
 // the same bits at 1, 8 or 16 lanes.
 OM_INLINE void om_light_points(const OmShadowMaskParams* P, OmF fx, OmF ny, OmF d, OmF* tx, OmF* ty,
-                               OmF* tz) {
+                               OmF* tz, OmF* tw) {
     const OmF nx = OM_PIXEL_NDC_X(fx, P->frame.width);
     const OmF nz = OM_PIXEL_NDC_Z(P->frame, d);
     OM_UNPROJECT(OmF, P->inv_view_proj, nx, ny, nz, px, py, pz);
@@ -30,6 +30,7 @@ OM_INLINE void om_light_points(const OmShadowMaskParams* P, OmF fx, OmF ny, OmF 
     *tx = (0.5f * cx / cw + 0.5f) * (float)P->map.width - 0.5f;
     *ty = (half_y * cy / cw + 0.5f) * (float)P->map.height - 0.5f;
     *tz = P->map.ndc_depth_scale * cz / cw + P->map.ndc_depth_offset;
+    *tw = cw;
 }
 
 // The side (+1 or -1) of the neighbour along one axis whose depth is nearer d; 0: neither is
@@ -97,10 +98,10 @@ __kernel void om_shadow_mask(const OmShadowMaskParams P, __global const float* d
         d2[l] = depth[k + sy * w];
         ny2[l] = sy > 0 ? ny_hi : ny_lo;
     }
-    OmF px, py, pz, e1x, e1y, e1z, e2x, e2y, e2z;
-    om_light_points(&P, OM_VLOAD(fx), (OmF)ny, OM_VLOAD(d0), &px, &py, &pz);
-    om_light_points(&P, OM_VLOAD(fx1), (OmF)ny, OM_VLOAD(d1), &e1x, &e1y, &e1z);
-    om_light_points(&P, OM_VLOAD(fx), OM_VLOAD(ny2), OM_VLOAD(d2), &e2x, &e2y, &e2z);
+    OmF px, py, pz, pw, e1x, e1y, e1z, e2x, e2y, e2z, unused;
+    om_light_points(&P, OM_VLOAD(fx), (OmF)ny, OM_VLOAD(d0), &px, &py, &pz, &pw);
+    om_light_points(&P, OM_VLOAD(fx1), (OmF)ny, OM_VLOAD(d1), &e1x, &e1y, &e1z, &unused);
+    om_light_points(&P, OM_VLOAD(fx), OM_VLOAD(ny2), OM_VLOAD(d2), &e2x, &e2y, &e2z, &unused);
     e1x -= px, e1y -= py, e1z -= pz;
     e2x -= px, e2y -= py, e2z -= pz;
     const OmF det = e1x * e2y - e1y * e2x;
@@ -109,9 +110,10 @@ __kernel void om_shadow_mask(const OmShadowMaskParams P, __global const float* d
     const OmF a = OM_SEL((OmF)0.0f, (e1z * e2y - e2z * e1y) / det, spans);
     const OmF b = OM_SEL((OmF)0.0f, (e2z * e1x - e1z * e2x) / det, spans);
     const OmI has_plane = OM_VLOAD(plane) != 0.0f;
-    // A point the float range cannot place in texels (sky, a point at infinity) reads no texel:
-    // lit, as a tap outside the map.
-    const OmI wild = !(fabs(px) < 1.0e8f) | !(fabs(py) < 1.0e8f);
+    // A point the float range cannot place in texels (sky, a point at infinity), or behind a
+    // perspective light (a spot's: outside its view, w <= 0), reads no texel: lit, as a tap
+    // outside the map (a spot's cone darkens what lies outside its view).
+    const OmI wild = !(fabs(px) < 1.0e8f) | !(fabs(py) < 1.0e8f) | !(pw > 0.0f);
     px = OM_SEL(px, (OmF)-1.0e6f, wild);
     py = OM_SEL(py, (OmF)-1.0e6f, wild);
     float lit[OM_LANES];

@@ -385,8 +385,19 @@ __kernel void om_reconstruct(const OmReconstructParams P, OM_INPUT_ARG(depth_in,
 #endif
     const OmF lt = OM_DOT3(l, t), lb = OM_DOT3(l, b), ln = OM_DOT3(l, fn);
     const OmI lit = ok & isfinite(lt) & isfinite(lb) & isfinite(ln);
+#ifdef OM_SPOT_LIGHT
+    // The cone: the angle between the axis and the ray from the light to the point, its cosine
+    // smoothstepped from the outer half-angle (none) to the inner (whole); w is what it takes.
+    const OmF along = -(lx * P.light_axis[0] + ly * P.light_axis[1] + lz * P.light_axis[2]);
+    const OmF span = fmax(P.cone_cos_inner - P.cone_cos_outer, 1.0e-6f);
+    const OmF s = clamp((along - P.cone_cos_outer) / span, 0.0f, 1.0f);
+    const OmF dark = 1.0f - s * s * (3.0f - 2.0f * s);
+    OM_PUT(out_light, 4, OM_SEL((OmF)0.0f, lt, lit), OM_SEL((OmF)0.0f, lb, lit),
+           OM_SEL((OmF)1.0f, ln, lit), OM_SEL((OmF)0.0f, dark, lit));
+#else
     OM_PUT(out_light, 4, OM_SEL((OmF)0.0f, lt, lit), OM_SEL((OmF)0.0f, lb, lit),
            OM_SEL((OmF)1.0f, ln, lit), (OmF)0.0f);
+#endif
 #endif
 #ifdef OM_TRIPLANAR
     // The second and third projections: uv and V in their frames where their weight is not 0.

@@ -328,17 +328,27 @@ Reference reference(const EngineFrame& f, size_t k, const EngineLight& light) {
     out.bound = worst;
     if (light.kind != LightKind::None) {
         glm::dvec3 l(light.vector[0], light.vector[1], light.vector[2]);
-        l = light.kind == LightKind::Point ? glm::normalize(l - p) : glm::normalize(l);
+        const bool at_point = light.kind == LightKind::Point || light.kind == LightKind::Spot;
+        l = at_point ? glm::normalize(l - p) : glm::normalize(l);
         out.l_ts = {glm::dot(l, t), glm::dot(l, b), glm::dot(l, n)};
         // A directional light's error is its normalisation's; a point light's adds p's, as V's.
         const double dl =
-            light.kind == LightKind::Point
+            at_point
                 ? (std::sqrt(dp2) + u * glm::length(l)) /
                           glm::length(
                               glm::dvec3(light.vector[0], light.vector[1], light.vector[2]) - p) +
                       8 * u
                 : 8 * u;
         out.l_bound = dl + std::max({df[0], df[1], df[2]}) + g3;
+        if (light.kind == LightKind::Spot) {
+            const glm::dvec3 axis =
+                glm::normalize(glm::dvec3(light.axis[0], light.axis[1], light.axis[2]));
+            const double outer = std::cos(double(light.cone_outer));
+            const double span = std::max(std::cos(double(light.cone_inner)) - outer, 1e-6);
+            const double s = std::clamp((-glm::dot(l, axis) - outer) / span, 0.0, 1.0);
+            out.cone_dark = 1.0 - s * s * (3.0 - 2.0 * s);
+            out.cone_slope = 1.5 / span;
+        }
     }
     return out;
 }

@@ -145,6 +145,14 @@ run_case shade-soft-lanes16 16 render --method relief "${frame[@]}" --shadows so
     --gtest_filter=ShadowMask.SmallFrameWithTapsPastTheMapsEdges
 [ -n "$tests" ] && bin=$tests run_case shadow-mask-lanes16 16 \
     --gtest_filter=ShadowMask.SmallFrameWithTapsPastTheMapsEdges
+# A spot light: its cone in the reconstruct pass and the shade's dimming; a perspective map with
+# points behind the light, at 1 and 16 lanes.
+for lanes in 1 16; do
+    [ -n "$tests" ] && bin=$tests run_case spot-light-$lanes $lanes \
+        --gtest_filter=EngineGBuffer.SpotLightIsAPointLightWithinItsCone
+    [ -n "$tests" ] && bin=$tests run_case shadow-mask-spot-$lanes $lanes \
+        --gtest_filter=ShadowMask.PointsBehindASpotLightAreOutsideItsMap
+done
 # The shade pass with a shadow mask beside the march, and the visibility it writes.
 for lanes in 1 16; do
     [ -n "$tests" ] && bin=$tests run_case shade-shadow-mask-$lanes $lanes \

@@ -55,12 +55,20 @@ enum class FrameForm : om_int {
 enum class LightKind : om_int {
     None = OM_LIGHT_NONE,
     Directional = OM_LIGHT_DIRECTIONAL,  // vector: world direction toward the light
-    Point = OM_LIGHT_POINT               // vector: world position of the light
+    Point = OM_LIGHT_POINT,              // vector: world position of the light
+    Spot = OM_LIGHT_SPOT                 // vector: world position; axis and cone below
 };
 
 struct EngineLight {
     LightKind kind = LightKind::None;
     std::array<float, 3> vector = {0, 0, 1};
+    // A spot light: the world direction it shines along (any length but zero), and the cone's
+    // half-angles in radians: whole within cone_inner of the axis, fading smoothly (smoothstep
+    // of the angle's cosine) to nothing at cone_outer; 0 <= inner <= outer < pi / 2. The
+    // reconstruct pass writes the cone's share of the light's absence in the light plane's w
+    // (0 whole, 1 none: 0 for every other kind), and the shade passes dim the light by it.
+    std::array<float, 3> axis = {0, 0, -1};
+    float cone_inner = 0.0f, cone_outer = 0.0f;
 };
 
 // A rectangle of pixels, its first row and column counted as the G-buffer stores them.

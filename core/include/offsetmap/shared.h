@@ -113,7 +113,7 @@ enum {
 // glClipControl), NDC z = d, far at 1; reversed (zero-one with near and far swapped), far at 0.
 enum { OM_DEPTH_GL = 0, OM_DEPTH_ZERO_ONE = 1, OM_DEPTH_REVERSED = 2 };
 enum { OM_FRAME_NORMAL_TANGENT = 0, OM_FRAME_QUATERNION = 1 };
-enum { OM_LIGHT_NONE = 0, OM_LIGHT_DIRECTIONAL = 1, OM_LIGHT_POINT = 2 };
+enum { OM_LIGHT_NONE = 0, OM_LIGHT_DIRECTIONAL = 1, OM_LIGHT_POINT = 2, OM_LIGHT_SPOT = 3 };
 
 typedef struct {
     om_int width, height;
@@ -128,6 +128,10 @@ typedef struct {
     // 1: eye is a position (a perspective view); 0: an orthographic view (a directional light's),
     // eye the direction toward the viewer. V = eye - eye_w p, normalized.
     om_float eye_w;
+    // A spot light (OM_SPOT_LIGHT): the unit world direction it shines along, and the cosines of
+    // its cone's half-angles, where it fades out and where it is whole.
+    om_float light_axis[3];
+    om_float cone_cos_outer, cone_cos_inner;
 } OmReconstructParams;
 
 // A frame's pixels as a kernel that unprojects them (kernels/common/unproject.cl) or projects
@@ -243,14 +247,14 @@ typedef struct {
 // bool) or a field added without updating this list fails the host's build (size and the last
 // member's offset) and every kernel program's (size: C99 has no static assertion, and offsetof is
 // not OpenCL C 1.2's), rather than uploading shifted fields. Sizes and offsets in bytes.
-#define OM_LAYOUT_CHECKS(CHECK)                     \
-    CHECK(OmOffsetParams, 124, p, 92)               \
-    CHECK(OmReconstructParams, 120, eye_w, 116)     \
-    CHECK(OmPixelGrid, 36, row0_ndc_y, 32)          \
-    CHECK(OmDepthOffsetParams, 180, eye_w, 176)     \
-    CHECK(OmShadowMaskParams, 212, pcf_radius, 208) \
-    CHECK(OmShadeParams, 92, grazing, 88)           \
-    CHECK(OmTileParams, 44, pass_through, 40)        \
+#define OM_LAYOUT_CHECKS(CHECK)                          \
+    CHECK(OmOffsetParams, 124, p, 92)                    \
+    CHECK(OmReconstructParams, 140, cone_cos_inner, 136) \
+    CHECK(OmPixelGrid, 36, row0_ndc_y, 32)               \
+    CHECK(OmDepthOffsetParams, 180, eye_w, 176)          \
+    CHECK(OmShadowMaskParams, 212, pcf_radius, 208)      \
+    CHECK(OmShadeParams, 92, grazing, 88)                \
+    CHECK(OmTileParams, 44, pass_through, 40)            \
     CHECK(OmMaterialSlot, 240, albedo_offset, 236)
 #ifdef OM_OPENCL_C
 // An array of negative size does not compile.

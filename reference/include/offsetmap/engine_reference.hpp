@@ -84,6 +84,9 @@ struct Reference {
     std::array<double, 3> v_ts{}, l_ts{};
     double bound = 0.0;    // on each component of V
     double l_bound = 0.0;  // on each component of L
+    // A spot light: the light plane's w (the cone's share of the light's absence), and the
+    // largest rate of w per unit of the cosine it is taken of (1.5 over the cone's span).
+    double cone_dark = 0.0, cone_slope = 0.0;
 };
 Reference reference(const EngineFrame& f, size_t k, const EngineLight& light);
 
