@@ -232,6 +232,86 @@ TEST(Renderer, LightViewOfAFlatQuadIsItsDisplacedShadowMap) {
                          "perspective views only"));
 }
 
+// A spot light's shadow map (its perspective view, spot_camera): a box of half a metre's side
+// over a flat floor under a spot 2 m up. Every floor pixel inside the cone whose segment to the
+// light crosses the box shrunk by 3 cm is in shadow, and every one whose segment misses it grown
+// by 3 cm is lit (the margin: the map's texels, about 3 mm at the box, and the filter's 3 x 3);
+// the box's own box of texels bounds no point behind the light (none here: all lie in front).
+TEST(Renderer, ASpotLightsMapShadowsWhatItsOccluderHides) {
+    Scene scene;
+    scene.name = "spot";
+    scene.meshes.push_back(make_quad("floor", 1, {-2.0f, 0.0f, 1.0f}, {4.0f, 0.0f, 0.0f},
+                                     {0.0f, 0.0f, -4.0f}, 4.0f, 4.0f));
+    const glm::dvec3 centre(0.0, 0.5, -1.0);
+    scene.meshes.push_back(make_box("box", 0, {0.0f, 0.5f, -1.0f}, {0.25f, 0.25f, 0.25f}, 1.0f));
+    scene.camera.eye = {0.0f, 2.5f, 2.0f};
+    scene.camera.target = {0.0f, 0.0f, -1.0f};
+    scene.camera.fov_y_deg = 50.0f;
+    const glm::dvec3 lamp(0.3, 2.0, -0.8);
+    scene.light.kind = LightKind::Spot;
+    scene.light.vector = {0.3f, 2.0f, -0.8f};
+    scene.light.axis = {-0.1f, -1.0f, 0.0f};
+    scene.light.cone_inner = 0.45f;
+    scene.light.cone_outer = 0.6f;
+    LoadedMaterial floor;
+    floor.spec.id = 1;
+    floor.spec.name = "flat";
+    floor.spec.method = "exact";
+    floor.spec.settings.scale = 0.05f;
+    floor.map = make_map(8, 8, [](int, int) { return 1.0f; });
+    const int w = 160, h = 120;
+    FrameRenderer r(runtime(), scene, {floor}, {resolve_params(find_method("exact"), {})}, w, h,
+                    ShadeSettings{});
+    ShadowMapSettings map;
+    map.size = 512;
+    r.set_shadow_map(map);
+    const FrameRun run = r.render(FrameMode::Deferred, false, 1);
+    EXPECT_EQ(run.light_draws, run.frames);
+    const std::array<float, 16>& vp = r.view_projection();
+    glm::dmat4 m;
+    for (int c = 0; c < 4; ++c)
+        for (int k = 0; k < 4; ++k) m[c][k] = vp[4 * c + k];
+    const glm::dmat4 inverse = glm::inverse(m);
+    // Whether the segment from p to the lamp crosses the box grown by `margin` (slabs).
+    auto hidden = [&](const glm::dvec3& p, double margin) {
+        const glm::dvec3 d = lamp - p;
+        double t0 = 0.0, t1 = 1.0;
+        for (int a = 0; a < 3; ++a) {
+            const double lo = centre[a] - 0.25 - margin, hi = centre[a] + 0.25 + margin;
+            if (std::abs(d[a]) < 1e-12) {
+                if (p[a] < lo || p[a] > hi) return false;
+                continue;
+            }
+            double ta = (lo - p[a]) / d[a], tb = (hi - p[a]) / d[a];
+            if (ta > tb) std::swap(ta, tb);
+            t0 = std::max(t0, ta), t1 = std::min(t1, tb);
+        }
+        return t0 <= t1;
+    };
+    const glm::dvec3 axis = glm::normalize(glm::dvec3(-0.1, -1.0, 0.0));
+    size_t shadowed = 0, lit = 0;
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            const size_t k = size_t(y) * w + x;
+            if (run.material[k] != 1.0f) continue;
+            const glm::dvec4 q = inverse * glm::dvec4((2.0 * x + 1) / w - 1, 1 - (2.0 * y + 1) / h,
+                                                      2.0 * run.depth_after[k] - 1.0, 1.0);
+            const glm::dvec3 p = glm::dvec3(q) / q.w;
+            if (glm::dot(glm::normalize(p - lamp), axis) < std::cos(0.6)) continue;
+            if (hidden(p, -0.03)) {
+                ++shadowed;
+                ASSERT_LT(run.shadow_mask[k], 0.5f) << "hidden from the spot at pixel " << k;
+            } else if (!hidden(p, 0.03)) {
+                ++lit;
+                ASSERT_GT(run.shadow_mask[k], 0.5f) << "in the spot's light at pixel " << k;
+            }
+        }
+    std::printf("spot map: %zu floor pixels in the box's shadow, %zu lit, in its cone\n", shadowed,
+                lit);
+    EXPECT_GT(shadowed, 100u);
+    EXPECT_GT(lit, 2000u);
+}
+
 // Relief that shadows itself: a quad of sines under a sun at 20 degrees. The displaced shadow map
 // shadows what the displaced quad's own map shadows (renderer::shadow_truth: its tessellation
 // drawn from the same light at the same size and tested with the same filter): a pixel counts as

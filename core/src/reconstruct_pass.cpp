@@ -47,6 +47,32 @@ void check_spot(const EngineLight& light) {
             std::to_string(inner) + ", outer " + std::to_string(outer));
 }
 
+// The light's parameters, checked: a directional light's direction normalised, a spot's axis and
+// its cone's cosines (Error naming what is wrong).
+void light_params(const EngineLight& light, OmReconstructParams& p) {
+    if (light.kind == LightKind::None) return;
+    std::array<float, 3> lv = light.vector;
+    if (!finite(lv.data(), 3)) throw Error("the engine light's vector must be finite");
+    if (light.kind == LightKind::Directional) {
+        const double len =
+            std::sqrt(double(lv[0]) * lv[0] + double(lv[1]) * lv[1] + double(lv[2]) * lv[2]);
+        if (!(len > 0.0)) throw Error("the engine light's direction is the zero vector");
+        for (float& c : lv) c = static_cast<float>(c / len);
+    } else if (light.kind == LightKind::Spot) {
+        check_spot(light);
+        const std::array<float, 3>& a = light.axis;
+        const double len =
+            std::sqrt(double(a[0]) * a[0] + double(a[1]) * a[1] + double(a[2]) * a[2]);
+        for (int c = 0; c < 3; ++c) p.light_axis[c] = static_cast<float>(a[c] / len);
+        p.cone_cos_outer = static_cast<float>(std::cos(double(light.cone_outer)));
+        p.cone_cos_inner = static_cast<float>(std::cos(double(light.cone_inner)));
+    } else if (light.kind != LightKind::Point) {
+        throw Error("the engine light's kind " + std::to_string(static_cast<int>(light.kind)) +
+                    " is not None, Directional, Point or Spot");
+    }
+    std::copy(lv.begin(), lv.end(), p.light_vec);
+}
+
 }  // namespace
 
 DeviceGBuffer allocate_gbuffer(Runtime& rt, int width, int height, bool light, bool lod) {
@@ -157,21 +183,8 @@ cl::Event ReconstructPass::launch(const EngineGBuffer& in, const DeviceGBuffer& 
     const OmPixelGrid grid = pixel_grid(cam, in.width, in.height, "the engine camera");
     const EngineLight& light = in.light;
     const bool lit = light.kind != LightKind::None;
-    std::array<float, 3> lv = light.vector;
-    if (lit) {
-        if (!finite(lv.data(), 3)) throw Error("the engine light's vector must be finite");
-        if (light.kind == LightKind::Directional) {
-            const double len =
-                std::sqrt(double(lv[0]) * lv[0] + double(lv[1]) * lv[1] + double(lv[2]) * lv[2]);
-            if (!(len > 0.0)) throw Error("the engine light's direction is the zero vector");
-            for (float& c : lv) c = static_cast<float>(c / len);
-        } else if (light.kind == LightKind::Spot) {
-            check_spot(light);
-        } else if (light.kind != LightKind::Point) {
-            throw Error("the engine light's kind " + std::to_string(static_cast<int>(light.kind)) +
-                        " is not None, Directional, Point or Spot");
-        }
-    }
+    OmReconstructParams p{};
+    light_params(light, p);
     if (out.width != in.width || out.height != in.height)
         throw Error("the reconstructed G-buffer is " + std::to_string(out.width) + "x" +
                     std::to_string(out.height) + "; the engine G-buffer is " +
@@ -196,7 +209,6 @@ cl::Event ReconstructPass::launch(const EngineGBuffer& in, const DeviceGBuffer& 
             context, out.light,
             {"the reconstructed G-buffer's light buffer", "float4", sizeof(cl_float4), n, true});
 
-    OmReconstructParams p{};
     p.width = no_pixels ? 0 : in.width;
     p.height = no_pixels ? 0 : in.height;
     std::copy(cam.inverse_view_projection.begin(), cam.inverse_view_projection.end(),
@@ -208,16 +220,6 @@ cl::Event ReconstructPass::launch(const EngineGBuffer& in, const DeviceGBuffer& 
     p.far_depth = grid.far_depth;
     p.far_sign = grid.far_sign;
     p.row0_ndc_y = grid.row0_ndc_y;
-    std::copy(lv.begin(), lv.end(), p.light_vec);
-    if (light.kind == LightKind::Spot) {
-        const std::array<float, 3>& a = light.axis;
-        const double len =
-            std::sqrt(double(a[0]) * a[0] + double(a[1]) * a[1] + double(a[2]) * a[2]);
-        for (int c = 0; c < 3; ++c) p.light_axis[c] = static_cast<float>(a[c] / len);
-        p.cone_cos_outer = static_cast<float>(std::cos(double(light.cone_outer)));
-        p.cone_cos_inner = static_cast<float>(std::cos(double(light.cone_inner)));
-    }
-
     const cl::CommandQueue& q = pass_queue(*runtime_, queue);
     // The inputs as the kernel reads them (a copy for the one image form PoCL misreads).
     EngineGBuffer use = in;

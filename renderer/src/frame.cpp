@@ -129,8 +129,8 @@ void FrameRenderer::set_shadow_map(const std::optional<ShadowMapSettings>& setti
         return;
     }
     const ShadowMapSettings& s = *settings;
-    if (m.light.kind != LightKind::Directional)
-        throw Error("a shadow map needs the scene's light to be directional");
+    if (m.light.kind != LightKind::Directional && m.light.kind != LightKind::Spot)
+        throw Error("a shadow map needs the scene's light to be directional or a spot");
     if (s.size < 16 || s.size > 8192)
         throw Error("the shadow map's size must be in [16, 8192] texels, got " +
                     std::to_string(s.size));

@@ -329,7 +329,7 @@ void Raster::draw_with(const View& view, const std::vector<ForwardMaterial>* for
     glEnable(GL_DEPTH_TEST);
     // A light's (orthographic) view keeps back faces: a single-sided wall the light sees from
     // behind still casts its shadow (the offset pass flags them BACKFACING and leaves their depth).
-    if (view.orthographic)
+    if (view.orthographic || view.two_sided)
         glDisable(GL_CULL_FACE);
     else
         glEnable(GL_CULL_FACE);

@@ -72,6 +72,9 @@ struct View {
     std::array<float, 16> inverse_view_projection{};  // column-major
     Vec3 eye{};  // the eye's position, or (orthographic) the unit direction toward it
     bool orthographic = false;
+    // A light's view: back faces drawn too (a single-sided wall the light sees from behind still
+    // casts; the offset pass flags them BACKFACING and leaves their depth).
+    bool two_sided = false;
 };
 View make_view(const Camera& camera, int width, int height);
 

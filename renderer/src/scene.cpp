@@ -69,12 +69,11 @@ Scene builtin_room(const std::string& data_dir) {
     return s;
 }
 
-Camera light_camera(const Scene& scene, const Vec3& toward_light) {
-    const double lx = toward_light[0], ly = toward_light[1], lz = toward_light[2];
-    const double len = std::sqrt(lx * lx + ly * ly + lz * lz);
-    if (!(len > 0.0) || !std::isfinite(len))
-        throw Error("the light's direction must be finite and not the zero vector");
-    // The bounding sphere: the box's centre and its farthest vertex.
+namespace {
+
+// The meshes' bounding sphere: the box's centre and its farthest vertex, a margin of 1 % (at least
+// a millimetre) around.
+void bounding_sphere(const Scene& scene, double c[3], double& r) {
     double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
     for (const Mesh& m : scene.meshes)
         for (std::uint32_t i : m.indices)
@@ -83,7 +82,7 @@ Camera light_camera(const Scene& scene, const Vec3& toward_light) {
                 hi[a] = std::max(hi[a], double(m.vertices[i].position[a]));
             }
     if (!(lo[0] <= hi[0])) throw Error("scene '" + scene.name + "' has no triangles to light");
-    const double c[3] = {0.5 * (lo[0] + hi[0]), 0.5 * (lo[1] + hi[1]), 0.5 * (lo[2] + hi[2])};
+    for (int a = 0; a < 3; ++a) c[a] = 0.5 * (lo[a] + hi[a]);
     double r2 = 0.0;
     for (const Mesh& m : scene.meshes)
         for (std::uint32_t i : m.indices) {
@@ -91,8 +90,18 @@ Camera light_camera(const Scene& scene, const Vec3& toward_light) {
             for (int a = 0; a < 3; ++a) d2 += std::pow(m.vertices[i].position[a] - c[a], 2);
             r2 = std::max(r2, d2);
         }
-    // A margin of 1 % (at least a millimetre) keeps the sphere off the planes and the borders.
-    const double r = std::sqrt(r2) * 1.01 + 1e-3;
+    r = std::sqrt(r2) * 1.01 + 1e-3;
+}
+
+}  // namespace
+
+Camera light_camera(const Scene& scene, const Vec3& toward_light) {
+    const double lx = toward_light[0], ly = toward_light[1], lz = toward_light[2];
+    const double len = std::sqrt(lx * lx + ly * ly + lz * lz);
+    if (!(len > 0.0) || !std::isfinite(len))
+        throw Error("the light's direction must be finite and not the zero vector");
+    double c[3], r;
+    bounding_sphere(scene, c, r);
     Camera cam;
     cam.orthographic = true;
     cam.ortho_half_height = static_cast<float>(r);
@@ -101,6 +110,30 @@ Camera light_camera(const Scene& scene, const Vec3& toward_light) {
                float(c[2] + 2.0 * r * lz / len)};
     cam.near_plane = static_cast<float>(r);
     cam.far_plane = static_cast<float>(3.0 * r);
+    return cam;
+}
+
+Camera spot_camera(const Scene& scene, const EngineLight& spot) {
+    if (spot.kind != LightKind::Spot) throw Error("a spot light's view needs a spot light");
+    const std::array<float, 3>& p = spot.vector;
+    const std::array<float, 3>& a = spot.axis;
+    const double len = std::sqrt(double(a[0]) * a[0] + double(a[1]) * a[1] + double(a[2]) * a[2]);
+    if (!(len > 0.0) || !std::isfinite(len) || !std::isfinite(p[0] + p[1] + p[2]))
+        throw Error("the spot light's position and axis must be finite, the axis not zero");
+    if (!(spot.cone_inner >= 0.0f && spot.cone_inner <= spot.cone_outer &&
+          spot.cone_outer < 0.5f * float(M_PI) && spot.cone_outer > 0.0f))
+        throw Error("the spot light's cone must have 0 <= inner <= outer < 90 degrees, outer > 0");
+    double c[3], r;
+    bounding_sphere(scene, c, r);
+    const double far =
+        std::sqrt(std::pow(p[0] - c[0], 2) + std::pow(p[1] - c[1], 2) + std::pow(p[2] - c[2], 2)) +
+        r;
+    Camera cam;
+    cam.eye = p;
+    cam.target = {float(p[0] + a[0] / len), float(p[1] + a[1] / len), float(p[2] + a[2] / len)};
+    cam.fov_y_deg = static_cast<float>(std::min(2.02 * spot.cone_outer * 180.0 / M_PI, 179.0));
+    cam.near_plane = static_cast<float>(1e-3 * far);
+    cam.far_plane = static_cast<float>(far);
     return cam;
 }
 

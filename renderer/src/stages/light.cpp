@@ -9,11 +9,19 @@ namespace offsetmap::renderer {
 
 namespace {
 
+// The scene seen from its light: a directional light's orthographic view of it, a spot's
+// perspective one.
 Scene light_view_of(const Scene& scene) {
     Scene lit = scene;
     const std::array<float, 3>& l = scene.light.vector;
-    lit.camera = light_camera(scene, {l[0], l[1], l[2]});
+    lit.camera = scene.light.kind == LightKind::Spot ? spot_camera(scene, scene.light)
+                                                     : light_camera(scene, {l[0], l[1], l[2]});
     return lit;
+}
+
+View two_sided(View v) {
+    v.two_sided = true;
+    return v;
 }
 
 // The texels (GL's rows) that `scene`'s meshes can cover in `view`: their vertices' bounding box
@@ -26,6 +34,7 @@ PixelRegion covered_texels(const Scene& scene, const View& view, int size) {
         for (const Vertex& v : mesh.vertices) {
             const Vec3& p = v.position;
             const float w = m[3] * p[0] + m[7] * p[1] + m[11] * p[2] + m[15];
+            if (!(w > 0.0f)) return {0, 0, size, size};  // behind a spot: its box is no bound
             for (int a = 0; a < 2; ++a) {
                 const float c = m[a] * p[0] + m[4 + a] * p[1] + m[8 + a] * p[2] + m[12 + a];
                 const float texel = (0.5f * c / w + 0.5f) * float(size);
@@ -59,7 +68,7 @@ LightStage::LightStage(std::shared_ptr<Runtime> runtime, const Scene& lit,
                        const std::vector<FrameMaterial>& materials, int size, int)
     : rt_(std::move(runtime)),
       size_(size),
-      view_(make_view(lit.camera, size, size)),
+      view_(two_sided(make_view(lit.camera, size, size))),
       covered_(covered_texels(lit, view_, size)),
       raster_(lit, size, size),
       planes_(*rt_, static_cast<size_t>(size) * size, true),

@@ -1,4 +1,5 @@
-// The light stage: the scene from a directional light's view (light_camera) through the deferred
+// The light stage: the scene from its light's view (a directional light's orthographic view,
+// light_camera; a spot's perspective one, spot_camera) through the deferred
 // passes that make its depth, and nothing else: the G-buffer drawn, its planes moved to the
 // device, reconstructed, offset by every pixel's material and moved along the light's rays by the
 // depth offset. That depth is the displaced shadow map (or, flat, the base's depth before the
@@ -21,7 +22,8 @@ namespace offsetmap::renderer {
 
 class LightStage {
   public:
-    // `scene`'s light must be directional (FrameRenderer::set_shadow_map checks it); `materials`
+    // `scene`'s light must be directional or a spot (FrameRenderer::set_shadow_map checks it);
+    // `materials`
     // the camera's frame's (their fields shared). The camera's GL context must be current.
     LightStage(std::shared_ptr<Runtime> runtime, const Scene& scene,
                const std::vector<FrameMaterial>& materials, int size);

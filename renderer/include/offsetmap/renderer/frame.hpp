@@ -71,8 +71,9 @@ struct FrameRun {
     int frames = 0, light_draws = 0;
 };
 
-// A shadow map of the scene's directional light, drawn through the same deferred passes from
-// the light's orthographic view over the scene (light_camera).
+// A shadow map of the scene's directional light (or spot), drawn through the same deferred passes
+// from the light's orthographic view over the scene (light_camera; a spot's perspective view,
+// spot_camera).
 struct ShadowMapSettings {
     int size = 2048;     // texels a side, [16, 8192]
     int pcf_radius = 1;  // the receivers' filter: (2 r + 1)^2 taps, [0, 8]
@@ -139,7 +140,7 @@ class FrameRenderer {
     // shadow map of the scene's light (ShadowMaskPass), drawn once a render before its frames,
     // and shade with it beside the self-shadow march (ShadeInputs::shadow_mask); the forward peer
     // has no shadow map. Without settings (the default) frames are as before, bit for bit. Throws
-    // Error when the scene's light is not directional or a setting is out of range.
+    // Error when the scene's light is neither directional nor a spot, or a setting is out of range.
     void set_shadow_map(const std::optional<ShadowMapSettings>& settings);
 
     // After a render: the G-buffer as the engine wrote it (depth GL, rows top first, with ids and

@@ -45,5 +45,11 @@ Scene builtin_room(const std::string& data_dir);
 // outside it. Throws Error for a zero or non-finite direction or a scene without
 // triangles.
 Camera light_camera(const Scene& scene, const Vec3& toward_light);
+// A spot light's perspective view (EngineLight::Spot): from its position along its axis, its
+// field of view the cone's (twice the outer half-angle, and 1 % more), the near plane a thousandth
+// of the distance to the meshes' bounding sphere's far side and the far plane past it. Throws
+// Error for a light that is not a spot, a cone or axis the reconstruct pass would refuse, or a
+// scene without triangles.
+Camera spot_camera(const Scene& scene, const EngineLight& spot);
 
 }  // namespace offsetmap::renderer
