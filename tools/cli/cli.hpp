@@ -144,6 +144,7 @@ struct FrameCommand {
     bool truth = false;         // the displaced mesh as the truth, every frame against it
     float truth_level = 0.5f;   // its lattice, texels per quad
     std::string sun;            // "ELEVATION,AZIMUTH" (degrees): also the light's displaced view
+    std::string spot;           // "X,Y,Z,AX,AY,AZ,INNER,OUTER": a spot light instead (degrees)
     int shadow_size = 1024;     // its shadow map, square
     int shadow_truth_size = 0;  // --truth's own shadow map (0: shadow_size)
     std::string out_dir = "out/frame";

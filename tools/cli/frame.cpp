@@ -64,6 +64,11 @@ void FrameCommand::add_to(CLI::App& app) {
                    "ELEVATION,AZIMUTH (degrees; azimuth from +x toward +z): also render the "
                    "directional light's view through the deferred passes, its displaced shadow "
                    "map (shadow-map.exr, and shadow-map-base.exr before the offset)");
+    app.add_option("--spot", spot,
+                   "X,Y,Z,AX,AY,AZ,INNER,OUTER: a spot light at (X, Y, Z) shining along (AX, AY, "
+                   "AZ), whole within INNER degrees of its axis and fading to nothing at OUTER "
+                   "(< 90): the frame's light, and with --shadows map its displaced shadow map "
+                   "from its perspective view (instead of --sun)");
     app.add_option("--shadow-size", shadow_size, "the light's shadow map, pixels a side")
         ->check(CLI::Range(16, 8192))
         ->capture_default_str();
@@ -114,7 +119,7 @@ int run_frame(const FrameCommand& cmd) {
                           {"table", request.table_file},
                           {"modes", modes_section(request, runs, *rt, errors)}};
     Tiles tiles = write_frame_pictures(request, runs, errors);
-    if (request.sun) doc["shadow_map"] = sun_section(request, runs, tiles);
+    if (request.sun || request.spot) doc["shadow_map"] = sun_section(request, runs, tiles);
     Tiles truth_tiles;
     if (cmd.truth) {
         doc["truth"] = truth_section(request, rt, runs, truth_tiles);

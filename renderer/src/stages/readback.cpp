@@ -156,7 +156,7 @@ LightMaps FrameRenderer::light_maps() const {
             read<float>(m.rt->queue(), m.shadows->light->map(displaced).depth, size_t(n) * n), n, n,
             1);
     };
-    return {n, rows(false), rows(true)};
+    return {n, rows(false), rows(true), m.shadows->light->map(true).camera.inverse_view_projection};
 }
 
 }  // namespace offsetmap::renderer

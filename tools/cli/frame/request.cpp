@@ -40,6 +40,41 @@ Sun parse_sun(const std::string& text) {
     return sun;
 }
 
+EngineLight parse_spot(const std::string& text) {
+    std::vector<double> v;
+    size_t at = 0;
+    try {
+        while (at <= text.size()) {
+            const size_t comma = std::min(text.find(',', at), text.size());
+            size_t used = 0;
+            const std::string part = text.substr(at, comma - at);
+            v.push_back(std::stod(part, &used));
+            if (used != part.size()) throw std::invalid_argument(part);
+            at = comma + 1;
+        }
+    } catch (const std::exception&) {
+        v.clear();
+    }
+    const auto finite = [&] {
+        for (double x : v)
+            if (!std::isfinite(x)) return false;
+        return true;
+    };
+    if (v.size() != 8 || !finite() || !(v[3] * v[3] + v[4] * v[4] + v[5] * v[5] > 0.0) ||
+        !(v[6] >= 0.0 && v[6] <= v[7] && v[7] > 0.0 && v[7] < 90.0))
+        throw UsageError(
+            "--spot: expected X,Y,Z,AX,AY,AZ,INNER,OUTER: a position, an axis not zero and the "
+            "cone's half-angles in degrees, 0 <= INNER <= OUTER < 90 and OUTER > 0, got '" +
+            text + "'");
+    EngineLight spot;
+    spot.kind = LightKind::Spot;
+    spot.vector = {float(v[0]), float(v[1]), float(v[2])};
+    spot.axis = {float(v[3]), float(v[4]), float(v[5])};
+    spot.cone_inner = float(v[6] * M_PI / 180.0);
+    spot.cone_outer = float(v[7] * M_PI / 180.0);
+    return spot;
+}
+
 namespace {
 
 // --method with its --set overrides (a method for every material), or none.
@@ -64,9 +99,12 @@ void check_options(const FrameCommand& cmd, FrameRequest& r) {
                          "' is neither the built-in 'room' nor a .gltf or .glb file");
     if (!cmd.camera.empty()) as_usage([&] { return parse_camera(cmd.camera); });
     if (!cmd.sun.empty()) r.sun = parse_sun(cmd.sun);
+    if (!cmd.spot.empty()) r.spot = parse_spot(cmd.spot);
+    if (r.sun && r.spot) throw UsageError("--spot: the frame has one light; --sun is another");
     r.shadows = parse_shadows(cmd.shadows);
-    if (r.shadows.map && !r.sun)
-        throw UsageError("--shadows " + cmd.shadows + ": a shadow map needs the sun (--sun)");
+    if (r.shadows.map && !r.sun && !r.spot)
+        throw UsageError("--shadows " + cmd.shadows +
+                         ": a shadow map needs the sun (--sun) or a spot (--spot)");
     r.shading.shadow = shadow_mode(r.shadows.march);
     if (r.shadows.map) {
         r.shadow_map = ShadowMapSettings();
@@ -113,6 +151,7 @@ Scene read_scene(const FrameCommand& cmd, const std::vector<MaterialSpec>& specs
     }
     // The sun lights the frame it casts shadows in.
     if (r.sun) scene.light = {LightKind::Directional, r.sun->toward};
+    if (r.spot) scene.light = *r.spot;
     for (const Mesh& m : scene.meshes) {
         bool known = m.material == 0;
         for (const MaterialSpec& s : specs) known |= s.id == m.material;

@@ -28,6 +28,9 @@ struct Sun {
 };
 // --sun's "ELEVATION,AZIMUTH" (y up, azimuth from +x toward +z). Throws UsageError naming --sun.
 Sun parse_sun(const std::string& text);
+// --spot's "X,Y,Z,AX,AY,AZ,INNER,OUTER" (the cone's half-angles in degrees). Throws UsageError
+// naming --spot.
+EngineLight parse_spot(const std::string& text);
 
 struct FrameRequest {
     const FrameCommand* cmd = nullptr;  // the options as given
@@ -39,6 +42,7 @@ struct FrameRequest {
     std::vector<MethodParams> methods;
     std::vector<size_t> auto_slots;
     std::optional<Sun> sun;
+    std::optional<EngineLight> spot;  // --spot (never with --sun)
     ShadowChoice shadows;
     ShadeSettings shading;  // the march; the map is the renderer's (shadow_map)
     // The sun's shadow map as the shading takes it (--shadows map), at --shadow-size.

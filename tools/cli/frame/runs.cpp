@@ -75,7 +75,7 @@ void render_deferred(const FrameCommand& cmd, FrameRuns& f) {
 // The shown frame's mask and the light's maps: the shown run's own with --shadows map, else the
 // shown frame once more with the map (its shading is not shown).
 void render_sun(const FrameRequest& r, FrameRuns& f) {
-    if (!r.sun) return;
+    if (!r.sun && !r.spot) return;
     FrameRenderer& renderer = *f.renderer;
     if (r.shadow_map) {
         f.sun = f.runs[f.shown_at];

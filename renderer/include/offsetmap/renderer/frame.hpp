@@ -87,6 +87,8 @@ struct ShadowMapSettings {
 struct LightMaps {
     int size = 0;
     std::vector<float> base, displaced;
+    // The light's view: NDC -> world (column-major; NDC y = +1 at row 0 of these rows).
+    std::array<float, 16> inverse_view_projection{};
 };
 
 // A scene drawn by the G-buffer raster alone (the truth's displaced meshes, a tessellation level),
