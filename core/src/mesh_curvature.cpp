@@ -70,9 +70,14 @@ M3 inverse(const M3& m) {
 // The mesh's arrays read at their strides.
 struct Arrays {
     const CurvatureMesh& m;
+    // Vertex k's floats in an array `stride` bytes a vertex (0: `packed`).
+    static const float* row(const float* base, std::size_t stride, std::size_t k,
+                            std::size_t packed) {
+        return reinterpret_cast<const float*>(reinterpret_cast<const char*>(base) +
+                                              k * (stride ? stride : packed));
+    }
     static D3 at(const float* base, std::size_t stride, std::size_t k, std::size_t packed) {
-        const auto* p = reinterpret_cast<const float*>(reinterpret_cast<const char*>(base) +
-                                                       k * (stride ? stride : packed));
+        const float* p = row(base, stride, k, packed);
         return {p[0], p[1], p[2]};
     }
     D3 position(std::size_t k) const {
@@ -83,10 +88,7 @@ struct Arrays {
         return at(m.tangents, m.tangent_stride, k, 4 * sizeof(float));
     }
     float handedness(std::size_t k) const {
-        const auto* p = reinterpret_cast<const float*>(
-            reinterpret_cast<const char*>(m.tangents) +
-            k * (m.tangent_stride ? m.tangent_stride : 4 * sizeof(float)));
-        return p[3];
+        return row(m.tangents, m.tangent_stride, k, 4 * sizeof(float))[3];
     }
 };
 

@@ -33,9 +33,5 @@ nlohmann::json pass_json(const renderer::FrameRun& r) {
     return j;
 }
 
-nlohmann::json summary_json(const renderer::ErrorSummary& e) {
-    return {{"mean", e.mean}, {"p95", e.p95}, {"max", e.max}};
-}
-
 }  // namespace offsetmap::cli
 #endif

@@ -23,7 +23,11 @@ nlohmann::json pass_json(const renderer::PassTimes& t);
 // A run's passes; with the sun's shadow map the light's passes that drew it, once a frame
 // (their times are in the frame's total), and the frames and light draws.
 nlohmann::json pass_json(const renderer::FrameRun& r);
-nlohmann::json summary_json(const renderer::ErrorSummary& e);
+// An error's mean, p95 and max (renderer::ErrorSummary, ErrorStats).
+template <typename Error>
+nlohmann::json summary_json(const Error& e) {
+    return {{"mean", e.mean}, {"p95", e.p95}, {"max", e.max}};
+}
 
 }  // namespace offsetmap::cli
 #endif

@@ -18,19 +18,34 @@ ShadowChoice parse_shadows(const std::string& value) {
     return c;
 }
 
+namespace {
+
+// An option's comma-separated numbers, each read whole; none where one is not a number.
+std::vector<double> numbers(const std::string& text) {
+    std::vector<double> v;
+    try {
+        for (size_t at = 0; at <= text.size();) {
+            const size_t comma = std::min(text.find(',', at), text.size());
+            const std::string part = text.substr(at, comma - at);
+            size_t used = 0;
+            v.push_back(std::stod(part, &used));
+            if (used != part.size()) return {};
+            at = comma + 1;
+        }
+    } catch (const std::exception&) {
+        return {};
+    }
+    return v;
+}
+
+}  // namespace
+
 Sun parse_sun(const std::string& text) {
     Sun sun;
-    const size_t comma = text.find(',');
-    size_t used_e = 0, used_a = 0;
-    try {
-        if (comma == std::string::npos) throw std::invalid_argument("no comma");
-        sun.elevation = std::stod(text.substr(0, comma), &used_e);
-        sun.azimuth = std::stod(text.substr(comma + 1), &used_a);
-    } catch (const std::exception&) {
-        used_e = 0;
-    }
-    if (used_e == 0 || used_e != comma || used_a != text.size() - comma - 1 ||
-        !(sun.elevation > 0.0 && sun.elevation <= 90.0) || !std::isfinite(sun.azimuth))
+    const std::vector<double> v = numbers(text);
+    if (v.size() == 2) sun.elevation = v[0], sun.azimuth = v[1];
+    if (v.size() != 2 || !(sun.elevation > 0.0 && sun.elevation <= 90.0) ||
+        !std::isfinite(sun.azimuth))
         throw UsageError(
             "--sun: expected ELEVATION,AZIMUTH in degrees, elevation in (0, 90], got '" + text +
             "'");
@@ -41,20 +56,7 @@ Sun parse_sun(const std::string& text) {
 }
 
 EngineLight parse_spot(const std::string& text) {
-    std::vector<double> v;
-    size_t at = 0;
-    try {
-        while (at <= text.size()) {
-            const size_t comma = std::min(text.find(',', at), text.size());
-            size_t used = 0;
-            const std::string part = text.substr(at, comma - at);
-            v.push_back(std::stod(part, &used));
-            if (used != part.size()) throw std::invalid_argument(part);
-            at = comma + 1;
-        }
-    } catch (const std::exception&) {
-        v.clear();
-    }
+    const std::vector<double> v = numbers(text);
     const auto finite = [&] {
         for (double x : v)
             if (!std::isfinite(x)) return false;

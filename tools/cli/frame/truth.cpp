@@ -24,10 +24,6 @@ nlohmann::json mismatch_json(const TruthComparison& c) {
             {"interior", c.mismatch_interior}};
 }
 
-nlohmann::json stats_json(const ErrorStats& e) {
-    return {{"mean", e.mean}, {"p95", e.p95}, {"max", e.max}};
-}
-
 // What every comparison shares: the truth drawn from the frame's camera, the frame's
 // G-buffer, the silhouette band.
 struct Truth {
@@ -103,7 +99,7 @@ nlohmann::json material_rows(const Truth& t, const TruthComparison& c,
         rows.push_back({{"id", m.spec.id},
                         {"name", m.spec.name},
                         {"interior_pixels", e.count},
-                        {"uv_err_texels", stats_json(e)}});
+                        {"uv_err_texels", summary_json(e)}});
         if (print)
             std::printf("  %-18s %9zu %9.3g %9.3g %9.3g  (interior)\n",
                         (std::to_string(m.spec.id) + " " + m.spec.name).c_str(), e.count, e.mean,
@@ -122,7 +118,7 @@ void triplanar_rows(const Truth& t, const FrameRun& run, const TruthComparison& 
     for (int blend = 0; blend < 2; ++blend) {
         const ErrorStats e = error_stats(errors[blend]);
         mode[blend ? "blend" : "one_projection"] = {{"pixels", e.count},
-                                                    {"uv_err_texels", stats_json(e)}};
+                                                    {"uv_err_texels", summary_json(e)}};
         std::printf("  %-18s %9zu %9.3g %9.3g %9.3g  (triplanar, interior)\n",
                     blend ? "blend" : "one projection", e.count, e.mean, e.p95, e.max);
     }
