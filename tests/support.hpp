@@ -306,11 +306,12 @@ inline double cells_crossed(const PreparedRay& pr, const PassSettings& s, int w,
 //    cells crossed, with float rounding's slack (cells_crossed), and +2 more under LOD (a coarser
 //    level's cell lines are at most one more per axis than level 0's over the same stretch).
 //    `cone`: each step leaves at least one cell or ends, and costs a cone fetch and at most one
-//    patch. `maxmip`: each step tests one block (or patch) and then descends a level or leaves the
-//    block; a climb follows only a leave, so descents <= top + leaves, and leaves at level k <=
-//    the level-k blocks crossed: at most top + 1 + 2 sum_k (blocks_k + 2).
-//    `sphere` with cells: a distance fetch per step, a patch per cell, and each return to the cells
-//    may solve the cell it left once more: at most 2 steps + cells.
+//    patch. With `beam` on (cone, maxmip), plus the beam's steps. `maxmip`: each step tests one
+//    block (or patch) and then descends a level or leaves the block; a climb follows only a leave,
+//    so descents <= top + leaves, and leaves at level k <= the level-k blocks crossed: at most top
+//    + 1 + 2 sum_k (blocks_k + 2). `sphere` with cells: a distance fetch per step, a patch per
+//    cell, and each return to the cells may solve the cell it left once more: at most 2 steps +
+//    cells.
 struct WalkRay {
     const PassSettings& s;
     const HeightMap& map;
@@ -322,6 +323,11 @@ struct WalkRay {
         const double t_enter = -s.scale * (1.0 - s.reference_plane) / pr.V[2];
         return cells_crossed(pr, s, map.width, map.height, t_enter, t_end, block, true) +
                (s.lod.enabled ? 2.0 : 0.0);
+    }
+    // With `beam` on, the beam's steps count on each of its lanes (common/beam.cl); the walk
+    // from its safe start crosses no more cells than from the top.
+    double beam_steps() const {
+        return params.method->beam && params["beam"] != 0 ? OM_BEAM_STEPS : 0.0;
     }
 };
 
@@ -359,9 +365,9 @@ inline const std::vector<TestRow>& test_rows() {
                  om_maxmip_levels(r.map.width, r.map.height, static_cast<om_int>(r.s.address));
              double sum = 0;
              for (int k = 0; k <= top; ++k) sum += r.cells(1 << k);
-             return top + 1 + 2 * sum;
+             return top + 1 + 2 * sum + r.beam_steps();
          }},
-        {"cone", nullptr, [](const WalkRay& r) { return 2 * r.cells(); }},
+        {"cone", nullptr, [](const WalkRay& r) { return 2 * r.cells() + r.beam_steps(); }},
         {"exact", nullptr, [](const WalkRay& r) { return r.cells(); }},
     };
     return rows;

@@ -213,6 +213,52 @@ TEST(Cone, ExactOnAThinMapThousandsOfCellsTall) {
 // bound the extruded relief.
 TEST(MaxMip, AgreesWithTheOracleOnOddSizesAndClampAddressing) { agrees_on_odd_maps("maxmip"); }
 
+// The beam (common/beam.cl) under cone, whose pyramid lies after the cone map's tiles: a camera's
+// neighbouring pixels skip together, then walk on; every pixel of a 320 x 180 plane frame within
+// its bound of the oracle (or a graze's other answer), on maps of one and several cone tiles a side
+// (the pyramid's offset), a rocks crop, cliffs and spikes, both address modes, r 1 and 0.6. The
+// beam's own steps show in the fetches: it ran. (maxmip's beam: the property test's coherent rays.)
+TEST(Cone, WithTheBeamMeetsTheOracleOnACameraFrame) {
+    const HeightMap rocks = load_height_map(std::string(OFFSETMAP_SOURCE_DIR) + "/data/rocks.png");
+    const std::vector<Case> cases = {
+        {"rocks-96x64", cropped(rocks, 96, 64)},
+        {"cliffs-64", cliff_map(64)},
+        {"spikes-32x128", make_map(32, 128, [](int i, int j) {
+             return (i % 5 == 1 && j % 7 == 2) ? 1.0f : 0.02f;
+         })}};
+    PlaneScene p;
+    p.width = 320;
+    p.height = 180;
+    const GBuffer gb = make_scene(p);
+    for (const auto& c : cases)
+        for (AddressMode address : {AddressMode::Wrap, AddressMode::Clamp})
+            for (float ref : {1.0f, 0.6f}) {
+                PassSettings s;
+                s.scale = 0.1f;
+                s.reference_plane = ref;
+                s.address = address;
+                const OffsetResult with = run("cone", c.map, gb, s, {{"beam", "1"}});
+                const OffsetResult without = run("cone", c.map, gb, s);
+                size_t grazes = 0, traced = 0;
+                for (size_t k = 0; k < gb.pixels(); ++k) {
+                    const double V[3] = {gb.view[k].s[0], gb.view[k].s[1], gb.view[k].s[2]};
+                    const PreparedRay pr = prepare_ray(gb.uv[k].s[0], gb.uv[k].s[1], V, s,
+                                                       c.map.width, c.map.height);
+                    if (!pr.traced) continue;
+                    ++traced;
+                    const ExactHit o = exact_hit(c.map, pr.u, pr.v, pr.V, s);
+                    const HitVerdict hit = judge_hit(c.map, pr, s, o, with.uv[k].s[0],
+                                                     with.uv[k].s[1], with.depth[k]);
+                    grazes += hit.graze;
+                    ASSERT_TRUE(hit.ok || hit.graze)
+                        << c.name << " pixel " << k << ": " << hit.texels << " texels, t "
+                        << with.depth[k] << ", the oracle's " << o.t;
+                }
+                EXPECT_LT(grazes, traced / 100) << c.name;
+                EXPECT_NE(mean_fetches(with), mean_fetches(without)) << c.name;
+            }
+}
+
 TEST(MaxMip, LevelZeroIsExactAndTheHierarchySavesFetchesOnLongRays) {
     // Long traversals (smooth relief, grazing views, large s) are where a max pyramid pays: blocks
     // above the ray are skipped whole. On noise every block's maximum is near 1 and rays hit

@@ -7,7 +7,10 @@
 // constant, crops of data/rocks.png), an address mode, a height storage (floats, or unorm16 words:
 // the map rounded to multiples of 1/65535 first, which the oracle then reads too), r in
 // {1, 0.6, 0}, a scale, and 64 rays from the grazing minimum (some below it, raised by the rule)
-// to straight down, some along an axis, some starting on texel centres or cell edges.
+// to straight down, some along an axis, some starting on texel centres or cell edges. The beam's
+// variants (`beam=1`: a work-item's rays skip the empty space together) run on 128 more rays of the
+// case, drawn apart, in groups of 16 that share a work-item: neighbouring starts and near-parallel
+// views as a camera's pixels have, some groups with one stray ray (an edge), some spread wide.
 //
 // The suite runs kDefaultCases cases from seed 1. A longer run: `./run property CASES [SEED]`, or
 // the environment variables OFFSETMAP_PROPERTY_CASES and OFFSETMAP_PROPERTY_SEED. A failing case
@@ -19,7 +22,18 @@ namespace {
 
 constexpr int kDefaultCases = 200;
 constexpr int kRaysPerCase = 256;
-const char* const kMethods[] = {"exact", "maxmip", "cone"};
+constexpr int kCoherentRays = 128;
+
+// A method and its parameters; the beam's variants trace the coherent rays.
+struct Variant {
+    const char* method;
+    std::map<std::string, std::string> params;
+    std::string label() const {
+        return method + (params.empty() ? "" : " " + describe_setting(params));
+    }
+};
+const Variant kVariants[] = {
+    {"exact", {}}, {"maxmip", {}}, {"cone", {}}, {"maxmip", {{"beam", "1"}}}};
 
 long env_long(const char* name, long fallback) {
     const char* v = std::getenv(name);
@@ -141,7 +155,50 @@ struct PropertyCase {
     HeightMap map;     // as the passes read it (rounded under unorm16)
     PassSettings settings;
     GBuffer rays;
+    GBuffer coherent;  // groups of 16 neighbouring rays, for the beam's variants
 };
+
+// A view at an elevation drawn as the rays' (from the grazing minimum, some below it) and any
+// azimuth.
+std::array<double, 2> draw_view(Rng& rng, double min_elev) {
+    const double pick = rng.uniform();
+    const double elev = pick < 0.05  ? rng.uniform(0.1, min_elev)  // raised by the rule
+                        : pick < 0.1 ? min_elev
+                        : pick < 0.35
+                            ? rng.uniform(min_elev, 5.0)
+                            : std::asin(rng.uniform(std::sin(5.0 * M_PI / 180), 1.0)) * 180 / M_PI;
+    return {elev, rng.uniform(0.0, 360.0)};
+}
+
+// kCoherentRays rays in groups of 16 (one work-item's lanes, 16 x 1 in a one-row G-buffer): a
+// group's starts 0-3 texels apart on a 4 x 4 grid and its views within half a degree, as a camera's
+// neighbouring pixels; a quarter of the groups have one ray from elsewhere (an edge's), an eighth
+// are spread over the whole map.
+GBuffer draw_coherent(Rng& rng, int w, int h, double min_elev) {
+    GBuffer g;
+    g.resize(kCoherentRays, 1, false, false);
+    for (int group = 0; group < kCoherentRays / 16; ++group) {
+        const auto [elev, az] = draw_view(rng, min_elev);
+        const double u0 = rng.uniform(-0.5, 1.5), v0 = rng.uniform(-0.5, 1.5);
+        const double du = rng.uniform(0.0, 3.0) / w, dv = rng.uniform(0.0, 3.0) / h;
+        const bool stray = rng.chance(0.25), wide = rng.chance(0.125);
+        const int stray_lane = rng.integer(0, 15);
+        for (int k = 0; k < 16; ++k) {
+            double u = u0 + (k % 4) * du, v = v0 + (k / 4) * dv;
+            double e = std::max(0.1, elev + rng.uniform(-0.5, 0.5)),
+                   a = az + rng.uniform(-0.5, 0.5);
+            if (wide) u = rng.uniform(-0.5, 1.5), v = rng.uniform(-0.5, 1.5);
+            if (stray && k == stray_lane) {
+                const auto view = draw_view(rng, min_elev);
+                e = view[0], a = view[1], u = rng.uniform(-0.5, 1.5), v = rng.uniform(-0.5, 1.5);
+            }
+            const std::array<float, 3> V = view_dir(e, a);
+            g.uv[group * 16 + k] = {{static_cast<float>(u), static_cast<float>(v)}};
+            g.view[group * 16 + k] = {{V[0], V[1], V[2], 0.0f}};
+        }
+    }
+    return g;
+}
 
 PropertyCase draw_case(std::uint64_t seed) {
     Rng rng(seed);
@@ -166,13 +223,7 @@ PropertyCase draw_case(std::uint64_t seed) {
     const double min_elev = s.min_elevation_deg;
     c.rays.resize(kRaysPerCase, 1, false, false);
     for (int k = 0; k < kRaysPerCase; ++k) {
-        const double pick = rng.uniform();
-        const double elev =
-            pick < 0.05   ? rng.uniform(0.1, min_elev)  // raised by the rule
-            : pick < 0.1  ? min_elev
-            : pick < 0.35 ? rng.uniform(min_elev, 5.0)
-                          : std::asin(rng.uniform(std::sin(5.0 * M_PI / 180), 1.0)) * 180 / M_PI;
-        double az = rng.uniform(0.0, 360.0);
+        const auto [elev, az] = draw_view(rng, min_elev);
         std::array<float, 3> V = view_dir(elev, az);
         if (rng.chance(0.1)) {  // along an axis: one component exactly zero
             const int axis = rng.integer(0, 3);
@@ -197,6 +248,8 @@ PropertyCase draw_case(std::uint64_t seed) {
                   s.address == AddressMode::Wrap ? "wrap" : "clamp", unorm16 ? "unorm16" : "float",
                   s.scale, s.reference_plane);
     c.text = text;
+    Rng apart(seed ^ 0x5bd1e995u);  // its own stream: the rays above stay as they were drawn
+    c.coherent = draw_coherent(apart, w, h, min_elev);
     return c;
 }
 
@@ -211,6 +264,76 @@ struct MethodStats {
     std::string worst_case;
 };
 
+// A G-buffer's rays as the oracle prepares them, and its hits.
+struct RaySet {
+    std::vector<PreparedRay> prepared;
+    std::vector<ExactHit> oracle;
+};
+
+RaySet prepare_rays(const HeightMap& map, const GBuffer& rays, const PassSettings& s) {
+    RaySet out;
+    const size_t n = rays.uv.size();
+    out.prepared.resize(n);
+    out.oracle.resize(n);
+    for (size_t k = 0; k < n; ++k) {
+        const double V[3] = {rays.view[k].s[0], rays.view[k].s[1], rays.view[k].s[2]};
+        out.prepared[k] =
+            prepare_ray(rays.uv[k].s[0], rays.uv[k].s[1], V, s, map.width, map.height);
+        if (out.prepared[k].traced)
+            out.oracle[k] =
+                exact_hit(map, out.prepared[k].u, out.prepared[k].v, out.prepared[k].V, s);
+    }
+    return out;
+}
+
+// One variant over one set of the case's rays: each traced ray within its bound of the oracle (or
+// a graze's other answer) and within its walk's fetch cap.
+void check_variant(const Variant& v, const PropertyCase& c, const GBuffer& rays, const RaySet& set,
+                   bool loop_limited, MethodStats& st) {
+    const PassSettings& s = c.settings;
+    const OffsetResult res = run(v.method, c.map, rays, s, v.params);
+    int failures = 0;
+    for (size_t k = 0; k < set.prepared.size() && failures < 3; ++k) {
+        const PreparedRay& pr = set.prepared[k];
+        const auto where = [&] { return v.label() + ", ray " + std::to_string(k); };
+        // A walk whose cap allows more iterations than llvmpipe's budget may be stopped by it (the
+        // method's own cap, max_cells, is never reached on these rays).
+        if (pr.traced && loop_limited && (res.flags[k] & OM_FLAG_CAPPED) &&
+            ray_fetch_cap(v.method, s, c.map, pr, set.oracle[k].t, v.params) > kLlvmpipeLoopLimit) {
+            ++st.loop_limited;  // flagged, as a capped walk is: not a wrong answer
+            continue;
+        }
+        EXPECT_EQ(res.flags[k] & ~OM_FLAG_GRAZING, pr.flags & ~OM_FLAG_GRAZING) << where();
+        if (!pr.traced) continue;
+        ++st.rays;
+        const ExactHit& o = set.oracle[k];
+        // The walk's cap up to the later of its hit and the oracle's (a graze's other answer lies
+        // beyond the oracle's).
+        const double cap =
+            ray_fetch_cap(v.method, s, c.map, pr, std::max<double>(o.t, res.depth[k]), v.params);
+        if (res.fetches[k] > cap) {
+            ++failures;
+            ADD_FAILURE() << where() << ": " << res.fetches[k] << " fetches, cap " << cap;
+        }
+        const HitVerdict hit =
+            judge_hit(c.map, pr, s, o, res.uv[k].s[0], res.uv[k].s[1], res.depth[k]);
+        if (hit.graze) {
+            ++st.grazes;
+            continue;
+        }
+        if (hit.texels > st.worst_texels) st.worst_texels = hit.texels, st.worst_case = c.text;
+        st.worst_ratio = std::max(st.worst_ratio, hit.share_of_bound);
+        if (!hit.ok) {
+            const RayTolerance tol = ray_tolerance(c.map, pr, s, o.t);
+            ++failures;
+            ADD_FAILURE() << where() << ": uv' " << hit.texels << " texels (bound " << tol.texels
+                          << "), t " << res.depth[k] << " vs the oracle's " << o.t << " (bound "
+                          << tol.dt << "); uv " << pr.u << "," << pr.v << " V " << pr.V[0] << ","
+                          << pr.V[1] << "," << pr.V[2];
+        }
+    }
+}
+
 TEST(ExactProperty, ExactMethodsMeetTheOracleOnRandomMapsAndRays) {
     const long cases = env_long("OFFSETMAP_PROPERTY_CASES", kDefaultCases);
     const long first = env_long("OFFSETMAP_PROPERTY_SEED", 1);
@@ -223,78 +346,29 @@ TEST(ExactProperty, ExactMethodsMeetTheOracleOnRandomMapsAndRays) {
         SCOPED_TRACE(c.text + "; repeat with OFFSETMAP_PROPERTY_SEED=" + std::to_string(seed) +
                      " OFFSETMAP_PROPERTY_CASES=1");
         const PassSettings& s = c.settings;
-        std::vector<PreparedRay> prepared(kRaysPerCase);
-        std::vector<ExactHit> oracle(kRaysPerCase);
-        for (int k = 0; k < kRaysPerCase; ++k) {
-            const double V[3] = {c.rays.view[k].s[0], c.rays.view[k].s[1], c.rays.view[k].s[2]};
-            prepared[k] =
-                prepare_ray(c.rays.uv[k].s[0], c.rays.uv[k].s[1], V, s, c.map.width, c.map.height);
-            if (prepared[k].traced)
-                oracle[k] = exact_hit(c.map, prepared[k].u, prepared[k].v, prepared[k].V, s);
-        }
-        for (const char* method : kMethods) {
-            const OffsetResult res = run(method, c.map, c.rays, s);
-            MethodStats& st = stats[method];
-            int failures = 0;
-            for (int k = 0; k < kRaysPerCase && failures < 3; ++k) {
-                const PreparedRay& pr = prepared[k];
-                const auto where = [&] {
-                    return std::string(method) + ", ray " + std::to_string(k);
-                };
-                // A walk whose cap allows more iterations than llvmpipe's budget may be stopped
-                // by it (the method's own cap, max_cells, is never reached on these rays).
-                if (pr.traced && loop_limited && (res.flags[k] & OM_FLAG_CAPPED) &&
-                    ray_fetch_cap(method, s, c.map, pr, oracle[k].t) > kLlvmpipeLoopLimit) {
-                    ++st.loop_limited;  // flagged, as a capped walk is: not a wrong answer
-                    continue;
-                }
-                EXPECT_EQ(res.flags[k] & ~OM_FLAG_GRAZING, pr.flags & ~OM_FLAG_GRAZING) << where();
-                if (!pr.traced) continue;
-                ++st.rays;
-                const ExactHit& o = oracle[k];
-                // The walk's cap up to the later of its hit and the oracle's (a graze's other
-                // answer lies beyond the oracle's).
-                const double cap =
-                    ray_fetch_cap(method, s, c.map, pr, std::max<double>(o.t, res.depth[k]));
-                if (res.fetches[k] > cap) {
-                    ++failures;
-                    ADD_FAILURE() << where() << ": " << res.fetches[k] << " fetches, cap " << cap;
-                }
-                const HitVerdict hit =
-                    judge_hit(c.map, pr, s, o, res.uv[k].s[0], res.uv[k].s[1], res.depth[k]);
-                if (hit.graze) {
-                    ++st.grazes;
-                    continue;
-                }
-                if (hit.texels > st.worst_texels)
-                    st.worst_texels = hit.texels, st.worst_case = c.text;
-                st.worst_ratio = std::max(st.worst_ratio, hit.share_of_bound);
-                if (!hit.ok) {
-                    const RayTolerance tol = ray_tolerance(c.map, pr, s, o.t);
-                    ++failures;
-                    ADD_FAILURE() << where() << ": uv' " << hit.texels << " texels (bound "
-                                  << tol.texels << "), t " << res.depth[k] << " vs the oracle's "
-                                  << o.t << " (bound " << tol.dt << "); uv " << pr.u << "," << pr.v
-                                  << " V " << pr.V[0] << "," << pr.V[1] << "," << pr.V[2];
-                }
-            }
-        }
+        const RaySet random = prepare_rays(c.map, c.rays, s),
+                     coherent = prepare_rays(c.map, c.coherent, s);
+        for (const Variant& v : kVariants)
+            check_variant(v, c, v.params.empty() ? c.rays : c.coherent,
+                          v.params.empty() ? random : coherent, loop_limited, stats[v.label()]);
     }
-    for (const char* method : kMethods) {
+    for (const Variant& v : kVariants) {
+        const std::string method = v.label();
         const MethodStats& st = stats[method];
         std::printf(
             "%s: %zu rays in %ld cases (seeds %ld-%ld): worst %.3g texels (%s), %.2f of its "
             "bound at most; %zu grazes answered by the other hit; %zu stopped by the driver's loop "
             "limit\n",
-            method, st.rays, cases, first, first + cases - 1, st.worst_texels,
+            method.c_str(), st.rays, cases, first, first + cases - 1, st.worst_texels,
             st.worst_case.c_str(), st.worst_ratio, st.grazes, st.loop_limited);
         if (!loop_limited) {
             EXPECT_EQ(st.loop_limited, 0u);
         }
         if (cases == kDefaultCases && first == 1) {
-            record_figure(std::string(method) + ".property.rays", static_cast<double>(st.rays));
-            record_figure(std::string(method) + ".property.worst_texels", st.worst_texels);
-            record_figure(std::string(method) + ".property.worst_share_of_bound", st.worst_ratio);
+            if (!v.params.empty()) continue;
+            record_figure(method + ".property.rays", static_cast<double>(st.rays));
+            record_figure(method + ".property.worst_texels", st.worst_texels);
+            record_figure(method + ".property.worst_share_of_bound", st.worst_ratio);
         }
     }
 }

@@ -50,6 +50,7 @@ class Row {
     }
     Row& fetch_cap(double (*cap)(const MethodParams&)) { return set(m_.fetch_cap, cap); }
     Row& lane_pairs() { return set(m_.lane_pairs, true); }
+    Row& beam() { return set(m_.beam, true); }
     Row& glsl(const char* branch, std::map<std::string, float> only_with = {}) {
         m_.glsl_only_with = std::move(only_with);
         return set(m_.glsl, branch);
@@ -201,8 +202,12 @@ const std::vector<MethodInfo>& methods() {
                      "block tests)")
             .reference("Tevs, Ihrke & Seidel 2008, maximum mipmaps for height field rendering")
             .params({integer_param("max_level", OM_MAXMIP_MAX_LEVEL, 0, OM_MAXMIP_MAX_LEVEL,
-                                   "highest pyramid level used (0: plain DDA, as exact)")})
+                                   "highest pyramid level used (0: plain DDA, as exact)"),
+                     integer_param("beam", 0, 0, 1,
+                                   "1: a work-item's rays first skip together the empty space "
+                                   "the pyramid proves")})
             .precompute(&kMaxPyramid)
+            .beam()
             .sweep({{{"max_level", "0"}}, {{"max_level", "3"}}, {{"max_level", "15"}}})
             .fetch_cap(cap_cells),
         Row("cone", "cone.cl")
@@ -213,9 +218,14 @@ const std::vector<MethodInfo>& methods() {
                 "Dummer 2006 and Policarpo & Oliveira 2007 (GPU Gems 3 ch. 18), cone step mapping; "
                 "Bán, Valasek et al. 2024, robust cone step mapping")
             .params({integer_param(
-                "max_ratio", 64, 1, 1024,
-                "widest cone stored, texels per unit height: bounds the build's search radius")})
+                         "max_ratio", 64, 1, 1024,
+                         "widest cone stored, texels per unit height: bounds the build's search "
+                         "radius"),
+                     integer_param("beam", 0, 0, 1,
+                                   "1: a work-item's rays first skip together the empty space "
+                                   "the max pyramid proves (stored after the cone map)")})
             .precompute(&kConeMap)
+            .beam()
             .sweep({{{"max_ratio", "4"}},
                     {{"max_ratio", "16"}},
                     {{"max_ratio", "64"}},
@@ -352,6 +362,7 @@ std::vector<std::string> offset_program_files(const MethodInfo& m) {
     std::vector<std::string> files = {"common/sampling.cl", "common/ray.cl", "common/patch.cl",
                                       "common/curved.cl"};
     if (m.precompute && m.precompute->layout_file) files.push_back(m.precompute->layout_file);
+    if (m.beam) files.insert(files.end(), {"methods/maxmip_pyramid.h", "common/beam.cl"});
     files.insert(files.end(), {"methods/" + m.kernel_file, "common/blocks.cl", "offset.cl"});
     return files;
 }

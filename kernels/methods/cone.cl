@@ -109,6 +109,13 @@ OM_INLINE OmF om_trace(const OmRay* r, const OmField* f, const OmOffsetParams* P
     const int tiles_x = om_cone_tiles(P->hf_width);
     OmConeWalk s;
     om_cone_begin(r, f, active, &s);
+    // With `beam` on, the lanes first skip together what the beam proves empty (common/beam.cl),
+    // over the max pyramid stored after the cone map's tiles.
+    if (OM_PARAM(P, beam) != 0.0f) {
+        s.t = om_beam_start(r, f, &s.w, om_cone_pyramid(f->aux, P->hf_width, P->hf_height), P,
+                            active, fetches);
+        om_walk_cell(&s.w, s.t, &s.i, &s.j);
+    }
     for (int n = 0; n < P->max_cells && OM_ANY(!s.done); ++n)
         om_cone_step(r, f, tiles_x, &s, fetches OM_IMG_ARG);
     // Lanes still walking ran out of cells.
@@ -129,6 +136,12 @@ OM_INLINE void om_trace_pair(const OmRay* ra, const OmField* fa, OmI active_a, c
     OmConeWalk a, b;
     om_cone_begin(ra, fa, active_a, &a);
     om_cone_begin(rb, fb, active_b, &b);
+    if (OM_PARAM(P, beam) != 0.0f) {
+        om_beam_start_pair(ra, fa, &a.w, active_a, fetches_a, &a.t, rb, fb, &b.w, active_b,
+                           fetches_b, &b.t, om_cone_pyramid(fa->aux, P->hf_width, P->hf_height), P);
+        om_walk_cell(&a.w, a.t, &a.i, &a.j);
+        om_walk_cell(&b.w, b.t, &b.i, &b.j);
+    }
     OM_PAIR_LOOP(P->max_cells,  //
                  OM_ANY(!a.done), om_cone_step(ra, fa, tiles_x, &a, fetches_a OM_IMG_ARG),
                  OM_ANY(!b.done), om_cone_step(rb, fb, tiles_x, &b, fetches_b OM_IMG_ARG));

@@ -35,5 +35,10 @@ static inline float om_cone_ratio(om_uint q) {
 #define OM_CONE_INDEX(i, j, tiles_x)                                           \
     (((((j) >> 5) * (tiles_x) + ((i) >> 5)) << 10) + ((((j) >> 2) & 7) << 7) + \
      ((((i) >> 2) & 7) << 4) + (((j)&3) << 2) + ((i)&3))
+// With `beam` on, maxmip's pyramid of the same field follows the cone map's tiles.
+static inline long om_cone_words(int width, int height) {
+    return (long)om_cone_tiles(width) * om_cone_tiles(height) * OM_CONE_TILE * OM_CONE_TILE;
+}
+#define om_cone_pyramid(aux, width, height) ((aux) + om_cone_words(width, height))
 
 #endif

@@ -56,6 +56,8 @@ OM_INLINE OmF om_trace(const OmRay* r, const OmField* f, const OmOffsetParams* P
     OmF span = (r->t_exit - r->t_enter) * fmax(fabs(w.dx), fabs(w.dy));
     top = min(top, OM_SEL((OmI)0, OM_TO_INT(ceil(log2(span))), span > 1.0f));
     OmF t = r->t_enter;
+    // With `beam` on, the lanes first skip together what the beam proves empty (common/beam.cl).
+    if (OM_PARAM(P, beam) != 0.0f) t = om_beam_start(r, f, &w, f->aux, P, active, fetches);
     OmI i, j;
     om_walk_cell(&w, t, &i, &j);
     OmI k = top;

@@ -10,6 +10,9 @@
 
 // Level k holds 2^k x 2^k blocks, up to this level.
 #define OM_MAXMIP_MAX_LEVEL 15
+// The most steps a beam takes over the pyramid (common/beam.cl): each doubles, halves or ends its
+// interval, and counts as a fetch on each of its lanes.
+#define OM_BEAM_STEPS 16
 // The pyramid is stored over the map padded up to a multiple of 2^levels on each side, so
 // every level is an exact halving of the one below; `levels` is the largest count whose padding
 // adds at most an eighth to either side (none for powers of two: 1024 has 10 levels, 1025 has 7)

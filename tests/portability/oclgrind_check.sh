@@ -94,6 +94,14 @@ run_case pom-spacing-lod-lanes16 16 render --method pom "${frame[@]}" --set spac
 run_case exact-clamp-float 1 render --method exact "${frame[@]}" --address clamp \
     --height-storage float
 OFFSETMAP_IMAGES=1 run_case cone-images-clamp 1 render --method cone "${frame[@]}" --address clamp
+# The beam (common/beam.cl) needs sides a multiple of 2: a 32 x 16 crop of rocks.png, a frame
+# whose work-items' rays skip together, and at one lane one ray's beam; clamp reads edge blocks.
+even=(--height-map "$root/tests/portability/even32x16.png" --width 19 --height 13)
+for lanes in 1 16; do
+    run_case cone-beam-lanes$lanes $lanes render --method cone --set beam=1 "${even[@]}"
+    run_case maxmip-beam-clamp-lanes$lanes $lanes render --method maxmip --set beam=1 \
+        "${even[@]}" --address clamp
+done
 run_case shade-hard 1 render --method pom "${frame[@]}" --shadows hard --color-out "$work/h.png"
 run_case shade-soft 1 render --method relief "${frame[@]}" --shadows soft --color-out "$work/s.png"
 run_case random-exact 1 render --method exact --scene random --width 17 --height 11 \

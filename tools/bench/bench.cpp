@@ -25,6 +25,7 @@
 
 #include "bench_frame.hpp"
 #include "bench_glsl_peer.hpp"
+#include "bench_groups.hpp"
 #include "bench_materials.hpp"
 #include "bench_rebuild.hpp"
 #include "bench_util.hpp"
@@ -58,28 +59,6 @@ double host_memcpy_gbps(size_t bytes, int reps = 7, const std::function<void()>&
         ts.push_back(clock.total());
     }
     return 2.0 * bytes / median(ts) * 1e-6;
-}
-
-// The share of lane-steps that fetch for a live lane when pixels are grouped in tw x th tiles
-// (one work-item each; rows of `tw` when th = 1 and the width is a multiple): each group runs as
-// many steps as its slowest pixel.
-double lanes_busy(const std::vector<std::uint32_t>& fetches, int width, int height, int tw,
-                  int th) {
-    double busy = 0, steps = 0;
-    for (int y0 = 0; y0 < height; y0 += th)
-        for (int x0 = 0; x0 < width; x0 += tw) {
-            std::uint32_t most = 0;
-            int count = 0;
-            for (int y = y0; y < std::min(height, y0 + th); ++y)
-                for (int x = x0; x < std::min(width, x0 + tw); ++x) {
-                    const std::uint32_t f = fetches[static_cast<size_t>(y) * width + x];
-                    busy += f;
-                    most = std::max(most, f);
-                    ++count;
-                }
-            steps += static_cast<double>(most) * count;
-        }
-    return steps > 0 ? busy / steps : 1.0;
 }
 
 struct Bench {
@@ -481,7 +460,7 @@ int main(int argc, char** argv) {
         "offsetmap_bench: throughput of every offset method against the device's roofline"};
     bool quick = false, smoke = false, materials_only = false, peer_only = false,
          frame_only = false, rebuild_only = false, curved_only = false, shadow_only = false,
-         triplanar_only = false;
+         triplanar_only = false, groups_only = false;
     std::string out_dir = "out/bench", device;
     double target_ms = 300;
     app.add_flag("--quick", quick, "720p only, smaller maps and grids (about a minute)");
@@ -518,6 +497,10 @@ int main(int argc, char** argv) {
     app.add_flag("--triplanar", triplanar_only,
                  "only the terrain scene (no uv) at the main resolution, its materials triplanar "
                  "against the same scene uv-mapped from above with the same methods, in turns");
+    app.add_flag("--groups", groups_only,
+                 "only each method's cost in a GPU's SIMD groups at the main resolution: steps per "
+                 "pixel and group efficiency (groups of 8, 16, 32, 64 pixels) on the room, the "
+                 "terrain and random rays, with its error against exact and the time here");
     app.add_flag("--rebuild", rebuild_only,
                  "only a changing height field: its in-place update and each method's "
                  "precomputed data rebuilt, at 256^2, 1024^2 and 2048^2");
@@ -604,6 +587,13 @@ int main(int argc, char** argv) {
             b.out["triplanar"] = bench_triplanar_frame(b.rt, main_res, data_dir, frame_rounds);
             std::ofstream(out_dir + "/bench-triplanar.json") << b.out.dump(2) << "\n";
             std::printf("\nwrote %s/bench-triplanar.json\n", out_dir.c_str());
+            return 0;
+        }
+        if (groups_only) {
+            b.out["groups"] = bench_groups(b.rt, main_res, data_dir, smoke ? 1 : 5);
+            std::ofstream(out_dir + "/bench-groups.json") << b.out.dump(1) << "\n";
+            std::printf("\nwrote %s/bench-groups.json\n", out_dir.c_str());
+            if (charts) draw_charts(out_dir + "/bench-groups.json", out_dir);
             return 0;
         }
         if (curved_only) {

@@ -2,6 +2,7 @@
 #pragma once
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <functional>
 #include <vector>
 
@@ -62,6 +63,30 @@ inline std::vector<Timing> time_interleaved(const std::vector<std::function<cl::
     std::vector<std::function<double()>> runs;
     for (const auto& launch : launches) runs.push_back([&launch] { return launch_ms(launch); });
     return time_interleaved_ms(runs, target_ms);
+}
+
+// The share of lane-steps that fetch for a live lane when pixels are grouped in tw x th tiles
+// (one work-item each, or a GPU's SIMD group; rows of `tw` when th = 1 and the width is a
+// multiple): each group runs as many steps as its slowest pixel. `group_steps`, when given, gets
+// the lane-steps the groups run (their slowest pixel's steps times their pixels).
+inline double lanes_busy(const std::vector<std::uint32_t>& fetches, int width, int height, int tw,
+                         int th, double* group_steps = nullptr) {
+    double busy = 0, steps = 0;
+    for (int y0 = 0; y0 < height; y0 += th)
+        for (int x0 = 0; x0 < width; x0 += tw) {
+            std::uint32_t most = 0;
+            int count = 0;
+            for (int y = y0; y < std::min(height, y0 + th); ++y)
+                for (int x = x0; x < std::min(width, x0 + tw); ++x) {
+                    const std::uint32_t f = fetches[static_cast<size_t>(y) * width + x];
+                    busy += f;
+                    most = std::max(most, f);
+                    ++count;
+                }
+            steps += static_cast<double>(most) * count;
+        }
+    if (group_steps) *group_steps = steps;
+    return steps > 0 ? busy / steps : 1.0;
 }
 
 struct Resolution {

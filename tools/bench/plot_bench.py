@@ -7,8 +7,8 @@ Writes OUT_DIR/bench-growth.png: kernel ns/pixel against resolution (should be f
 height-map size (cache effects) and against step count (should be linear), plus the methods at
 their defaults as a share of the device's fetch roofline; and, when the bench ran the GLSL peer,
 OUT_DIR/bench-glsl-peer.png: each method's kernel against the same method in a fragment shader,
-ns/pixel side by side with the kernel's speed-up written on each pair. Needs Debian's
-python3-matplotlib.
+ns/pixel side by side with the kernel's speed-up written on each pair; for `--groups`,
+plot_groups.py's chart. Needs Debian's python3-matplotlib.
 """
 import json
 import sys
@@ -32,6 +32,10 @@ def main():
         sys.exit(__doc__)
     doc = json.load(open(sys.argv[1]))
     peer = doc.get("glsl_peer", {})
+    if "groups" in doc:  # offsetmap_bench --groups
+        from plot_groups import plot_groups
+        plot_groups(doc, sys.argv[2])
+        return
     if "by_resolution" not in doc:  # offsetmap_bench --glsl-peer: that chart alone
         if peer.get("rows"):
             plot_peer(peer, doc, sys.argv[2])

@@ -99,6 +99,7 @@ inline int as_int(float x) {
 inline bool isfinite(float x) { return std::isfinite(x); }
 inline int min(int a, int b) { return std::min(a, b); }
 inline int max(int a, int b) { return std::max(a, b); }
+inline int clz(int x) { return x == 0 ? 32 : __builtin_clz(static_cast<unsigned>(x)); }
 inline int clamp(int v, int lo, int hi) { return std::min(std::max(v, lo), hi); }
 inline float clamp(float v, float lo, float hi) { return std::fmin(std::fmax(v, lo), hi); }
 

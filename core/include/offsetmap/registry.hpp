@@ -73,6 +73,9 @@ struct MethodInfo {
     // device with lanes a work-item then takes two groups, so that one group's dependent reads
     // overlap the other's work (worth it for walks whose every step waits on its last read).
     bool lane_pairs = false;
+    // The kernel file reads the beam (kernels/common/beam.cl: its lanes skip the empty space above
+    // the relief together, over the max pyramid its precomputed data holds).
+    bool beam = false;
     // Its forward version for a GLSL fragment shader (renderer/shaders/relief.glsl): the branch
     // the shader selects as OM_GLSL_<glsl>, "" for none; and the parameter values that version
     // alone follows (name -> value; e.g. level 0 only).

@@ -1,10 +1,11 @@
 // cone's cone map (kernels/prep/cone.cl): per cell its maximum height and the widest cone above it
 // that holds no relief, searched over rings of OM_CONE_BLOCK^2 blocks whose maxima prune it.
+#include "methods/cone_map.h"
+
 #include <algorithm>
 #include <cstddef>
 
 #include "launch.hpp"
-#include "methods/cone_map.h"
 #include "offsetmap/passes.hpp"
 #include "offsetmap/runtime.hpp"
 #include "precompute/precompute.hpp"
@@ -12,9 +13,27 @@
 namespace offsetmap {
 namespace {
 
-size_t bytes(const MethodParams&, const PassSettings&, int w, int h) {
-    const size_t tile_cells = OM_CONE_TILE * OM_CONE_TILE;
-    return static_cast<size_t>(om_cone_tiles(w)) * om_cone_tiles(h) * tile_cells * sizeof(cl_uint);
+size_t cone_bytes(int w, int h) {
+    return static_cast<size_t>(om_cone_words(w, h)) * sizeof(cl_uint);
+}
+
+// With `beam` on, maxmip's pyramid follows the cone map (methods/cone_map.h, om_cone_pyramid).
+size_t bytes(const MethodParams& params, const PassSettings& settings, int w, int h) {
+    const size_t pyramid = params["beam"] != 0 ? kMaxPyramid.bytes(params, settings, w, h) : 0;
+    return cone_bytes(w, h) + pyramid;
+}
+
+// The pyramid built as maxmip's, copied in after the cone map's words.
+void append_pyramid(Runtime& rt, const DeviceHeightField& f, const PassSettings& settings,
+                    const MethodParams& params, PrecomputeSpec::Built& out) {
+    const size_t size = kMaxPyramid.bytes(params, settings, f.width, f.height);
+    if (size == 0) return;
+    PrecomputeSpec::Built pyramid = kMaxPyramid.build(rt, f, settings, params);
+    out.events.insert(out.events.end(), pyramid.events.begin(), pyramid.events.end());
+    cl::Event copied;
+    rt.queue().enqueueCopyBuffer(pyramid.data, out.data, 0, cone_bytes(f.width, f.height), size,
+                                 &pyramid.events, &copied);
+    out.events.push_back(copied);
 }
 
 PrecomputeSpec::Built build(Runtime& rt, const DeviceHeightField& f, const PassSettings& settings,
@@ -49,6 +68,7 @@ PrecomputeSpec::Built build(Runtime& rt, const DeviceHeightField& f, const PassS
         rt, kc, cl::NDRange(f.width, f.height),
         "cone: cone map " + std::to_string(f.width) + "x" + std::to_string(f.height));
     out.events.push_back(e1);
+    if (params["beam"] != 0) append_pyramid(rt, f, settings, params, out);
     return out;
 }
 
