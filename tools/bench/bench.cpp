@@ -498,9 +498,10 @@ int main(int argc, char** argv) {
                  "only the terrain scene (no uv) at the main resolution, its materials triplanar "
                  "against the same scene uv-mapped from above with the same methods, in turns");
     app.add_flag("--groups", groups_only,
-                 "only each method's cost in a GPU's SIMD groups at the main resolution: steps per "
-                 "pixel and group efficiency (groups of 8, 16, 32, 64 pixels) on the room, the "
-                 "terrain and random rays, with its error against exact and the time here");
+                 "only each method's (or --methods') cost in a GPU's SIMD groups at the main "
+                 "resolution: steps per pixel and group efficiency (groups of 8, 16, 32, 64 "
+                 "pixels) on the room, the terrain and random rays, with its error against exact "
+                 "and its time here against pom's");
     app.add_flag("--rebuild", rebuild_only,
                  "only a changing height field: its in-place update and each method's "
                  "precomputed data rebuilt, at 256^2, 1024^2 and 2048^2");
@@ -590,7 +591,8 @@ int main(int argc, char** argv) {
             return 0;
         }
         if (groups_only) {
-            b.out["groups"] = bench_groups(b.rt, main_res, data_dir, smoke ? 1 : 5);
+            b.out["groups"] =
+                bench_groups(b.rt, main_res, data_dir, b.target_ms, select_methods(only));
             std::ofstream(out_dir + "/bench-groups.json") << b.out.dump(1) << "\n";
             std::printf("\nwrote %s/bench-groups.json\n", out_dir.c_str());
             if (charts) draw_charts(out_dir + "/bench-groups.json", out_dir);
