@@ -288,10 +288,12 @@ RaySet prepare_rays(const HeightMap& map, const GBuffer& rays, const PassSetting
 
 // One variant over one set of the case's rays: each traced ray within its bound of the oracle (or
 // a graze's other answer) and within its walk's fetch cap.
-void check_variant(const Variant& v, const PropertyCase& c, const GBuffer& rays, const RaySet& set,
-                   bool loop_limited, MethodStats& st) {
+void check_variant(const Variant& v, const PropertyCase& c, const DeviceHeightField& field,
+                   const GBuffer& rays, const RaySet& set, bool loop_limited, MethodStats& st) {
     const PassSettings& s = c.settings;
-    const OffsetResult res = run(v.method, c.map, rays, s, v.params);
+    auto rt = runtime();
+    OffsetPass pass(rt, v.method, v.params);
+    const OffsetResult res = run_offset(*rt, pass, upload(*rt, rays), field, s, 1);
     int failures = 0;
     for (size_t k = 0; k < set.prepared.size() && failures < 3; ++k) {
         const PreparedRay& pr = set.prepared[k];
@@ -348,8 +350,10 @@ TEST(ExactProperty, ExactMethodsMeetTheOracleOnRandomMapsAndRays) {
         const PassSettings& s = c.settings;
         const RaySet random = prepare_rays(c.map, c.rays, s),
                      coherent = prepare_rays(c.map, c.coherent, s);
+        // One upload of the case's map for every variant (each pass keeps its own data).
+        const DeviceHeightField field = upload(*runtime(), c.map, s);
         for (const Variant& v : kVariants)
-            check_variant(v, c, v.params.empty() ? c.rays : c.coherent,
+            check_variant(v, c, field, v.params.empty() ? c.rays : c.coherent,
                           v.params.empty() ? random : coherent, loop_limited, stats[v.label()]);
     }
     for (const Variant& v : kVariants) {
