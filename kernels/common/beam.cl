@@ -1,35 +1,13 @@
 // The beam: a work-item's rays skip the empty space above the relief together (docs/design.md,
 // "Rays that share their empty-space skipping"). Parametrised by height H, lane k's footprint in
 // cell coordinates is linear, c_k(H) = c_k(1) + (H - 1) g_k with g_k = s (dx, dy) / V.z, so over a
-// height interval [H1, H0] of H <= 1 every lane lies inside the box
-//   [min_k c_k(1) + (H0 - 1) max_k g_k - (H0 - H1) max_k g_k ..., ...]
-// (x: min over lanes of the start, the slope's extreme lane taken at either end), and where the
-// largest cell maximum of the max pyramid's blocks covering the box is at most H1, no lane's
-// relief reaches its ray above H1: every lane may start at H1. Each step is scalar work and four
-// scalar reads shared by all of the work-item's lanes; the lanes then walk on alone. Without lanes
-// (OM_LANES 1, a GPU's work-item) the beam is the one ray's: a coarse max-mip descent.
-
-// A lane vector's smallest and largest value, as a float.
-#if OM_LANES == 1
-#define OM_LANE_FMIN(x) (x)
-#define OM_LANE_FMAX(x) (x)
-#else
-OM_INLINE float om_fmin4(float4 v) {
-    const float2 m = fmin(v.lo, v.hi);
-    return fmin(m.x, m.y);
-}
-OM_INLINE float om_fmax4(float4 v) {
-    const float2 m = fmax(v.lo, v.hi);
-    return fmax(m.x, m.y);
-}
-#if OM_LANES == 8
-#define OM_LANE_FMIN(x) om_fmin4(fmin((x).lo, (x).hi))
-#define OM_LANE_FMAX(x) om_fmax4(fmax((x).lo, (x).hi))
-#else
-#define OM_LANE_FMIN(x) om_fmin4(fmin(fmin((x).lo.lo, (x).lo.hi), fmin((x).hi.lo, (x).hi.hi)))
-#define OM_LANE_FMAX(x) om_fmax4(fmax(fmax((x).lo.lo, (x).lo.hi), fmax((x).hi.lo, (x).hi.hi)))
-#endif
-#endif
+// height interval [H1, H0] (H <= 1) every lane's x lies in
+//   [min_k x_k(1) + (H - 1) max_k gx_k, max_k x_k(1) + (H - 1) min_k gx_k],
+// whose ends are linear in H (y alike); where the largest cell maximum of the max pyramid's blocks
+// covering that box is at most H1, no lane's relief reaches its ray above H1: every lane may start
+// at H1. Each step is scalar work and at most OM_BEAM_SIDE^2 scalar reads shared by all of the
+// work-item's lanes; the lanes then walk on alone. Without lanes (OM_LANES 1, a GPU's work-item)
+// the beam is the one ray's: a coarse max-mip descent.
 
 // The lanes' footprints as a box in H: x in [x_lo + (H - 1) gx_hi, x_hi + (H - 1) gx_lo] for the
 // part of a descent below the top, and the same in y.
@@ -53,6 +31,7 @@ OM_INLINE int om_beam_blocks(int c0, int c1, int n, int L, int wrap, int* p) {
     *p = c0 >> L;  // arithmetic: floor for the cells left of the tile too
     return (c1 >> L) - *p + 1;
 }
+// (om_wrap's rule, sampling.cl, for one scalar: lanes here are the beam's, not the pixels'.)
 OM_INLINE int om_beam_block(int b, int blocks) {
     if ((blocks & (blocks - 1)) == 0) return b & (blocks - 1);
     const int r = b - (int)floor((float)b / (float)blocks) * blocks;  // by float, corrected
@@ -75,9 +54,8 @@ OM_INLINE float om_beam_ceiling(__global const float* pyramid, const OmOffsetPar
         const int ni = om_beam_blocks(i0, i1, P->hf_width, L, wrap, &pi);
         const int nj = om_beam_blocks(j0, j1, P->hf_height, L, wrap, &pj);
         if (ni > OM_BEAM_SIDE || nj > OM_BEAM_SIDE) continue;
-        // Level L of the padded pyramid starts after levels 1 .. L - 1 (maxmip_pyramid.h).
-        const int km = L - 1, wk = Wp >> L;
-        __global const float* level = pyramid + (Wp >> km) * (Hp >> km) * ((1 << (2 * km)) - 1) / 3;
+        const int wk = Wp >> L;
+        __global const float* level = pyramid + om_maxmip_level_start(Wp, Hp, L);
         float m = -INFINITY;
         for (int b = 0; b < nj; ++b) {
             __global const float* row = level + om_beam_block(pj + b, P->hf_height >> L) * wk;

@@ -129,6 +129,30 @@ OM_INLINE int om_lane_min4(int4 v) {
 #endif
 #endif
 
+// The smallest and largest of an OmF's lanes, as a float.
+#if OM_LANES == 1
+#define OM_LANE_FMIN(x) (x)
+#define OM_LANE_FMAX(x) (x)
+#else
+OM_INLINE float om_lane_fmin4(float4 v) {
+    const float2 m = fmin(v.lo, v.hi);
+    return fmin(m.x, m.y);
+}
+OM_INLINE float om_lane_fmax4(float4 v) {
+    const float2 m = fmax(v.lo, v.hi);
+    return fmax(m.x, m.y);
+}
+#if OM_LANES == 8
+#define OM_LANE_FMIN(x) om_lane_fmin4(fmin((x).lo, (x).hi))
+#define OM_LANE_FMAX(x) om_lane_fmax4(fmax((x).lo, (x).hi))
+#else
+#define OM_LANE_FMIN(x) \
+    om_lane_fmin4(fmin(fmin((x).lo.lo, (x).lo.hi), fmin((x).hi.lo, (x).hi.hi)))
+#define OM_LANE_FMAX(x) \
+    om_lane_fmax4(fmax(fmax((x).lo.lo, (x).lo.hi), fmax((x).hi.lo, (x).hi.hi)))
+#endif
+#endif
+
 // Heights come from a float buffer (the CPU path), or with OM_IMAGES through an image1d_buffer_t
 // view of the same buffer (a GPU's texture path; the same floats, so the same frame). OpenCL C
 // allows images only as function parameters, so the sampling calls carry it as a last parameter.

@@ -20,6 +20,11 @@
 static inline int om_maxmip_padded(int size, int levels) {
     return ((size + (1 << levels) - 1) >> levels) << levels;
 }
+// Where level k (>= 1) of a pyramid over wp x hp padded cells starts, in floats: after levels
+// 1 .. k - 1, sum of wp hp / 4^m (the padded sizes halve exactly at every level).
+static inline int om_maxmip_level_start(int wp, int hp, int k) {
+    return (wp >> (k - 1)) * (hp >> (k - 1)) * ((1 << (2 * (k - 1))) - 1) / 3;
+}
 static inline int om_maxmip_levels(int width, int height, int address_mode) {
     int levels = 0;
     (void)address_mode;

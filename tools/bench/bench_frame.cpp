@@ -71,9 +71,7 @@ nlohmann::json bench_frame(std::shared_ptr<Runtime> rt, const Resolution& res,
     const Scene scene = builtin_room(data_dir);
     const std::vector<LoadedMaterial> table =
         load_materials(read_material_table(data_dir + "/room.json"));
-    std::vector<MethodParams> methods;
-    for (const LoadedMaterial& m : table)
-        methods.push_back(resolve_params(find_method(m.spec.method), m.spec.params));
+    const std::vector<MethodParams> methods = table_methods(table);
     // One renderer per kernel folder, each built after its folder is set.
     std::vector<std::string> dirs =
         kernel_dirs.empty() ? std::vector<std::string>{""} : kernel_dirs;
@@ -194,9 +192,7 @@ nlohmann::json bench_curved_frame(std::shared_ptr<Runtime> rt, const Resolution&
     const std::vector<MaterialSpec> specs = read_material_table(table_file);
     const Scene scene = load_gltf_scene(data_dir + "/curved.gltf", specs, table_file);
     const std::vector<LoadedMaterial> table = load_materials(specs);
-    std::vector<MethodParams> methods;
-    for (const LoadedMaterial& m : table)
-        methods.push_back(resolve_params(find_method(m.spec.method), m.spec.params));
+    const std::vector<MethodParams> methods = table_methods(table);
     FrameRenderer r(rt, scene, table, methods, res.w, res.h, ShadeSettings{});
     struct Mode {
         const char* name;
@@ -311,9 +307,7 @@ nlohmann::json bench_shadow_map(std::shared_ptr<Runtime> rt, const Resolution& r
         {float(std::cos(e) * std::cos(a)), float(std::sin(e)), float(std::cos(e) * std::sin(a))}};
     const std::vector<LoadedMaterial> table =
         load_materials(read_material_table(data_dir + "/room.json"));
-    std::vector<MethodParams> methods;
-    for (const LoadedMaterial& m : table)
-        methods.push_back(resolve_params(find_method(m.spec.method), m.spec.params));
+    const std::vector<MethodParams> methods = table_methods(table);
     FrameRenderer plain(rt, scene, table, methods, res.w, res.h, ShadeSettings{});
     FrameRenderer mapped(rt, scene, table, methods, res.w, res.h, ShadeSettings{});
     ShadowMapSettings settings;
@@ -385,9 +379,7 @@ nlohmann::json bench_triplanar_frame(std::shared_ptr<Runtime> rt, const Resoluti
     const std::vector<MaterialSpec> specs = read_material_table(table_file);
     const Scene projected = load_gltf_scene(data_dir + "/terrain.gltf", specs, table_file);
     const std::vector<LoadedMaterial> table = load_materials(specs);
-    std::vector<MethodParams> methods;
-    for (const LoadedMaterial& m : table)
-        methods.push_back(resolve_params(find_method(m.spec.method), m.spec.params));
+    const std::vector<MethodParams> methods = table_methods(table);
     // The same meshes with uv = world_scale (x, -z), tangents from it, and no projection.
     Scene mapped = projected;
     std::vector<LoadedMaterial> plain = table;

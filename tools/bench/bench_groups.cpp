@@ -31,9 +31,7 @@ GBuffer room_gbuffer(const std::shared_ptr<Runtime>& rt, const Resolution& res,
     using namespace offsetmap::renderer;
     const std::vector<LoadedMaterial> table =
         load_materials(read_material_table(data_dir + "/room.json"));
-    std::vector<MethodParams> methods;
-    for (const LoadedMaterial& m : table)
-        methods.push_back(resolve_params(find_method(m.spec.method), m.spec.params));
+    const std::vector<MethodParams> methods = table_methods(table);
     FrameRenderer r(rt, builtin_room(data_dir), table, methods, res.w, res.h, ShadeSettings{});
     r.render(FrameMode::Deferred, false, 1);
     GBuffer g = r.explicit_gbuffer();

@@ -89,6 +89,14 @@ inline double lanes_busy(const std::vector<std::uint32_t>& fetches, int width, i
     return steps > 0 ? busy / steps : 1.0;
 }
 
+// Each material's method at its table's parameters (a renderer's `methods`; no `auto` rows).
+inline std::vector<MethodParams> table_methods(const std::vector<LoadedMaterial>& table) {
+    std::vector<MethodParams> methods;
+    for (const LoadedMaterial& m : table)
+        methods.push_back(resolve_params(find_method(m.spec.method), m.spec.params));
+    return methods;
+}
+
 struct Resolution {
     const char* name;
     int w, h;
