@@ -15,25 +15,42 @@
 // less than a texel at the pixel's level cannot show parallax.
 //
 // Curvature (optional, OM_CURVED): the base's second fundamental form per pixel in uv units
-// (float4: k_uu, k_uv, k_vv, unused); lanes over a curved base trace the ray against the relief over
-// that base (ray.cl, curved.cl), the rest the tangent plane, bit for bit as without it.
+// (float4: k_uu, k_uv, k_vv, the uv's stretch); lanes over a curved base trace the ray against the
+// relief over that base (ray.cl, curved.cl), the rest the tangent plane, bit for bit as without
+// it. The uv metric (optional beside it, OM_UV_METRIC) replaces the stretch with the uv's
+// Jacobian and its rates (docs/design.md, "The uv metric").
 //
 // Specialised at build time (the host sets these from the pass, one program each): OM_LANES,
 // OM_LANE_PAIRS, OM_IMAGES, OM_LOD when the LOD system is on, OM_CURVED when a curvature plane is
-// bound, OM_OUT_DEPTH / OM_OUT_FETCHES / OM_OUT_FLAGS for the optional outputs bound.
+// bound (OM_UV_METRIC when a uv metric plane is too), OM_OUT_DEPTH / OM_OUT_FETCHES /
+// OM_OUT_FLAGS for the optional outputs bound.
 
 // The base's second fundamental form at each lane's pixel, in uv units (zero: the tangent plane),
 // and the uv's stretch a = sqrt(|dP/du| / |dP/dv|) (1, or not above 0: none).
+// With the uv metric plane (OM_UV_METRIC), the metric there too.
 typedef struct {
     OmF uu, uv, vv, stretch;
+#ifdef OM_UV_METRIC
+    OmUvMetric m;
+#endif
 } OmCurvature;
 
 // The curvature plane (float4 a pixel: k_uu, k_uv, k_vv, stretch) as lanes; zero, and nothing
-// read, in a program without OM_CURVED.
-OM_INLINE OmCurvature om_load_curvature(__global const float4* curvature, OmBlock b) {
+// read, in a program without OM_CURVED. The uv metric plane (OM_UV_METRIC) is three float4 planes
+// of `pixels` each: dP/du and dP/dv in the frame, Gamma^u (uu, uv, vv, -), Gamma^v (the same).
+OM_INLINE OmCurvature om_load_curvature(__global const float4* curvature,
+                                        __global const float4* uv_metric, int pixels, OmBlock b) {
     OmCurvature k;
 #ifdef OM_CURVED
     om_load_block4((__global const float*)curvature, b, &k.uu, &k.uv, &k.vv, &k.stretch);
+#ifdef OM_UV_METRIC
+    __global const float* m = (__global const float*)uv_metric;
+    const size_t plane = 4 * (size_t)pixels;
+    OmF unused;
+    om_load_block4(m, b, &k.m.j00, &k.m.j10, &k.m.j01, &k.m.j11);
+    om_load_block4(m + plane, b, &k.m.guu, &k.m.guv, &k.m.gvv, &unused);
+    om_load_block4(m + 2 * plane, b, &k.m.huu, &k.m.huv, &k.m.hvv, &unused);
+#endif
 #else
     k.uu = k.uv = k.vv = k.stretch = 0.0f;
 #endif
@@ -82,7 +99,11 @@ OM_INLINE void om_lanes_begin(const OmOffsetParams* P, OmF u, OmF v, OmF vx, OmF
         (g->flags & (int)(OM_FLAG_EMPTY | OM_FLAG_INVALID | OM_FLAG_BACKFACING)) != 0 || skip != 0;
     g->traced = !g->rejected && g->blend > 0.0f;
 #ifdef OM_CURVED
+#ifdef OM_UV_METRIC
+    om_ray_curve(&g->ray, k->uu, k->uv, k->vv, k->stretch, g->traced, &k->m);
+#else
     om_ray_curve(&g->ray, k->uu, k->uv, k->vv, k->stretch, g->traced);
+#endif
 #endif
 }
 
@@ -263,7 +284,8 @@ __kernel void om_offset(const OmOffsetParams P, __global const float2* gb_uv2,
                         __global const float* aux, __global const float* lod,
                         __global float2* out_uv2, __global float* out_depth,
                         __global uint* out_fetches, __global uint* out_flags,
-                        __global const float4* curvature OM_IMG_PARAM) {
+                        __global const float4* curvature,
+                        __global const float4* uv_metric OM_IMG_PARAM) {
 #ifdef OM_LANE_PAIRS
     const int group = (int)get_global_id(0) * 2;
 #else
@@ -282,7 +304,8 @@ __kernel void om_offset(const OmOffsetParams P, __global const float2* gb_uv2,
 #ifdef OM_LOD
     m = om_load_block_f(lod, blk);
 #endif
-    OmCurvature k = om_load_curvature(curvature, blk);
+    const int pixels = P.gb_width * P.gb_height;
+    OmCurvature k = om_load_curvature(curvature, uv_metric, pixels, blk);
 #ifdef OM_LANE_PAIRS
     // The method's two-group walk (om_trace_pair) over this work-item's two blocks; past the last
     // block the second repeats the first and stores nothing.
@@ -299,7 +322,7 @@ __kernel void om_offset(const OmOffsetParams P, __global const float2* gb_uv2,
     in_a.k = k;
     in_b.m = 0.0f;
     om_load_block(gb_uv, gb_view, blk_b, &in_b.u, &in_b.v, &in_b.vx, &in_b.vy, &in_b.vz);
-    in_b.k = om_load_curvature(curvature, blk_b);
+    in_b.k = om_load_curvature(curvature, uv_metric, pixels, blk_b);
 #ifdef OM_LOD
     in_b.m = om_load_block_f(lod, blk_b);
 #endif

@@ -183,6 +183,11 @@ inline void check_gbuffer(const cl::Context& context, const DeviceGBuffer& g) {
                  {"the G-buffer's material buffer", "float", sizeof(float), n, false, true});
     check_buffer(context, g.curvature,
                  {"the G-buffer's curvature buffer", "float4", sizeof(cl_float4), n, false, true});
+    check_buffer(context, g.uv_metric,
+                 {"the G-buffer's uv metric buffer (three planes)", "float4", sizeof(cl_float4),
+                  3 * n, false, true});
+    if (g.uv_metric() && !g.curvature())
+        throw Error("the G-buffer's uv metric needs its curvature plane (zeros for a flat base)");
 }
 
 }  // namespace offsetmap

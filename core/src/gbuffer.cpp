@@ -42,7 +42,8 @@ DeviceGBuffer upload(Runtime& rt, const GBuffer& gb) {
         gb.view.size() != gb.pixels() || (gb.has_light() && gb.light.size() != gb.pixels()) ||
         (gb.has_lod() && gb.lod.size() != gb.pixels()) ||
         (gb.has_material() && gb.material.size() != gb.pixels()) ||
-        (gb.has_curvature() && gb.curvature.size() != gb.pixels()))
+        (gb.has_curvature() && gb.curvature.size() != gb.pixels()) ||
+        (gb.has_uv_metric() && gb.uv_metric.size() != 3 * gb.pixels()))
         throw Error("G-buffer arrays do not match its size " + std::to_string(gb.width) + "x" +
                     std::to_string(gb.height));
     auto buffer = [&](const void* data, size_t bytes) {
@@ -61,6 +62,8 @@ DeviceGBuffer upload(Runtime& rt, const GBuffer& gb) {
     if (gb.has_material()) d.material = buffer(gb.material.data(), gb.pixels() * sizeof(float));
     if (gb.has_curvature())
         d.curvature = buffer(gb.curvature.data(), gb.pixels() * sizeof(cl_float4));
+    if (gb.has_uv_metric())
+        d.uv_metric = buffer(gb.uv_metric.data(), 3 * gb.pixels() * sizeof(cl_float4));
     return d;
 }
 

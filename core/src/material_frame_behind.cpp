@@ -49,7 +49,8 @@ const cl::CommandQueue& MaterialFrame::check_behind(const DeviceGBuffer& g, cons
                  {g.material, "the G-buffer's material", sizeof(float)},
                  {g.light, "the G-buffer's light", sizeof(cl_float4)},
                  {g.lod, "the G-buffer's lod", sizeof(float)},
-                 {g.curvature, "the G-buffer's curvature", sizeof(cl_float4)}};
+                 {g.curvature, "the G-buffer's curvature", sizeof(cl_float4)},
+                 {g.uv_metric, "the G-buffer's uv metric", 3 * sizeof(cl_float4)}};
     for (const auto& p : taken)
         check_buffer(context, p.plane, {p.name, "value", p.bytes, n, true, true});
     return queue;
@@ -102,7 +103,8 @@ cl::Event MaterialFrame::trace_behind(const DeviceGBuffer& g, const OffsetTarget
                                   : std::make_pair(cl::Buffer(), cl::Buffer());
         };
         const auto light = both(b.light, g.light), lod = both(b.lod, g.lod),
-                   curvature = both(b.curvature, g.curvature);
+                   curvature = both(b.curvature, g.curvature),
+                   uv_metric = both(b.uv_metric, g.uv_metric);
         set_args(behind_choose_, count, t.flags, behind.targets.flags, behind.targets.uv,
                  behind.targets.depth, behind.targets.fetches, t.uv);
         set_optional(behind_choose_, 7, t.depth);
@@ -117,6 +119,8 @@ cl::Event MaterialFrame::trace_behind(const DeviceGBuffer& g, const OffsetTarget
         set_optional(behind_choose_, 18, lod.second);
         behind_choose_.setArg(19, g.material);
         set_optional(behind_choose_, 20, curvature.second);
+        set_optional(behind_choose_, 21, uv_metric.first);
+        set_optional(behind_choose_, 22, uv_metric.second);
         const std::vector<cl::Event> after_second{second};
         queue.enqueueNDRangeKernel(behind_choose_, cl::NullRange, padded(n),
                                    cl::NDRange(kLocalSize), &after_second, &chosen);

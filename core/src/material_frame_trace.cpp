@@ -141,6 +141,7 @@ cl::Event MaterialFrame::trace(const DeviceGBuffer& g, const OffsetTargets& t,
             T.entry_count = static_cast<om_int>(counts[k]);
             OffsetVariant variant = variant_writing(t);
             variant.curved = g.curvature() != nullptr;
+            variant.uv_metric = g.uv_metric() != nullptr;
             cl::Kernel& kernel = tile_kernel(methods_[k], variant);
             set_args(kernel, T, slot_table_, entries_, g.material, g.uv, g.view, heights_);
             set_optional(kernel, 7, methods_[k].aux);
@@ -149,6 +150,7 @@ cl::Event MaterialFrame::trace(const DeviceGBuffer& g, const OffsetTargets& t,
             set_optional(kernel, 10, t.fetches);
             set_optional(kernel, 11, t.flags);
             set_optional(kernel, 12, g.curvature);
+            set_optional(kernel, 13, g.uv_metric);
             queue.enqueueNDRangeKernel(kernel, cl::NullRange, padded(d.work_items),
                                        cl::NDRange(kLocalSize), &classified, &d.event);
             done.push_back(d.event);

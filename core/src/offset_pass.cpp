@@ -170,6 +170,7 @@ cl::Event OffsetPass::launch(const DeviceGBuffer& g, const DeviceHeightField& f,
     variant.images = images;
     variant.lod = settings.lod.enabled;
     variant.curved = g.curvature() != nullptr;
+    variant.uv_metric = g.uv_metric() != nullptr;
     cl::Kernel& k = kernel(variant);
     k.setArg(0, p);
     k.setArg(1, g.uv);
@@ -181,7 +182,8 @@ cl::Event OffsetPass::launch(const DeviceGBuffer& g, const DeviceHeightField& f,
     set_optional(k, 8, t.fetches);
     set_optional(k, 9, t.flags);
     set_optional(k, 10, g.curvature);
-    if (images) k.setArg(11, heights_image(f));
+    set_optional(k, 11, g.uv_metric);
+    if (images) k.setArg(12, heights_image(f));
     cl::Event event;
     try {
         // The caller's events, the field's upload and the precomputed data's build.

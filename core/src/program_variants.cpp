@@ -41,24 +41,26 @@ void add_offset_variants(std::vector<ProgramVariant>& out) {
                                    (outputs ? "-outputs" : ""),
                                files, offset_program_defines(m, v, true), sample});
             }
-        // Over a curved base (OM_CURVED), with every output: a GPU's path (one lane, images) and
-        // PoCL's (16 lanes, buffers), per pixel and in the material frame's tiles.
+        // Over a curved base (OM_CURVED), with every output: a GPU's path (one lane, images,
+        // with the uv metric: OM_UV_METRIC) and PoCL's (16 lanes, buffers, the stretch alone),
+        // per pixel and in the material frame's tiles.
         for (int lanes : {1, 16}) {
             OffsetVariant v;
             v.lanes = lanes;
             v.images = lanes == 1;
             v.curved = true;
+            v.uv_metric = lanes == 1;
             v.depth = v.fetches = v.flags = true;
             const std::string at = "/lanes" + std::to_string(lanes);
+            const std::string curved = v.uv_metric ? "-curved-metric-outputs" : "-curved-outputs";
             // common/curved.cl's sample: the exact walk over a curved base, a GPU's path.
-            out.push_back(
-                {"offset/" + m.name + at + (v.images ? "-images" : "") + "-curved-outputs",
-                 offset_program_files(m), offset_program_defines(m, v),
-                 m.name == "exact" && lanes == 1});
+            out.push_back({"offset/" + m.name + at + (v.images ? "-images" : "") + curved,
+                           offset_program_files(m), offset_program_defines(m, v),
+                           m.name == "exact" && lanes == 1});
             std::vector<std::string> files = offset_program_files(m);
             files.push_back("frame/tiles.cl");
-            out.push_back({"tiles/" + m.name + at + "-curved-outputs", files,
-                           offset_program_defines(m, v, true)});
+            out.push_back(
+                {"tiles/" + m.name + at + curved, files, offset_program_defines(m, v, true)});
         }
     }
 }

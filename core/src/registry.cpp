@@ -377,6 +377,7 @@ std::string offset_program_defines(const MethodInfo& method, const OffsetVariant
     if (v.images && !tiles) defines += "#define OM_IMAGES\n";
     if (v.lod && !tiles) defines += "#define OM_LOD\n";
     if (v.curved) defines += "#define OM_CURVED\n";
+    if (v.curved && v.uv_metric) defines += "#define OM_UV_METRIC\n";
     if (v.depth) defines += "#define OM_OUT_DEPTH\n";
     if (v.fetches) defines += "#define OM_OUT_FETCHES\n";
     if (v.flags) defines += "#define OM_OUT_FLAGS\n";

@@ -245,11 +245,11 @@ cl::Program Runtime::program(const std::vector<std::string>& files, const std::s
     auto it = programs_.find(key);
     if (it != programs_.end()) return it->second;
 
-    const std::string source = program_source(
-        files,
-        std::string(is_oclgrind_ ? "#define OM_PLAIN_CALLS 1\n" : "") +
-            (soft_fma_ ? "#define OM_SOFT_FMA 1\n" : "") + defines,
-        is_pocl_, kernel_dir_);
+    const std::string source =
+        program_source(files,
+                       std::string(is_oclgrind_ ? "#define OM_PLAIN_CALLS 1\n" : "") +
+                           (soft_fma_ ? "#define OM_SOFT_FMA 1\n" : "") + defines,
+                       is_pocl_, kernel_dir_);
     std::string what;
     for (const auto& f : files) what += (what.empty() ? "" : " + ") + f;
     cl::Program program(context_, source);

@@ -75,8 +75,8 @@ void check_shadow_buffers(const cl::Context& context, const cl::Buffer& mask,
 
 cl::Kernel shade_kernel(Runtime& rt, const std::string& name) {
     const bool materials = name == "om_shade_materials";
-    return rt.kernel(rt.program(shade_program_files(), shade_program_defines(rt.lanes(), materials)),
-                     name);
+    return rt.kernel(
+        rt.program(shade_program_files(), shade_program_defines(rt.lanes(), materials)), name);
 }
 
 cl::NDRange shade_grid(int lanes, int width, int height) {

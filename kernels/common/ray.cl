@@ -19,6 +19,13 @@ typedef struct {
     // trace runs in the surface's lengths (one uv density each way); an offset (x, y) there is
     // (x / a, y a) in uv for the uv's stretch a: su = 1 / a, sv = a.
     OmF kn, kc, ex, ey, lxy, su, sv;
+#ifdef OM_UV_METRIC
+    // The uv metric's (docs/design.md, "The uv metric"): the footprint at arc length l along e
+    // and `side` across it lies at l m + side n + l^2 g in uv (m = A e, n = A e_perp for A the
+    // inverse of the uv's Jacobian in the frame, g = -Gamma(m, m) / 2), and the relief there is
+    // f = max(1 + d.offset, 1/4) times as deep (d: the density's log rate, Gamma's trace / 2).
+    OmF mu, mv, nu, nv, gu, gv, du, dv;
+#endif
     OmI curved;     // lanes over a curved base; the rest trace the plane, bit for bit
     OmI exits_top;  // curved lanes that leave the slab through its top again (a convex base)
     int any_curved;
@@ -106,6 +113,56 @@ OM_INLINE OmI om_ray_setup(OmF u, OmF v, OmF vx, OmF vy, OmF vz, const OmOffsetP
 }
 
 #ifdef OM_CURVED
+#ifdef OM_UV_METRIC
+// The uv metric at a pixel (docs/design.md, "The uv metric"): dP/du and dP/dv in the pixel's
+// tangent frame in the pass's lengths (j00 = dP/du.T, j10 = dP/du.B, j01 = dP/dv.T, j11 =
+// dP/dv.B, over the uv density), and the Christoffel symbols of the uv parametrisation,
+// Gamma^u_uu, _uv, _vv (g*) and Gamma^v_uu, _uv, _vv (h*).
+typedef struct {
+    OmF j00, j10, j01, j11, guu, guv, gvv, huu, huv, hvv;
+} OmUvMetric;
+#define OM_METRIC_PARAM , const OmUvMetric* mt
+
+// A metric the trace can use: every value finite and the Jacobian well inside its orientation
+// (det J above 1e-6 of |J|^2: a zero plane, a pole's collapsed row or a frame mirrored against
+// its uv is none, and the pixel keeps the curvature plane's stretch).
+OM_INLINE OmI om_metric_usable(const OmUvMetric* m) {
+    const OmF det = m->j00 * m->j11 - m->j01 * m->j10;
+    const OmF norm = m->j00 * m->j00 + m->j10 * m->j10 + m->j01 * m->j01 + m->j11 * m->j11;
+    const OmF g = m->guu + m->guv + m->gvv + m->huu + m->huv + m->hvv;
+    return isfinite(det) && isfinite(norm) && isfinite(g) && det > 1.0e-6f * norm;
+}
+
+// A metric that moves the footprint off the plane's: not the identity, or not constant.
+OM_INLINE OmI om_metric_bends(const OmUvMetric* m) {
+    return m->j00 != 1.0f || m->j10 != 0.0f || m->j01 != 0.0f || m->j11 != 1.0f ||
+           m->guu != 0.0f || m->guv != 0.0f || m->gvv != 0.0f || m->huu != 0.0f ||
+           m->huv != 0.0f || m->hvv != 0.0f;
+}
+
+// The ray's footprint terms from the metric (A = J^-1; lanes without a usable one keep the
+// stretch's A = diag(1 / a, a) and no rates).
+OM_INLINE void om_ray_metric(OmRay* r, const OmUvMetric* m, OmI usable) {
+    const OmF inv = 1.0f / (m->j00 * m->j11 - m->j01 * m->j10);
+    const OmF a00 = OM_SEL(r->su, m->j11 * inv, usable);
+    const OmF a01 = OM_SEL((OmF)0.0f, -m->j01 * inv, usable);
+    const OmF a10 = OM_SEL((OmF)0.0f, -m->j10 * inv, usable);
+    const OmF a11 = OM_SEL(r->sv, m->j00 * inv, usable);
+    const OmF ex = r->ex, ey = r->ey;
+    r->mu = a00 * ex + a01 * ey;
+    r->mv = a10 * ex + a11 * ey;
+    r->nu = a01 * ex - a00 * ey;
+    r->nv = a11 * ex - a10 * ey;
+    const OmF uu = r->mu * r->mu, uv = 2.0f * r->mu * r->mv, vv = r->mv * r->mv;
+    r->gu = OM_SEL((OmF)0.0f, -0.5f * (m->guu * uu + m->guv * uv + m->gvv * vv), usable);
+    r->gv = OM_SEL((OmF)0.0f, -0.5f * (m->huu * uu + m->huv * uv + m->hvv * vv), usable);
+    r->du = OM_SEL((OmF)0.0f, 0.5f * (m->guu + m->huv), usable);
+    r->dv = OM_SEL((OmF)0.0f, 0.5f * (m->guv + m->hvv), usable);
+}
+#else
+#define OM_METRIC_PARAM
+#endif
+
 // The ray over a curved base: K = [[kuu, kuv], [kuv, kvv]] in uv units per lane (positive bends
 // away from N), and the uv's stretch a (1, or not a finite value above 0: none). Lanes with K = 0
 // and no stretch, a non-finite K or no depth scale stay on the plane. On the rest,
@@ -115,11 +172,19 @@ OM_INLINE OmI om_ray_setup(OmF u, OmF v, OmF vx, OmF vy, OmF vz, const OmOffsetP
 // convex base turns the ray away before the bottom (no real root), through the top's second.
 // kn is held within 1 / (2 s) in magnitude: a base bent tighter than twice the relief's depth
 // leaves the circles of the slab degenerate (the model's stated limit).
-OM_INLINE void om_ray_curve(OmRay* r, OmF kuu, OmF kuv, OmF kvv, OmF stretch, OmI lanes) {
+OM_INLINE void om_ray_curve(OmRay* r, OmF kuu, OmF kuv, OmF kvv, OmF stretch,
+                            OmI lanes OM_METRIC_PARAM) {
     const OmI finite = isfinite(kuu) && isfinite(kuv) && isfinite(kvv);
     // !(a > 0) also takes NaN; an infinite stretch is as unusable.
     const OmF a = OM_SEL(stretch, (OmF)1.0f, !(stretch > 0.0f) || isinf(stretch));
+#ifdef OM_UV_METRIC
+    const OmI metric = om_metric_usable(mt);
+    const OmI curved = lanes & finite &
+                       (kuu != 0.0f || kuv != 0.0f || kvv != 0.0f || a != 1.0f ||
+                        (metric & om_metric_bends(mt)));
+#else
     const OmI curved = lanes & finite & (kuu != 0.0f || kuv != 0.0f || kvv != 0.0f || a != 1.0f);
+#endif
     r->curved = r->scale > 0.0f ? curved : (OmI)0;
     r->any_curved = OM_ANY(r->curved);
     if (!r->any_curved) return;
@@ -136,6 +201,9 @@ OM_INLINE void om_ray_curve(OmRay* r, OmF kuu, OmF kuv, OmF kvv, OmF stretch, Om
     r->lxy = OM_SEL(lxy, (OmF)0.0f, plumb);
     r->su = 1.0f / a;
     r->sv = a;
+#ifdef OM_UV_METRIC
+    om_ray_metric(r, mt, metric);
+#endif
     const float top = r->scale * (1.0f - r->ref), bottom = -r->scale * r->ref;
     const OmF vz = r->vz, kn = r->kn;
     const OmF c_top = top * (2.0f + kn * top), c_bottom = bottom * (2.0f + kn * bottom);
@@ -153,8 +221,13 @@ OM_INLINE void om_ray_curve(OmRay* r, OmF kuu, OmF kuv, OmF kvv, OmF stretch, Om
 // its vertical plane (docs/design.md): with c = 1 + kn z and q = sqrt(c^2 + (kn a)^2),
 //   h = (2 z + kn t^2) / (q + 1),   arc = atan2(kn a, c) / kn,   sideways -h kc arc.
 // Both are exact for kn = 0 (h = z, arc = a). The point keeps what its rates reuse.
+// Under the uv metric the point also holds its footprint offset (dx, dy), the relief's depth
+// factor f there and he = h / f, the height the relief is compared with (h / s + r against H).
 typedef struct {
     OmF c, ka, q, h, arc;
+#ifdef OM_UV_METRIC
+    OmF dx, dy, f, he;
+#endif
 } OmCurvePoint;
 
 OM_INLINE OmCurvePoint om_curve_point(const OmRay* r, OmF t) {
@@ -165,31 +238,63 @@ OM_INLINE OmCurvePoint om_curve_point(const OmRay* r, OmF t) {
     p.q = sqrt(p.c * p.c + p.ka * p.ka);
     p.h = (2.0f * z + r->kn * (t * t)) / (p.q + 1.0f);
     p.arc = OM_SEL(a * (atan2(p.ka, p.c) / p.ka), a, p.ka == 0.0f);
+#ifdef OM_UV_METRIC
+    const OmF side = -p.h * r->kc * p.arc, l2 = p.arc * p.arc;
+    p.dx = p.arc * r->mu + side * r->nu + l2 * r->gu;
+    p.dy = p.arc * r->mv + side * r->nv + l2 * r->gv;
+    p.f = fmax(1.0f + r->du * p.dx + r->dv * p.dy, 0.25f);
+    p.he = p.h / p.f;
+#endif
     return p;
 }
 
 // The point's footprint offset: arc along e, -h kc arc across it, in uv.
 OM_INLINE void om_curve_offset(const OmRay* r, const OmCurvePoint* p, OmF* dx, OmF* dy) {
+#ifdef OM_UV_METRIC
+    *dx = p->dx;
+    *dy = p->dy;
+#else
     const OmF side = -p->h * r->kc * p->arc;
     *dx = (p->arc * r->ex - side * r->ey) * r->su;
     *dy = (p->arc * r->ey + side * r->ex) * r->sv;
+#endif
+}
+
+// The height the point's relief is compared with (h / s + r against H): h, or under the uv
+// metric h over the relief's depth factor there.
+OM_INLINE OmF om_curve_height(const OmCurvePoint* p) {
+#ifdef OM_UV_METRIC
+    return p->he;
+#else
+    return p->h;
+#endif
 }
 
 OM_INLINE void om_curve_at(const OmRay* r, OmF t, OmF* dx, OmF* dy, OmF* h) {
     const OmCurvePoint p = om_curve_point(r, t);
     om_curve_offset(r, &p, dx, dy);
-    *h = p.h;
+    *h = om_curve_height(&p);
 }
 
 // The curve's rates at a point, d/dt of its offset (dx, dy) and h: the ray's direction against
 // the circle's normal and tangent at the foot's angle phi (cos phi = c / q, sin phi = kn a / q),
 //   h' = |V.xy| sin phi - V.z cos phi,   arc' = (|V.xy| c + V.z kn a) / q^2.
+// Under the uv metric, d/dt of l m + side n + l^2 g, and of he = h / f: (h' - he f') / f (f' = 0
+// where f is held at its floor).
 OM_INLINE void om_curve_rate(const OmRay* r, const OmCurvePoint* p, OmF* ddx, OmF* ddy, OmF* dh) {
     *dh = (r->lxy * p->ka - r->vz * p->c) / p->q;
     const OmF darc = (r->lxy * p->c + r->vz * p->ka) / (p->q * p->q);
     const OmF dside = -r->kc * (*dh * p->arc + p->h * darc);
+#ifdef OM_UV_METRIC
+    const OmF dl2 = 2.0f * p->arc * darc;
+    *ddx = darc * r->mu + dside * r->nu + dl2 * r->gu;
+    *ddy = darc * r->mv + dside * r->nv + dl2 * r->gv;
+    const OmF df = OM_SEL(r->du * *ddx + r->dv * *ddy, (OmF)0.0f, p->f <= 0.25f);
+    *dh = (*dh - p->he * df) / p->f;
+#else
     *ddx = (darc * r->ex - dside * r->ey) * r->su;
     *ddy = (darc * r->ey + dside * r->ex) * r->sv;
+#endif
 }
 
 // The curved lanes' footprint at the point, over the plane's (x, y) from the same t.
@@ -224,7 +329,7 @@ OM_INLINE void om_ray_sample(const OmRay* r, OmF lambda, OmF* x, OmF* y, OmF* et
     if (r->any_curved) {
         const OmCurvePoint p = om_curve_point(r, t);
         om_curve_select(r, &p, x, y);
-        *eta = OM_SEL(*eta, p.h / r->scale + r->ref, r->curved);
+        *eta = OM_SEL(*eta, om_curve_height(&p) / r->scale + r->ref, r->curved);
     }
 #endif
 }
@@ -360,7 +465,7 @@ OM_INLINE OmF om_slope_step(const OmRay* r, const OmField* f, OmF t, int safe, O
     if (r->any_curved) {
         OmF ddx, ddy, dh;
         om_curve_rate(r, &p, &ddx, &ddy, &dh);
-        gap = OM_SEL(gap, r->scale * (h - r->ref) - p.h, r->curved);
+        gap = OM_SEL(gap, r->scale * (h - r->ref) - om_curve_height(&p), r->curved);
         rate = OM_SEL(rate, su * ddx + sv * ddy - dh, r->curved);
     }
 #endif

@@ -25,7 +25,8 @@ __kernel void om_behind_choose(const int n, __global uint* flags, __global const
                                __global const float* b_material, __global const float4* b_curvature,
                                __global float2* uv, __global float4* view, __global float4* light,
                                __global float* lod, __global float* material,
-                               __global float4* curvature) {
+                               __global float4* curvature, __global const float4* b_uv_metric,
+                               __global float4* uv_metric) {
     const int k = (int)get_global_id(0);
     if (k >= n) return;
     const uint f = flags[k];
@@ -42,6 +43,8 @@ __kernel void om_behind_choose(const int n, __global uint* flags, __global const
     if (light) light[k] = b_light[k];
     if (lod) lod[k] = b_lod[k];
     if (curvature) curvature[k] = b_curvature[k];
+    if (uv_metric)  // three planes of n
+        for (int p = 0; p < 3; ++p) uv_metric[p * n + k] = b_uv_metric[p * n + k];
 }
 
 __kernel void om_behind_take(const int n, const int words, __global const uint* flags,

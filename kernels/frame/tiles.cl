@@ -18,7 +18,8 @@ typedef struct {
 OM_INLINE OmTileBlock om_tile_block(const OmTileParams* T, int tile, int q, float id,
                                     __global const float* material, __global const float* gb_uv,
                                     __global const float* gb_view,
-                                    __global const float4* curvature) {
+                                    __global const float4* curvature,
+                                    __global const float4* uv_metric) {
     OmTileBlock w;
     const int bh = om_tile_block_h(OM_LANES, T->tile_h), bw = OM_LANES / bh;
     const int per_row = OM_TILE_W / bw;
@@ -29,9 +30,13 @@ OM_INLINE OmTileBlock om_tile_block(const OmTileParams* T, int tile, int q, floa
     w.b = om_block_at(inside ? x0 : 0, inside ? y0 : 0, T->width, y1, bw, T->width);
     w.mine = inside ? om_load_block_f(material, w.b) == id : (OmI)0;
     w.k.uu = w.k.uv = w.k.vv = w.k.stretch = 0.0f;
+#ifdef OM_UV_METRIC
+    w.k.m.j00 = w.k.m.j10 = w.k.m.j01 = w.k.m.j11 = 0.0f;
+    w.k.m.guu = w.k.m.guv = w.k.m.gvv = w.k.m.huu = w.k.m.huv = w.k.m.hvv = 0.0f;
+#endif
     if (OM_ANY(w.mine)) {
         om_load_block(gb_uv, gb_view, w.b, &w.u, &w.v, &w.vx, &w.vy, &w.vz);
-        w.k = om_load_curvature(curvature, w.b);
+        w.k = om_load_curvature(curvature, uv_metric, T->width * T->height, w.b);
     } else {
         w.u = w.v = w.vx = w.vy = w.vz = 0.0f;
     }
@@ -44,7 +49,8 @@ __kernel void om_offset_tiles(const OmTileParams T, __global const OmMaterialSlo
                               __global const float* heights, __global const float* aux,
                               __global float2* out_uv2, __global float* out_depth,
                               __global uint* out_fetches, __global uint* out_flags,
-                              __global const float4* curvature) {
+                              __global const float4* curvature,
+                              __global const float4* uv_metric) {
 #ifdef OM_LANE_PAIRS
     const int groups = 2;  // a work-item's blocks: two groups for the method's om_trace_pair
 #else
@@ -65,9 +71,11 @@ __kernel void om_offset_tiles(const OmTileParams T, __global const OmMaterialSlo
     __global const float* field = heights + S->heights_offset;
     __global const float* data = aux ? aux + S->aux_offset : aux;
     const float id = (float)S->id;
-    const OmTileBlock a = om_tile_block(&T, tile, q, id, material, gb_uv, gb_view, curvature);
+    const OmTileBlock a = om_tile_block(&T, tile, q, id, material, gb_uv, gb_view, curvature,
+                                         uv_metric);
 #ifdef OM_LANE_PAIRS
-    const OmTileBlock b = om_tile_block(&T, tile, q + 1, id, material, gb_uv, gb_view, curvature);
+    const OmTileBlock b = om_tile_block(&T, tile, q + 1, id, material, gb_uv, gb_view, curvature,
+                                         uv_metric);
     if (!OM_ANY(a.mine) && !OM_ANY(b.mine)) return;
     const OmLaneIn in_a = {a.u, a.v, a.vx, a.vy, a.vz, 0.0f, !a.mine, a.k};
     const OmLaneIn in_b = {b.u, b.v, b.vx, b.vy, b.vz, 0.0f, !b.mine, b.k};

@@ -35,8 +35,23 @@ CurvedPoint curved_point(const double V[3], const Curvature& K, double t) {
     const double kc = px * (K.uu * ex + K.uv * ey) + py * (K.uv * ex + K.vv * ey);
     const CircleCoords c = circle_coords(kn, t * lxy, -t * V[2]);
     const double side = -c.h * kc * c.arc;
-    return CurvedPoint{(c.arc * ex + side * px) / K.stretch, (c.arc * ey + side * py) * K.stretch,
-                       c.h};
+    if (!K.metric)
+        return CurvedPoint{(c.arc * ex + side * px) / K.stretch,
+                           (c.arc * ey + side * py) * K.stretch, c.h, c.h};
+    const double* J = K.j;
+    const double det = J[0] * J[3] - J[2] * J[1];
+    const double a00 = J[3] / det, a01 = -J[2] / det, a10 = -J[1] / det, a11 = J[0] / det;
+    const double mu = a00 * ex + a01 * ey, mv = a10 * ex + a11 * ey;
+    const double nu = a00 * px + a01 * py, nv = a10 * px + a11 * py;
+    auto form = [&](const double* g) {
+        return g[0] * mu * mu + 2.0 * g[1] * mu * mv + g[2] * mv * mv;
+    };
+    const double l2 = c.arc * c.arc;
+    const double dx = c.arc * mu + side * nu - 0.5 * l2 * form(K.gamma_u);
+    const double dy = c.arc * mv + side * nv - 0.5 * l2 * form(K.gamma_v);
+    const double du = 0.5 * (K.gamma_u[0] + K.gamma_v[1]), dv = 0.5 * (K.gamma_u[1] + K.gamma_v[2]);
+    const double f = std::max(1.0 + du * dx + dv * dy, 0.25);
+    return CurvedPoint{dx, dy, c.h, c.h / f};
 }
 
 CurvedHit curved_hit(const HeightMap& map, double u, double v, const double V[3],
@@ -45,15 +60,15 @@ CurvedHit curved_hit(const HeightMap& map, double u, double v, const double V[3]
     const double top = scale * (1.0 - ref), bottom = -scale * ref;
     const double lxy = std::hypot(V[0], V[1]);
     struct Sample {
-        double h, x, y;
+        double h, x, y, he;
     };
     auto at = [&](double t) {
         const CurvedPoint p = curved_point(V, K, t);
-        return Sample{p.h, p.dx, p.dy};
+        return Sample{p.h, p.dx, p.dy, p.he};
     };
     auto gap = [&](double t) {
         const Sample p = at(t);
-        return p.h - scale * (bilinear_height(map, u + p.x, v + p.y, s.address) - ref);
+        return p.he - scale * (bilinear_height(map, u + p.x, v + p.y, s.address) - ref);
     };
     auto result = [&](double t, bool miss) {
         const Sample p = at(t);
@@ -71,7 +86,18 @@ CurvedHit curved_hit(const HeightMap& map, double u, double v, const double V[3]
         t_in = lo;
     }
     const double texel = 1.0 / std::max(map.width, map.height);
-    const double speed = lxy * std::max(K.stretch, 1.0 / K.stretch);  // in uv per unit of t
+    // In uv per unit of t: the stretch's, or A's norm and the rates' growth over the slab's
+    // reach (a bound: its 1/32 texel steps only need to be small enough).
+    double speed = lxy * std::max(K.stretch, 1.0 / K.stretch);
+    if (K.metric) {
+        const double* J = K.j;
+        const double det = std::fabs(J[0] * J[3] - J[2] * J[1]);
+        const double a = std::sqrt(J[0] * J[0] + J[1] * J[1] + J[2] * J[2] + J[3] * J[3]) / det;
+        double g = 0.0;
+        for (int i = 0; i < 3; ++i) g += std::fabs(K.gamma_u[i]) + std::fabs(K.gamma_v[i]);
+        const double reach = 4.0 * scale / V[2] * a;
+        speed = lxy * a * (1.0 + 2.0 * g * a * reach);
+    }
     const double dt = std::min(texel / 32.0 / std::max(speed, 1e-12), scale / 256.0 / V[2]);
     double t = t_in, g = gap(t), h = at(t).h;
     if (g <= 0.0) return result(t, false);

@@ -24,7 +24,7 @@ void OM_ENTRY(const Args& a, int begin, int end) {
         OM_NS::om_offset(a.params, reinterpret_cast<const ::clc::float2*>(a.uv),
                          reinterpret_cast<const ::clc::float4*>(a.view), a.heights, a.aux, a.lod,
                          reinterpret_cast<::clc::float2*>(a.out_uv), a.out_depth, a.out_fetches,
-                         a.out_flags, reinterpret_cast<const ::clc::float4*>(a.curvature));
+                         a.out_flags, reinterpret_cast<const ::clc::float4*>(a.curvature), nullptr);
     }
 }
 

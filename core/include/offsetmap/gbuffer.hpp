@@ -30,12 +30,21 @@ struct GBuffer {
     // uv's stretch sqrt(|dP/du| / |dP/dv|) (1, or not a finite value above 0: none). The offset
     // pass then traces the relief over the curved base (docs/design.md, "Curved surfaces").
     std::vector<cl_float4> curvature;
+    // empty, or 3 * width * height, beside the curvature (which it needs): the uv's metric and
+    // its rates (docs/design.md, "The uv metric"), three planes of width * height one after the
+    // other. First dP/du and dP/dv in the pixel's tangent frame, over the uv density:
+    // (dP/du.T, dP/du.B, dP/dv.T, dP/dv.B); then the Christoffel symbols of the uv
+    // parametrisation, (Gamma^u_uu, Gamma^u_uv, Gamma^u_vv, 0) and (Gamma^v_uu, Gamma^v_uv,
+    // Gamma^v_vv, 0). It replaces the curvature plane's stretch wherever it is usable (finite,
+    // det above 1e-6 of |J|^2: zeros are none); absent, the frame is today's bit for bit.
+    std::vector<cl_float4> uv_metric;
 
     size_t pixels() const { return static_cast<size_t>(width) * height; }
     bool has_light() const { return !light.empty(); }
     bool has_lod() const { return !lod.empty(); }
     bool has_material() const { return !material.empty(); }
     bool has_curvature() const { return !curvature.empty(); }
+    bool has_uv_metric() const { return !uv_metric.empty(); }
     // Throws Error for a size check_gbuffer_size rejects, or when memory runs out.
     void resize(int w, int h, bool with_light, bool with_lod);
 };
@@ -54,6 +63,7 @@ struct DeviceGBuffer {
     cl::Buffer lod;        // float per pixel, or a null buffer
     cl::Buffer material;   // float per pixel (integer material ids), or a null buffer
     cl::Buffer curvature;  // float4 per pixel (k_uu, k_uv, k_vv in uv units, stretch), or null
+    cl::Buffer uv_metric;  // three float4 planes (GBuffer::uv_metric), or null; needs curvature
 
     size_t pixels() const { return static_cast<size_t>(width) * height; }
 };

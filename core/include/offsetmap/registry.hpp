@@ -137,6 +137,7 @@ struct OffsetVariant {
     bool images = false;  // OM_IMAGES: heights through an image1d_buffer view
     bool lod = false;     // OM_LOD
     bool curved = false;  // OM_CURVED: a curvature plane bound
+    bool uv_metric = false;  // OM_UV_METRIC: a uv metric plane bound beside it
     bool depth = false, fetches = false, flags = false;  // OM_OUT_*: the optional outputs bound
 };
 // The defines of that build: the offset entry's (om_offset), or with `tiles` the material frame's

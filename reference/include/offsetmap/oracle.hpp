@@ -51,6 +51,16 @@ struct Curvature {
     // The uv's stretch a = sqrt(|dP/du| / |dP/dv|): the curvature and the ray are in the
     // surface's lengths (one uv density each way), an offset (x, y) there is (x / a, y a) in uv.
     double stretch = 1.0;
+    // The uv metric (docs/design.md, "The uv metric"), used where `metric` is set, in place of
+    // the stretch: dP/du and dP/dv in the tangent frame in the pass's lengths
+    // (j = {dP/du.T, dP/du.B, dP/dv.T, dP/dv.B}) and the Christoffel symbols of the uv
+    // parametrisation (gamma_u = Gamma^u_uu, _uv, _vv; gamma_v the same for v). The footprint
+    // at arc length l along e and `side` across it is l A e + side A e_perp - l^2 Gamma(A e,
+    // A e) / 2 (A = J^-1), and the relief there f = max(1 + d.offset, 1/4) times as deep
+    // (d_k = (Gamma^u_uk + Gamma^v_vk) / 2, the uv density's log rate).
+    bool metric = false;
+    double j[4] = {1.0, 0.0, 0.0, 1.0};
+    double gamma_u[3] = {0.0, 0.0, 0.0}, gamma_v[3] = {0.0, 0.0, 0.0};
 };
 
 struct CurvedHit {
@@ -60,9 +70,10 @@ struct CurvedHit {
 };
 
 // The model's ray at t over the base K: the footprint's offset (dx, dy) from the pixel in uv and
-// the height h above the base along its normal (docs/design.md, "Curved surfaces").
+// the height h above the base along its normal (docs/design.md, "Curved surfaces"); under the uv
+// metric `he` = h / f, the height the relief is compared with (h itself without it).
 struct CurvedPoint {
-    double dx, dy, h;
+    double dx, dy, h, he;
 };
 CurvedPoint curved_point(const double V[3], const Curvature& K, double t);
 
