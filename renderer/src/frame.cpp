@@ -110,6 +110,10 @@ void FrameRenderer::set_curvature(bool on) {
     impl_->dg.curvature = on ? impl_->planes.curvature : cl::Buffer();
 }
 
+void FrameRenderer::set_uv_metric(bool on) {
+    impl_->dg.uv_metric = on ? impl_->planes.uv_metric : cl::Buffer();
+}
+
 void FrameRenderer::set_layers(int layers, bool whole) {
     if (layers != 1 && layers != 2)
         throw Error("a frame has 1 or 2 G-buffer layers, not " + std::to_string(layers));
@@ -250,6 +254,7 @@ void FrameRenderer::Impl::draw_and_move(const FrameRun& run, bool prepass, Frame
     const cl::CommandQueue& q = rt->queue();
     const size_t n = pixels();
     planes.move_from(q, *raster, n, run.curved && !forward);
+    if (run.curved && !forward && dg.uv_metric()) planes.move_metric_from(q, *raster, view, n);
     if (forward) {
         s.forward_uv.resize(n);
         s.forward_fetches.resize(n);
@@ -275,7 +280,7 @@ void FrameRenderer::Impl::offset(const FrameRun& run, const EngineGBuffer& g, Fr
         // `whole` draws, reads and reconstructs all of it.
         frame->enqueue(dg, targets);
         behind->trace(view, {*raster, g, dg, targets, planes}, *reconstruct, *frame, run.curved,
-                      whole_behind, clock, t);
+                      run.curved && dg.uv_metric(), whole_behind, clock, t);
     } else if (triplanar) {
         frame->enqueue(dg, targets, *triplanar);
     } else {

@@ -11,11 +11,11 @@
 #include "offsetmap/renderer/context.hpp"
 #include "offsetmap/renderer/frame.hpp"
 #include "offsetmap/shadow_mask_pass.hpp"
+#include "offsetmap/timing.hpp"
 #include "raster.hpp"
 #include "stages/behind.hpp"
 #include "stages/light.hpp"
 #include "stages/planes.hpp"
-#include "offsetmap/timing.hpp"
 
 namespace offsetmap::renderer {
 

@@ -6,6 +6,7 @@
 #include <glm/glm.hpp>
 
 #include "offsetmap/mesh_curvature.hpp"
+#include "offsetmap/mesh_uv_metric.hpp"
 
 namespace offsetmap::renderer {
 
@@ -113,6 +114,25 @@ void derive_tangents(Mesh& mesh) {
                                : 0.0f;
     }
     derive_curvature(mesh);
+    derive_uv_metric(mesh);
+}
+
+void derive_uv_metric(Mesh& mesh) {
+    UvMetricMesh view;
+    view.positions = mesh.vertices.empty() ? nullptr : mesh.vertices[0].position.data();
+    view.uvs = mesh.vertices.empty() ? nullptr : mesh.vertices[0].uv.data();
+    view.position_stride = view.uv_stride = sizeof(Vertex);
+    view.vertex_count = mesh.vertices.size();
+    view.indices = mesh.indices.data();
+    view.index_count = mesh.indices.size();
+    const std::vector<UvMetricVertex> m = offsetmap::derive_uv_metric(view);
+    for (size_t v = 0; v < m.size(); ++v) {
+        Vertex& x = mesh.vertices[v];
+        x.dpdu = m[v].dpdu;
+        x.dpdv = m[v].dpdv;
+        x.gamma_u = m[v].gamma_u;
+        x.gamma_v = m[v].gamma_v;
+    }
 }
 
 void project_from_world(Mesh& mesh, float world_scale) {
@@ -120,6 +140,7 @@ void project_from_world(Mesh& mesh, float world_scale) {
         v.uv_density = 1.0f / world_scale;
         v.curvature = {0.0f, 0.0f, 0.0f};
         v.uv_log_stretch = 0.0f;
+        v.dpdu = v.dpdv = v.gamma_u = v.gamma_v = {0.0f, 0.0f, 0.0f};
     }
 }
 

@@ -122,11 +122,13 @@ Raster::Raster(const Scene& scene, int width, int height) : width_(width), heigh
         const struct {
             GLint size;
             size_t offset;
-        } attributes[] = {{3, offsetof(Vertex, position)},      {3, offsetof(Vertex, normal)},
-                          {4, offsetof(Vertex, tangent)},       {2, offsetof(Vertex, uv)},
-                          {1, offsetof(Vertex, uv_density)},    {3, offsetof(Vertex, curvature)},
-                          {1, offsetof(Vertex, uv_log_stretch)}};
-        for (GLuint a = 0; a < 7; ++a) {
+        } attributes[] = {{3, offsetof(Vertex, position)},       {3, offsetof(Vertex, normal)},
+                          {4, offsetof(Vertex, tangent)},        {2, offsetof(Vertex, uv)},
+                          {1, offsetof(Vertex, uv_density)},     {3, offsetof(Vertex, curvature)},
+                          {1, offsetof(Vertex, uv_log_stretch)}, {3, offsetof(Vertex, dpdu)},
+                          {3, offsetof(Vertex, dpdv)},           {3, offsetof(Vertex, gamma_u)},
+                          {3, offsetof(Vertex, gamma_v)}};
+        for (GLuint a = 0; a < 11; ++a) {
             glEnableVertexArrayAttrib(ids[0], a);
             glVertexArrayAttribFormat(ids[0], a, attributes[a].size, GL_FLOAT, GL_FALSE,
                                       static_cast<GLuint>(attributes[a].offset));
@@ -150,6 +152,7 @@ Raster::Raster(const Scene& scene, int width, int height) : width_(width), heigh
     peel_depth_ = make_program("gbuffer_vert.glsl", "peel_depth_frag.glsl");
     glProgramUniform1i(peel_depth_.get(), uniform(peel_depth_, "u_front_depth"), 1);
     peel_mask_ = make_program("peel_mask_vert.glsl", "peel_mask_frag.glsl");
+    metric_program_ = make_program("gbuffer_vert.glsl", "uv_metric_frag.glsl");
     glProgramUniform1i(peel_mask_.get(), uniform(peel_mask_, "u_width"), width);
     glProgramUniform2f(peel_mask_.get(), uniform(peel_mask_, "u_size"), float(width),
                        float(height));
@@ -176,11 +179,19 @@ Raster::Raster(const Scene& scene, int width, int height) : width_(width), heigh
     offset2_ = make_texture(GL_RGBA32F, width, height);
     curvature_ = make_texture(GL_RGBA32F, width, height);
     color_ = make_texture(GL_RGBA32F, width, height);
+    for (Texture& t : metric_) t = make_texture(GL_RGBA32F, width, height);
     depth_after_ = make_texture(GL_DEPTH_COMPONENT32F, width, height);
-    GLuint f[2];
-    glCreateFramebuffers(2, f);
+    GLuint f[3];
+    glCreateFramebuffers(3, f);
     fbo_ = Framebuffer(f[0]);
     depth_fbo_ = Framebuffer(f[1]);
+    metric_fbo_ = Framebuffer(f[2]);
+    const GLenum metric_targets[3] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1,
+                                      GL_COLOR_ATTACHMENT2};
+    for (int i = 0; i < 3; ++i)
+        glNamedFramebufferTexture(f[2], metric_targets[i], metric_[i].get(), 0);
+    glNamedFramebufferTexture(f[2], GL_DEPTH_ATTACHMENT, depth_.get(), 0);
+    glNamedFramebufferDrawBuffers(f[2], 3, metric_targets);
     const GLuint colour[] = {normal_.get(),   tangent_.get(), uv_.get(),        derivatives_.get(),
                              material_.get(), offset_.get(),  curvature_.get(), offset2_.get()};
     for (int i = 0; i < kTargetCount; ++i)
@@ -374,6 +385,44 @@ void Raster::draw_with(const View& view, const std::vector<ForwardMaterial>* for
     glDepthFunc(GL_LESS);
     glFinish();
     check_gl(forward ? "the forward G-buffer pass" : "the G-buffer pass");
+}
+
+void Raster::draw_metric(const View& view) {
+    glViewport(0, 0, width_, height_);
+    glBindFramebuffer(GL_DRAW_FRAMEBUFFER, metric_fbo_.get());
+    const float zero[4] = {0, 0, 0, 0};
+    for (int i = 0; i < 3; ++i) glClearNamedFramebufferfv(metric_fbo_.get(), GL_COLOR, i, zero);
+    glEnable(GL_DEPTH_TEST);
+    if (view.orthographic || view.two_sided)
+        glDisable(GL_CULL_FACE);
+    else
+        glEnable(GL_CULL_FACE);
+    glCullFace(GL_BACK);
+    glFrontFace(GL_CCW);
+    glDepthFunc(GL_EQUAL);
+    glDepthMask(GL_FALSE);
+    glUseProgram(metric_program_.get());
+    glUniformMatrix4fv(uniform(metric_program_, "u_view_projection"), 1, GL_FALSE,
+                       view.view_projection.data());
+    for (const DrawMesh& m : meshes_) {
+        glBindVertexArray(m.vao.get());
+        glDrawElements(GL_TRIANGLES, m.count, GL_UNSIGNED_INT, nullptr);
+    }
+    glDepthMask(GL_TRUE);
+    glDepthFunc(GL_LESS);
+    glFinish();
+    check_gl("the uv metric's draw");
+}
+
+std::vector<float> Raster::read_metric() const {
+    const size_t n = static_cast<size_t>(width_) * height_;
+    std::vector<float> out(12 * n);
+    for (int i = 0; i < 3; ++i) {
+        const std::vector<float> p =
+            read_pixels(metric_fbo_.get(), GL_COLOR_ATTACHMENT0 + i, GL_RGBA, 4, width_, height_);
+        std::copy(p.begin(), p.end(), out.begin() + 4 * n * i);
+    }
+    return out;
 }
 
 RasterPlanes Raster::read(bool forward) const {

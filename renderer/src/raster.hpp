@@ -125,6 +125,12 @@ class Raster {
     // surface's k_uu, k_uv, k_vv in the pixel's tangent frame, uv units, and the uv's stretch; 0
     // where nothing was drawn.
     std::vector<float> read_curvature() const;
+    // The uv metric's planes for the last draw (draw or draw_behind): drawn again at GL_EQUAL on
+    // its depth (uv_metric_frag.glsl), so the G-buffer's eight targets keep their layout. Blocks.
+    void draw_metric(const View& view);
+    // After draw_metric: 12 floats a pixel as the offset pass's three planes of width * height
+    // (rows bottom first), 0 where nothing was drawn.
+    std::vector<float> read_metric() const;
     // The frame's results into GL (rows bottom first): the colour (4 floats a pixel) into the
     // colour texture, the depth after the pixel depth offset into the second depth target, which
     // depth_after() reads. Blocks until GL has them.
@@ -147,14 +153,14 @@ class Raster {
                    const Program& program, bool curved, bool clear = true,
                    const Program* prepass_program = nullptr);
     Program deferred_, forward_, deferred_count_, forward_count_, depth_only_, deferred_peel_,
-        peel_mask_, peel_depth_;
+        peel_mask_, peel_depth_, metric_program_;
     VertexArray mask_vao_;
     BufferObject mask_pixels_;  // draw_behind's pixels, in runs along their rows
     bool peel_closed_ = false;  // the depth is 0 but at the last draw_behind's open_runs_
     GLsizei open_runs_ = 0;
     Texture depth_, normal_, tangent_, uv_, derivatives_, material_, offset_, offset2_, curvature_,
-        color_, depth_after_;
-    Framebuffer fbo_, depth_fbo_;
+        color_, depth_after_, metric_[3];
+    Framebuffer fbo_, depth_fbo_, metric_fbo_;
     BufferObject counter_;
 };
 

@@ -140,6 +140,7 @@ struct FrameCommand {
     std::vector<std::string> sets;
     bool forward = false;
     bool curvature = false;     // also the deferred frame over the curved base (its final.png)
+    bool uv_metric = false;     // the curved frames with the uv metric plane beside it
     int layers = 1;             // 2: also the deferred frame with the G-buffer's layer behind
     bool truth = false;         // the displaced mesh as the truth, every frame against it
     float truth_level = 0.5f;   // its lattice, texels per quad

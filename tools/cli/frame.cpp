@@ -45,6 +45,10 @@ void FrameCommand::add_to(CLI::App& app) {
                  "plane to the offset pass, which bends each ray with the surface and leaves "
                  "the pixels whose ray leaves the relief to the background (final.png is this "
                  "frame's)");
+    app.add_flag("--uv-metric", uv_metric,
+                 "with --curvature: the curved frames also carry the uv's metric (dP/du, dP/dv "
+                 "and their rates: stretch, skew and their change across the footprint; "
+                 "docs/design.md, \"The uv metric\")");
     app.add_option("--layers", layers,
                    "2: also render the deferred frame with the G-buffer's second layer (depth "
                    "peeling): the pixels the first layer's relief does not show (rays that leave "

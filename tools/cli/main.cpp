@@ -57,7 +57,8 @@ int main(int argc, char** argv) {
     const std::vector<std::unique_ptr<Command>> commands = make_commands();
     for (const auto& c : commands) c->add_to(app);
 
-    // Usage errors exit 2 with one line; the library's own errors exit 1 (docs/conventions.md, "Exit codes").
+    // Usage errors exit 2 with one line; the library's own errors exit 1 (docs/conventions.md,
+    // "Exit codes").
     auto fail = [](int code, const std::string& message) {
         std::cerr << "offsetmap: error: " << message << "\n";
         return code;

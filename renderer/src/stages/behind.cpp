@@ -66,11 +66,12 @@ BehindStage::BehindStage(Runtime& rt, const Scene& scene, int width, int height,
 }
 
 void BehindStage::trace(const View& view, const FirstLayer& first, ReconstructPass& reconstruct,
-                        MaterialFrame& frame, bool curved, bool whole, Stopwatch& clock,
-                        PassTimes& t) {
+                        MaterialFrame& frame, bool curved, bool metric, bool whole,
+                        Stopwatch& clock, PassTimes& t) {
     const cl::CommandQueue& q = rt_.queue();
     const size_t n = flags_.size();
     dg_.curvature = curved ? planes_.curvature : cl::Buffer();
+    dg_.uv_metric = curved && metric ? planes_.uv_metric : cl::Buffer();
     q.enqueueReadBuffer(first.targets.flags, CL_TRUE, 0, n * sizeof(cl_uint), flags_.data());
     t.offset += clock.lap();
     const std::vector<PixelRegion> regions = needed_behind(flags_, width_, height_, needed_);
@@ -78,6 +79,7 @@ void BehindStage::trace(const View& view, const FirstLayer& first, ReconstructPa
     raster_.draw_behind(view, first.raster, curved, whole ? nullptr : &needed_);
     t.gbuffer += clock.lap();
     planes_.move_from(q, raster_, n, curved, whole ? nullptr : &regions);
+    if (dg_.uv_metric()) planes_.move_metric_from(q, raster_, view, n);
     t.to_device += clock.lap();
     EngineGBuffer g2 = first.engine;
     g2.depth.buffer = planes_.depth;

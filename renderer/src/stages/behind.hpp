@@ -9,10 +9,10 @@
 #include <vector>
 
 #include "../raster.hpp"
-#include "offsetmap/timing.hpp"
 #include "offsetmap/engine_gbuffer.hpp"
 #include "offsetmap/material_frame.hpp"
 #include "offsetmap/renderer/frame.hpp"
+#include "offsetmap/timing.hpp"
 #include "planes.hpp"
 
 namespace offsetmap::renderer {
@@ -34,9 +34,10 @@ class BehindStage {
     // After the first layer's trace was enqueued (`clock` started with it): its flags read, the
     // second layer drawn, moved, reconstructed and traced at the pixels that need it (every pixel
     // with `whole`; none drawn where none needs it). Blocking; adds each pass's time to its
-    // column of `t`, the first layer's trace to the offset's.
+    // column of `t`, the first layer's trace to the offset's. `metric`: with its uv metric.
     void trace(const View& view, const FirstLayer& first, ReconstructPass& reconstruct,
-               MaterialFrame& frame, bool curved, bool whole, Stopwatch& clock, PassTimes& t);
+               MaterialFrame& frame, bool curved, bool metric, bool whole, Stopwatch& clock,
+               PassTimes& t);
 
   private:
     Runtime& rt_;

@@ -14,6 +14,14 @@ GBufferPlanes::GBufferPlanes(Runtime& rt, size_t n, bool taken) {
     ids = buffer(n, written);
     density = buffer(n, written);
     curvature = buffer(4 * n, written);
+    uv_metric = buffer(12 * n, written);
+}
+
+void GBufferPlanes::move_metric_from(const cl::CommandQueue& q, Raster& raster, const View& view,
+                                     size_t n) const {
+    raster.draw_metric(view);
+    const std::vector<float> m = raster.read_metric();
+    q.enqueueWriteBuffer(uv_metric, CL_TRUE, 0, 12 * n * sizeof(float), m.data());
 }
 
 void GBufferPlanes::move_from(const cl::CommandQueue& q, const Raster& raster, size_t n,

@@ -16,6 +16,8 @@ struct GBufferPlanes {
     // Floats a pixel: depth 1, normal 4, tangent 4, uv 2, material id 1, uv density 1 and the
     // curvature 4 (k_uu, k_uv, k_vv, stretch), rows bottom first (GL's).
     cl::Buffer depth, normal, tangent, uv, ids, density, curvature;
+    // The uv metric: 12 floats a pixel, the offset pass's three planes of `pixels` each.
+    cl::Buffer uv_metric;
 
     GBufferPlanes() = default;
     // For `pixels` pixels. With `taken` the planes a layer behind writes in place (depth, ids,
@@ -26,6 +28,11 @@ struct GBufferPlanes {
     // `curvature`. Blocks until the buffers hold them.
     void move_from(const cl::CommandQueue& queue, const Raster& raster, size_t pixels,
                    bool curvature, const std::vector<PixelRegion>* regions = nullptr) const;
+
+    // The uv metric of the raster's last draw, drawn again for it (Raster::draw_metric) and
+    // written into uv_metric. Blocks.
+    void move_metric_from(const cl::CommandQueue& queue, Raster& raster, const View& view,
+                          size_t pixels) const;
 
     // The engine G-buffer over these planes (buffers of floats; the normal-tangent form).
     EngineGBuffer engine(int width, int height, const EngineCamera& camera,

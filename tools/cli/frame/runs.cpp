@@ -59,6 +59,7 @@ void render_deferred(const FrameCommand& cmd, FrameRuns& f) {
     f.covered = renderer.covered_pixels();
     if (cmd.curvature) {
         renderer.set_curvature(true);
+        renderer.set_uv_metric(cmd.uv_metric);
         add_run(f, renderer.render(FrameMode::Deferred, false, cmd.repeats));
     }
     if (cmd.layers == 2) {
@@ -123,6 +124,7 @@ FrameRuns render_runs(FrameRequest& r, const std::shared_ptr<Runtime>& rt) {
     render_sun(r, f);
     render_forward(cmd, f);
     f.renderer->set_curvature(false);
+    f.renderer->set_uv_metric(false);
     return f;
 }
 

@@ -130,6 +130,11 @@ class FrameRenderer {
     // relief over the curved base and flags the rays that leave it SILHOUETTE (docs/design.md);
     // forward frames trace over it in the fragment shader and discard those rays' fragments.
     void set_curvature(bool on);
+    // Curved deferred frames rendered after this call with `on` also carry the uv's metric (the
+    // G-buffer's uv metric plane: the mesh's dP/du, dP/dv and their rates, drawn in a second
+    // pass at GL_EQUAL; docs/design.md, "The uv metric"); off, the curvature plane's stretch
+    // alone, as before. Forward frames and the light's view do not take it.
+    void set_uv_metric(bool on);
     // Deferred frames rendered after this call with 2 also draw the G-buffer's second layer
     // (depth peeling: each pixel's nearest surface behind the first, every plane the passes read)
     // and trace it where the first shows nothing of its relief (MaterialFrame's LayerBehind); 1

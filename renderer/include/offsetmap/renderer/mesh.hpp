@@ -25,6 +25,10 @@ struct Vertex {
     // one density. The log, so that a triangle whose corners have none interpolates to exactly
     // none.
     float uv_log_stretch = 0.0f;
+    // The uv's metric (core's derive_uv_metric, offsetmap/mesh_uv_metric.hpp): dP/du and dP/dv
+    // in world units per uv unit, and the Christoffel symbols Gamma^u and Gamma^v (uu, uv, vv).
+    // Zeros: none (a triplanar mesh's, a mesh built without uv).
+    std::array<float, 3> dpdu{}, dpdv{}, gamma_u{}, gamma_v{};
 };
 
 struct Mesh {
@@ -39,11 +43,13 @@ struct Mesh {
 // w = -1 where (N x T) points against dP/dv (mirrored uv), the density sqrt(world area / uv area).
 // Vertices on a uv seam are separate vertices, so each side keeps its own frame. A vertex whose
 // triangles give no usable dP/du (degenerate uv) gets any unit tangent orthogonal to its normal.
-// Ends with derive_curvature.
+// Ends with derive_curvature and the uv metric (Vertex::dpdu ... gamma_v).
 void derive_tangents(Mesh& mesh);
 // Each vertex's curvature (Vertex::curvature): core's derive_curvature
 // (offsetmap/mesh_curvature.hpp, which says how) over the mesh's vertices in place.
 void derive_curvature(Mesh& mesh);
+// Each vertex's uv metric: core's derive_uv_metric over the mesh's vertices in place.
+void derive_uv_metric(Mesh& mesh);
 // A mesh whose material projects the world (triplanar, `world_scale` tiles a world unit): its
 // uv density the projection's (1 / world_scale, for the depth offset), no curvature and no
 // stretch (the projections' frames are the axes', not the surface's).
