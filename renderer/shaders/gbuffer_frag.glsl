@@ -9,6 +9,10 @@ in vec2 v_uv;
 in float v_uv_density;
 in vec3 v_curvature;
 in float v_uv_log_stretch;
+in vec3 v_dpdu;
+in vec3 v_dpdv;
+in vec3 v_gamma_u;
+in vec3 v_gamma_v;
 
 uniform float u_material;
 
@@ -38,6 +42,7 @@ uniform sampler2D u_front_depth;
 #include "relief.glsl"
 uniform vec3 u_eye;
 uniform int u_curved;  // trace over the curved base (the curvature target's values)
+uniform int u_metric;  // and with the uv metric (uv_metric_frag.glsl's values)
 layout(location = 5) out vec4 o_offset;  // uv', t, fetches
 // A triplanar material (docs/design.md, "Triplanar relief"): world_scale, sharpness, cutoff, 1;
 // zeros for the others. Its fragments trace each projection whose weight is not 0 and write the
@@ -98,9 +103,14 @@ void main() {
     vec3 view = normalize(u_eye - v_position);
     vec3 tv = vec3(dot(view, t), dot(view, b), dot(view, n));
     vec4 k = u_curved != 0 ? o_curvature : vec4(0.0, 0.0, 0.0, 1.0);
+    OmMetric mt = OmMetric(vec4(0.0), vec3(0.0), vec3(0.0));
+    if (u_curved != 0 && u_metric != 0)  // as uv_metric_frag.glsl writes it
+        mt = OmMetric(vec4(dot(v_dpdu, t), dot(v_dpdu, b), dot(v_dpdv, t), dot(v_dpdv, b)) /
+                          v_uv_density,
+                      v_gamma_u, v_gamma_v);
     o_offset_yz = vec4(0.0);
     if (u_material == 0.0 || u_triplanar.w == 0.0) {
-        o_offset = u_material == 0.0 ? vec4(v_uv, 0.0, 0.0) : om_offset(v_uv, tv, k);
+        o_offset = u_material == 0.0 ? vec4(v_uv, 0.0, 0.0) : om_offset(v_uv, tv, k, mt);
     } else {
         vec3 w = om_tri_weights(n, u_triplanar.y, u_triplanar.z);
         vec2 uvs[3];
@@ -122,7 +132,8 @@ void main() {
                     scale = 1.0 / length(r);
                     pv = r * scale;
                 }
-                o = om_offset(uvp, pv, vec4(0.0, 0.0, 0.0, 1.0));
+                o = om_offset(uvp, pv, vec4(0.0, 0.0, 0.0, 1.0),
+                              OmMetric(vec4(0.0), vec3(0.0), vec3(0.0)));
             }
             uvs[a] = o.xy;
             t_sum += w[a] * o.z * scale;

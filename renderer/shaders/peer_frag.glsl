@@ -12,6 +12,7 @@ layout(location = 0) out vec4 o_offset;
 void main() {
     ivec2 p = ivec2(gl_FragCoord.xy);
     vec4 k = u_curved != 0 ? texelFetch(u_curvature, p, 0) : vec4(0.0, 0.0, 0.0, 1.0);
-    o_offset = om_offset(texelFetch(u_uv, p, 0).xy, texelFetch(u_view, p, 0).xyz, k);
+    o_offset = om_offset(texelFetch(u_uv, p, 0).xy, texelFetch(u_view, p, 0).xyz, k,
+                         OmMetric(vec4(0.0), vec3(0.0), vec3(0.0)));
     if (om_silhouette) o_offset.w = -o_offset.w;
 }

@@ -6,7 +6,8 @@
 // is its kernel's search step for step (kernels/methods), with the same step counts. Over a
 // curved base (om_offset's curvature, docs/design.md "Curved surfaces") the ray is the kernels'
 // curved one (kernels/common/ray.cl, om_ray_curve and om_curve_point) and a ray that leaves the
-// slab through its top before a hit sets om_silhouette (the kernels' SILHOUETTE).
+// slab through its top before a hit sets om_silhouette (the kernels' SILHOUETTE); with the uv
+// metric (docs/design.md, "The uv metric") its footprint and depth factor are the kernels' too.
 uniform sampler2D u_heights;
 uniform int u_method;  // OM_GLSL_<row's glsl>: the renderer defines them from the registry
 uniform vec4 u_params;  // the method's parameters in its registry order
@@ -34,15 +35,47 @@ struct OmRay {
     bool curved, exits_top;
     float kn, kc, lxy, su, sv;
     vec2 e;
+    // The uv metric's footprint l m + side n + l^2 g and the density's log rate d (om_ray_metric).
+    bool metric;
+    vec2 m, n, g, d;
 };
+
+// The uv metric at the fragment: (dP/du.T, dP/du.B, dP/dv.T, dP/dv.B) over the uv density, and
+// the Christoffel symbols Gamma^u and Gamma^v (uu, uv, vv); zeros: none.
+struct OmMetric {
+    vec4 j;
+    vec3 gu, gv;
+};
+
+// The kernels' om_metric_usable.
+bool om_metric_usable(OmMetric mt) {
+    float det = mt.j.x * mt.j.w - mt.j.z * mt.j.y, norm = dot(mt.j, mt.j);
+    float g = mt.gu.x + mt.gu.y + mt.gu.z + mt.gv.x + mt.gv.y + mt.gv.z;
+    return !isnan(det) && !isinf(det) && !isnan(norm) && !isinf(norm) && !isnan(g) && !isinf(g) &&
+           det > 1.0e-6 * norm;
+}
+
+// The kernels' om_ray_metric, for a usable metric (r.e set).
+void om_ray_metric(inout OmRay r, OmMetric mt) {
+    float inv = 1.0 / (mt.j.x * mt.j.w - mt.j.z * mt.j.y);
+    float a00 = mt.j.w * inv, a01 = -mt.j.z * inv, a10 = -mt.j.y * inv, a11 = mt.j.x * inv;
+    r.m = vec2(a00 * r.e.x + a01 * r.e.y, a10 * r.e.x + a11 * r.e.y);
+    r.n = vec2(a01 * r.e.x - a00 * r.e.y, a11 * r.e.x - a10 * r.e.y);
+    vec3 q = vec3(r.m.x * r.m.x, 2.0 * r.m.x * r.m.y, r.m.y * r.m.y);
+    r.g = -0.5 * vec2(dot(mt.gu, q), dot(mt.gv, q));
+    r.d = 0.5 * vec2(mt.gu.x + mt.gv.y, mt.gu.y + mt.gv.z);
+}
 
 float om_ray_t(OmRay r, float lambda) { return r.t_enter + lambda * (r.t_exit - r.t_enter); }
 
-// The kernels' om_ray_curve: K = (k_uu, k_uv, k_vv) and the stretch in k.w.
-void om_ray_curve(inout OmRay r, vec4 k) {
+// The kernels' om_ray_curve: K = (k_uu, k_uv, k_vv) and the stretch in k.w, and the uv metric.
+void om_ray_curve(inout OmRay r, vec4 k, OmMetric mt) {
     float a = (!(k.w > 0.0) || isinf(k.w)) ? 1.0 : k.w;
     bool finite = !any(isnan(k.xyz)) && !any(isinf(k.xyz));
-    r.curved = u_scale > 0.0 && finite && (k.x != 0.0 || k.y != 0.0 || k.z != 0.0 || a != 1.0);
+    r.metric = om_metric_usable(mt);
+    bool bends = mt.j != vec4(1.0, 0.0, 0.0, 1.0) || mt.gu != vec3(0.0) || mt.gv != vec3(0.0);
+    r.curved = u_scale > 0.0 && finite &&
+               (k.x != 0.0 || k.y != 0.0 || k.z != 0.0 || a != 1.0 || (r.metric && bends));
     if (!r.curved) return;
     float lxy = sqrt(r.v.x * r.v.x + r.v.y * r.v.y);
     bool plumb = !(lxy > 0.0);
@@ -54,6 +87,7 @@ void om_ray_curve(inout OmRay r, vec4 k) {
     r.lxy = plumb ? 0.0 : lxy;
     r.su = 1.0 / a;
     r.sv = a;
+    if (r.metric) om_ray_metric(r, mt);
     float top = u_scale * (1.0 - u_ref), bottom = -u_scale * u_ref;
     float vz = r.v.z, kn = r.kn;
     float c_top = top * (2.0 + kn * top), c_bottom = bottom * (2.0 + kn * bottom);
@@ -74,7 +108,11 @@ vec3 om_curve_at(OmRay r, float t) {
     float h = (2.0 * z + r.kn * (t * t)) / (q + 1.0);
     float arc = ka == 0.0 ? a : a * (atan(ka, c) / ka);
     float side = -h * r.kc * arc;
-    return vec3((arc * r.e.x - side * r.e.y) * r.su, (arc * r.e.y + side * r.e.x) * r.sv, h);
+    if (!r.metric)
+        return vec3((arc * r.e.x - side * r.e.y) * r.su, (arc * r.e.y + side * r.e.x) * r.sv, h);
+    // The metric's footprint, and the height over the relief's depth factor there.
+    vec2 o = arc * r.m + side * r.n + (arc * arc) * r.g;
+    return vec3(o, h / max(1.0 + dot(r.d, o), 0.25));
 }
 
 // uv' of a hit at t.
@@ -177,9 +215,10 @@ float om_trace(OmRay r) {
 }
 
 // uv', t and the fetch count for a pixel at uv seen along tangent-space V over a base of
-// curvature k (k_uu, k_uv, k_vv in uv units, and the uv's stretch; (0, 0, 0, 1): the plane); uv
-// passes through (t 0) where V is not finite, zero or faces away, as the kernels flag such pixels.
-vec4 om_offset(vec2 uv, vec3 view, vec4 k) {
+// curvature k (k_uu, k_uv, k_vv in uv units, and the uv's stretch; (0, 0, 0, 1): the plane) and uv
+// metric mt (zeros: none); uv passes through (t 0) where V is not finite, zero or faces away, as
+// the kernels flag such pixels.
+vec4 om_offset(vec2 uv, vec3 view, vec4 k, OmMetric mt) {
     if (u_method == OM_GLSL_NONE || any(isnan(view)) || any(isinf(view))) return vec4(uv, 0.0, 0.0);
     float m = max(abs(view.x), max(abs(view.y), abs(view.z)));
     if (!(m > 0.0)) return vec4(uv, 0.0, 0.0);
@@ -199,7 +238,8 @@ vec4 om_offset(vec2 uv, vec3 view, vec4 k) {
     r.t_enter = -u_scale * (1.0 - u_ref) / v.z;
     r.t_exit = u_scale * u_ref / v.z;
     r.curved = false;
-    om_ray_curve(r, k);
+    r.metric = false;
+    om_ray_curve(r, k, mt);
     float t = om_trace(r);
     return vec4(om_footprint(r, t), t, float(om_fetches));
 }

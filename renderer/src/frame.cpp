@@ -112,6 +112,7 @@ void FrameRenderer::set_curvature(bool on) {
 
 void FrameRenderer::set_uv_metric(bool on) {
     impl_->dg.uv_metric = on ? impl_->planes.uv_metric : cl::Buffer();
+    impl_->raster->set_forward_metric(on);
 }
 
 void FrameRenderer::set_layers(int layers, bool whole) {

@@ -353,6 +353,7 @@ void Raster::draw_with(const View& view, const std::vector<ForwardMaterial>* for
         if (with_materials && forward) {
             glUniform3f(uniform(p, "u_eye"), view.eye[0], view.eye[1], view.eye[2]);
             glUniform1i(uniform(p, "u_curved"), curved ? 1 : 0);
+            glUniform1i(uniform(p, "u_metric"), forward_metric_ ? 1 : 0);
         }
         for (const DrawMesh& m : meshes_) {
             if (with_materials) {

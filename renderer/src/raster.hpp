@@ -131,6 +131,9 @@ class Raster {
     // After draw_metric: 12 floats a pixel as the offset pass's three planes of width * height
     // (rows bottom first), 0 where nothing was drawn.
     std::vector<float> read_metric() const;
+    // Forward draws over the curved base after this call with `on` trace with the uv metric too
+    // (the fragment's interpolated dP/du, dP/dv and symbols, as draw_metric writes them).
+    void set_forward_metric(bool on) { forward_metric_ = on; }
     // The frame's results into GL (rows bottom first): the colour (4 floats a pixel) into the
     // colour texture, the depth after the pixel depth offset into the second depth target, which
     // depth_after() reads. Blocks until GL has them.
@@ -147,6 +150,7 @@ class Raster {
     int width_, height_;
     std::vector<DrawMesh> meshes_;
     std::optional<PixelRegion> scissor_;
+    bool forward_metric_ = false;
     // `curved`: forward traces over the curved base (relief.glsl's curvature). Without `clear`
     // the targets keep what the caller put there.
     void draw_with(const View& view, const std::vector<ForwardMaterial>* forward, bool prepass,

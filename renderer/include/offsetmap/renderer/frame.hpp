@@ -133,7 +133,8 @@ class FrameRenderer {
     // Curved deferred frames rendered after this call with `on` also carry the uv's metric (the
     // G-buffer's uv metric plane: the mesh's dP/du, dP/dv and their rates, drawn in a second
     // pass at GL_EQUAL; docs/design.md, "The uv metric"); off, the curvature plane's stretch
-    // alone, as before. Forward frames and the light's view do not take it.
+    // alone, as before. Forward frames over the curved base trace with it in the fragment
+    // shader; the light's view does not take it.
     void set_uv_metric(bool on);
     // Deferred frames rendered after this call with 2 also draw the G-buffer's second layer
     // (depth peeling: each pixel's nearest surface behind the first, every plane the passes read)
