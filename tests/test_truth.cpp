@@ -921,6 +921,78 @@ TEST(Renderer, UvMetricFrameMeetsTheDisplacedUvSphere) {
     }
 }
 
+
+// The other layouts against the displaced mesh, exact, two layers: a flat parallelogram
+// whose uv is skewed (edges 50 degrees apart) and stretched, a cylinder in 3 by 2 tiles (its
+// stretch constant), a torus in 4 by 2 (its metric changing between the rings). Each its own
+// material. The patch's uv is affine, so the metric's footprint is exact there: within 0.05 texel
+// p95 (the truth's lattice and float), where the plane and the stretch alone take the uv as
+// unskewed; the cylinder's stretch is its whole metric (the metric's frame within 10 % + 0.01
+// texel of the stretch's); the torus's interior p95 falls below the stretch's.
+TEST(Renderer, UvMetricFrameMeetsTheDisplacedSkewCylinderAndTorus) {
+    Scene scene;
+    scene.name = "layouts";
+    const float skew = 50.0f * float(M_PI) / 180.0f;
+    scene.meshes.push_back(make_quad("patch", 1, {-1.6f, 0.0f, -1.0f}, {1.2f, 0.0f, 0.0f},
+                                     {0.9f * std::cos(skew), 0.0f, -0.9f * std::sin(skew)}, 4.0f,
+                                     2.0f));
+    scene.meshes.push_back(make_cylinder("cylinder", 2, {0.2f, 0.0f, -2.0f}, 0.3f, 0.8f, 96, 3.0f,
+                                         2.0f));
+    scene.meshes.push_back(make_torus("torus", 3, {1.2f, 0.25f, -1.6f}, 0.4f, 0.16f, 96, 48, 4.0f,
+                                      2.0f));
+    scene.camera = looking_at({0.0f, 1.4f, 0.6f}, {0.0f, 0.2f, -1.6f});
+    scene.light.kind = LightKind::None;
+    FlatCase c{"smooth", smooth_map(64), AddressMode::Wrap, 0.03f, 1.0f, 0.0};
+    std::vector<LoadedMaterial> table;
+    for (int id = 1; id <= 3; ++id) {
+        table.push_back(material(c));
+        table.back().spec.id = id;
+        table.back().spec.name = "m" + std::to_string(id);
+    }
+    const int w = 320, h = 200;
+    const MethodParams exact = resolve_params(find_method("exact"), {});
+    FrameRenderer r(runtime(), scene, table, {exact, exact, exact}, w, h, ShadeSettings{});
+    const FrameRun plane = r.render(FrameMode::Deferred, false, 1);
+    const EngineScene e = r.gbuffer();
+    const GBuffer base = r.explicit_gbuffer();
+    r.set_curvature(true);
+    r.set_layers(2);
+    const FrameRun curved = r.render(FrameMode::Deferred, false, 1);
+    r.set_uv_metric(true);
+    const FrameRun metric = r.render(FrameMode::Deferred, false, 1);
+    const GeometryFrame truth = draw_truth(r, scene, table, w, h).frame;
+    const std::vector<std::uint8_t> band =
+        silhouette_band(e.material, e.depth, plane.offset.flags, w, h);
+    double p95[3][3];  // [mesh][frame]
+    int f = 0;
+    for (const FrameRun* run : {&plane, &curved, &metric}) {
+        const ShownFrame shown{"run", &run->material, &run->offset.uv, &run->depth_after,
+                               &run->offset.flags};
+        const TruthComparison cmp = compare_to_truth(truth, shown, base, e.depth, e.normal, band,
+                                                     table, e.camera.inverse_view_projection, w, h);
+        std::vector<double> errors[3];
+        for (size_t k = 0; k < cmp.uv_error.size(); ++k) {
+            const int id = static_cast<int>(e.material[k]);
+            // The cylinder's caps have planar uv: its side alone.
+            if (id == 2 && std::fabs(e.normal[4 * k + 1]) > 0.99f) continue;
+            if (id >= 1 && id <= 3 && !band[k] && std::isfinite(cmp.uv_error[k]))
+                errors[id - 1].push_back(cmp.uv_error[k]);
+        }
+        for (int m = 0; m < 3; ++m) {
+            ASSERT_GT(errors[m].size(), static_cast<size_t>(w) * h / 50) << m;
+            p95[m][f] = error_stats(errors[m]).p95;
+        }
+        ++f;
+    }
+    const char* names[3] = {"skewed patch", "cylinder 3x2", "torus 4x2"};
+    for (int m = 0; m < 3; ++m)
+        std::printf("%-12s interior uv p95: plane %.3f, curved %.3f, with the metric %.3f texels\n",
+                    names[m], p95[m][0], p95[m][1], p95[m][2]);
+    EXPECT_LE(p95[0][2], 0.05);
+    EXPECT_LE(p95[0][2], p95[0][1] / 5.0);
+    EXPECT_LE(p95[1][2], 1.1 * p95[1][1] + 0.01);
+    EXPECT_LE(p95[2][2], p95[2][1]);
+}
 #endif
 
 }  // namespace

@@ -7,6 +7,7 @@
 #include <cstring>
 #include <random>
 
+#include "offsetmap/mesh_uv_metric.hpp"
 #include "offsetmap/oracle.hpp"
 #include "support.hpp"
 
@@ -286,6 +287,140 @@ TEST(UvMetric, TheStretchAndUnusableMetricsGiveTheStretchsFrame) {
             ASSERT_EQ(std::memcmp(&b1.uv[k], &b2.uv[k], sizeof(cl_float2)), 0);
         }
     }
+}
+
+// A uv sphere mesh of radius 1 in packed arrays: `seg` x `rings` quads, u = lon / pi + shear v
+// (twice around, sheared), v = lat / pi + 1/2; the poles' rows are `seg` + 1 vertices at one
+// point (their quads' degenerate triangles have no area).
+struct SphereArrays {
+    int seg, rings;
+    double shear;
+    std::vector<float> pos, uv;
+    std::vector<std::uint32_t> idx;
+    SphereArrays(int s, int r, double sh) : seg(s), rings(r), shear(sh) {
+        for (int j = 0; j <= rings; ++j)
+            for (int i = 0; i <= seg; ++i) {
+                const double v = double(j) / rings, u = 2.0 * i / seg + shear * v;
+                const std::array<double, 3> x = at(u, v);
+                pos.insert(pos.end(), {float(x[0]), float(x[1]), float(x[2])});
+                uv.insert(uv.end(), {float(u), float(v)});
+            }
+        for (int j = 0; j < rings; ++j)
+            for (int i = 0; i < seg; ++i) {
+                const std::uint32_t k = j * (seg + 1) + i, up = k + seg + 1;
+                idx.insert(idx.end(), {k, k + 1, up + 1, k, up + 1, up});
+            }
+    }
+    std::array<double, 3> at(double u, double v) const {
+        const double lat = kPi * (v - 0.5), lon = kPi * (u - shear * v);
+        return {std::cos(lat) * std::cos(lon), std::cos(lat) * std::sin(lon), std::sin(lat)};
+    }
+    UvMetricMesh mesh() const {
+        UvMetricMesh m;
+        m.positions = pos.data();
+        m.uvs = uv.data();
+        m.vertex_count = pos.size() / 3;
+        m.indices = idx.data();
+        m.index_count = idx.size();
+        return m;
+    }
+    // The analytic symbols at (u, v), from central differences of the surface (step 1e-4: their
+    // own error about 1e-8).
+    std::array<double, 6> gamma(double u, double v) const {
+        const double e = 1e-4;
+        auto d = [&](int i, int j) {  // second derivative d2P / du_i du_j
+            std::array<double, 3> r{};
+            const double du[2] = {e, 0}, dv[2] = {0, e};
+            const double a[2] = {i == 0 ? du[0] : dv[0], i == 0 ? du[1] : dv[1]};
+            const double b[2] = {j == 0 ? du[0] : dv[0], j == 0 ? du[1] : dv[1]};
+            const auto pp = at(u + a[0] + b[0], v + a[1] + b[1]),
+                       pm = at(u + a[0] - b[0], v + a[1] - b[1]);
+            const auto mp = at(u - a[0] + b[0], v - a[1] + b[1]),
+                       mm = at(u - a[0] - b[0], v - a[1] - b[1]);
+            for (int q = 0; q < 3; ++q) r[q] = (pp[q] - pm[q] - mp[q] + mm[q]) / (4 * e * e);
+            return r;
+        };
+        auto first = [&](int i) {
+            std::array<double, 3> r{};
+            const auto p = at(u + (i == 0) * e, v + (i == 1) * e),
+                       m = at(u - (i == 0) * e, v - (i == 1) * e);
+            for (int q = 0; q < 3; ++q) r[q] = (p[q] - m[q]) / (2 * e);
+            return r;
+        };
+        auto dot3 = [](const std::array<double, 3>& a, const std::array<double, 3>& b) {
+            return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+        };
+        const auto su = first(0), sv = first(1);
+        const double E = dot3(su, su), F = dot3(su, sv), G = dot3(sv, sv), det = E * G - F * F;
+        std::array<double, 6> g{};
+        const int ij[3][2] = {{0, 0}, {0, 1}, {1, 1}};
+        for (int k = 0; k < 3; ++k) {
+            const auto s2 = d(ij[k][0], ij[k][1]);
+            const double xu = dot3(s2, su), xv = dot3(s2, sv);
+            g[k] = (G * xu - F * xv) / det;
+            g[3 + k] = (E * xv - F * xu) / det;
+        }
+        return g;
+    }
+};
+
+// derive_uv_metric's symbols on a sheared uv sphere (every symbol non-zero, skew included)
+// against the surface's own, at the vertices within 60 degrees of the equator, the seam's
+// included (its two sides' triangles both count): their error falls with the mesh's spacing (at
+// least 3x when it halves: second order), and the poles' degenerate triangles give finite values
+// or none.
+TEST(UvMetric, TheMeshsSymbolsAreTheSurfacesToSecondOrder) {
+    double worst_prev = 0.0;
+    for (int seg : {48, 96}) {
+        const SphereArrays s(seg, seg / 2, 0.3);
+        const std::vector<UvMetricVertex> m = derive_uv_metric(s.mesh());
+        double worst = 0.0, scale = 0.0;
+        for (size_t k = 0; k < m.size(); ++k) {
+            for (int q = 0; q < 3; ++q)
+                ASSERT_TRUE(std::isfinite(m[k].gamma_u[q]) && std::isfinite(m[k].gamma_v[q]));
+            const double u = s.uv[2 * k], v = s.uv[2 * k + 1];
+            if (std::fabs(v - 0.5) > 1.0 / 3.0) continue;
+            const std::array<double, 6> want = s.gamma(u, v);
+            for (int q = 0; q < 3; ++q) {
+                worst = std::max(worst, std::fabs(m[k].gamma_u[q] - want[q]));
+                worst = std::max(worst, std::fabs(m[k].gamma_v[q] - want[3 + q]));
+                scale = std::max({scale, std::fabs(want[q]), std::fabs(want[3 + q])});
+            }
+        }
+        std::printf("sheared uv sphere %d x %d: worst symbol error %.2e (largest symbol %.2f)\n",
+                    seg, seg / 2, worst, scale);
+        if (worst_prev > 0.0) EXPECT_GT(worst_prev / worst, 3.0);
+        worst_prev = worst;
+    }
+}
+
+// Degenerate uv: a triangle whose uv has no area, one whose corners are one point, and a vertex
+// only they touch: nothing from them (zeros: the pass reads no metric there), the rest finite.
+TEST(UvMetric, DegenerateUvGivesNothingAndNoNaN) {
+    const std::vector<float> pos = {0, 0, 0, 1, 0, 0, 0, 1, 0, 1, 1, 0, 2, 2, 0, 3, 3, 0, 3, 3, 0};
+    const std::vector<float> uv = {0, 0, 1, 0, 0, 1, 1, 1, 0.5f, 0.5f, 0.5f, 0.5f, 0.7f, 0.1f};
+    // A good pair; a triangle with collinear uv (4, 5, 6: two uv equal); a zero-area one (5, 6
+    // at one point).
+    const std::vector<std::uint32_t> idx = {0, 1, 3, 0, 3, 2, 4, 5, 6, 5, 6, 4};
+    UvMetricMesh mesh;
+    mesh.positions = pos.data();
+    mesh.uvs = uv.data();
+    mesh.vertex_count = 7;
+    mesh.indices = idx.data();
+    mesh.index_count = idx.size();
+    const std::vector<UvMetricVertex> m = derive_uv_metric(mesh);
+    for (int k = 0; k < 4; ++k) {
+        EXPECT_FLOAT_EQ(m[k].dpdu[0], 1.0f);
+        EXPECT_FLOAT_EQ(m[k].dpdv[1], 1.0f);
+    }
+    for (int k = 4; k < 7; ++k)
+        for (int q = 0; q < 3; ++q) {
+            EXPECT_EQ(m[k].dpdu[q], 0.0f);
+            EXPECT_EQ(m[k].gamma_u[q], 0.0f);
+            EXPECT_EQ(m[k].gamma_v[q], 0.0f);
+        }
+    mesh.index_count = 4;
+    EXPECT_THROW(derive_uv_metric(mesh), Error);
 }
 
 }  // namespace

@@ -1,7 +1,10 @@
 // Double precision throughout; core links nothing but OpenCL.
 #include "offsetmap/mesh_uv_metric.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <map>
 #include <string>
 
 #include "offsetmap/error.hpp"
@@ -50,55 +53,131 @@ struct UvEdges {
     D3 rate_v(D3 x0, D3 x1, D3 x2) const { return ((x2 - x0) * du1 - (x1 - x0) * du2) * (1 / det); }
 };
 
+// Groups of vertices at one place (a uv seam's sides, a pole's copies): within a millionth of the
+// mesh's size, through a grid of cells of that size (each vertex against the 27 around its own).
+std::vector<std::vector<std::size_t> > weld(const std::vector<D3>& p) {
+    D3 lo{INFINITY, INFINITY, INFINITY}, hi{-INFINITY, -INFINITY, -INFINITY};
+    for (const D3& x : p) {
+        lo = {std::min(lo.x, x.x), std::min(lo.y, x.y), std::min(lo.z, x.z)};
+        hi = {std::max(hi.x, x.x), std::max(hi.y, x.y), std::max(hi.z, x.z)};
+    }
+    const D3 size = hi - lo;
+    const double eps = std::max(1e-6 * std::sqrt(dot(size, size)), 1e-30);
+    std::map<std::array<long long, 3>, std::vector<std::size_t> > cells;
+    std::vector<std::size_t> group(p.size());
+    std::vector<std::vector<std::size_t> > groups;
+    for (std::size_t k = 0; k < p.size(); ++k) {
+        const D3 q = (p[k] - lo) * (1 / eps);
+        const long long c[3] = {static_cast<long long>(std::floor(q.x)),
+                                static_cast<long long>(std::floor(q.y)),
+                                static_cast<long long>(std::floor(q.z))};
+        std::size_t found = SIZE_MAX;
+        for (int d = 0; d < 27 && found == SIZE_MAX; ++d) {
+            const auto it = cells.find({c[0] + d % 3 - 1, c[1] + d / 3 % 3 - 1, c[2] + d / 9 - 1});
+            if (it == cells.end()) continue;
+            for (std::size_t r : it->second) {
+                const D3 e = p[r] - p[k];
+                if (dot(e, e) <= eps * eps) {
+                    found = group[r];
+                    break;
+                }
+            }
+        }
+        if (found == SIZE_MAX) {
+            found = groups.size();
+            groups.emplace_back();
+            cells[{c[0], c[1], c[2]}].push_back(k);
+        }
+        group[k] = found;
+        groups[found].push_back(k);
+    }
+    std::vector<std::vector<std::size_t> > of(p.size());
+    for (std::size_t k = 0; k < p.size(); ++k) of[k] = groups[group[k]];
+    return of;
+}
+
+// One triangle's contribution: its area, its uv orientation and its dP/du and dP/dv.
+struct Face {
+    std::uint32_t i[3];
+    UvEdges e;
+    double area;
+    D3 dpdu, dpdv;
+};
+
 }  // namespace
 
 std::vector<UvMetricVertex> derive_uv_metric(const UvMetricMesh& mesh) {
     check(mesh);
     const std::size_t n = mesh.vertex_count;
-    auto position = [&](std::size_t k) {
+    std::vector<D3> pos(n);
+    for (std::size_t k = 0; k < n; ++k) {
         const float* p = row(mesh.positions, mesh.position_stride, k, 3 * sizeof(float));
-        return D3{p[0], p[1], p[2]};
-    };
+        pos[k] = D3{p[0], p[1], p[2]};
+    }
     auto uv = [&](std::size_t k) { return row(mesh.uvs, mesh.uv_stride, k, 2 * sizeof(float)); };
-    // Each usable triangle's corners, uv edges and area.
-    struct Tri {
-        std::uint32_t i[3];
-        UvEdges e;
-        double area;
-    };
-    std::vector<Tri> tris;
+    std::vector<Face> faces;
+    std::vector<std::vector<std::size_t> > faces_of(n);
     for (std::size_t t = 0; t < mesh.index_count; t += 3) {
-        Tri tri{{mesh.indices[t], mesh.indices[t + 1], mesh.indices[t + 2]}, {}, 0.0};
-        const float *a = uv(tri.i[0]), *b = uv(tri.i[1]), *c = uv(tri.i[2]);
-        UvEdges& e = tri.e;
+        Face f{{mesh.indices[t], mesh.indices[t + 1], mesh.indices[t + 2]}, {}, 0.0, {}, {}};
+        const float *a = uv(f.i[0]), *b = uv(f.i[1]), *c = uv(f.i[2]);
+        UvEdges& e = f.e;
         e.du1 = double(b[0]) - a[0], e.dv1 = double(b[1]) - a[1];
         e.du2 = double(c[0]) - a[0], e.dv2 = double(c[1]) - a[1];
         e.det = e.du1 * e.dv2 - e.du2 * e.dv1;
-        const D3 p0 = position(tri.i[0]);
-        const D3 cr = cross(position(tri.i[1]) - p0, position(tri.i[2]) - p0);
-        tri.area = 0.5 * std::sqrt(dot(cr, cr));
-        if (std::fabs(e.det) < 1e-20 || !(tri.area > 1e-20) || !std::isfinite(e.det)) continue;
-        tris.push_back(tri);
+        const D3 p0 = pos[f.i[0]], p1 = pos[f.i[1]], p2 = pos[f.i[2]];
+        const D3 cr = cross(p1 - p0, p2 - p0);
+        f.area = 0.5 * std::sqrt(dot(cr, cr));
+        if (std::fabs(e.det) < 1e-20 || !(f.area > 1e-20) || !std::isfinite(e.det)) continue;
+        f.dpdu = e.rate_u(p0, p1, p2);
+        f.dpdv = e.rate_v(p0, p1, p2);
+        for (std::uint32_t k : f.i) faces_of[k].push_back(faces.size());
+        faces.push_back(f);
     }
-    // dP/du and dP/dv a vertex, as the renderer's derive_tangents weighs them.
-    std::vector<D3> su(n), sv(n);
-    std::vector<double> weight(n, 0.0);
-    for (const Tri& t : tris) {
-        const D3 p0 = position(t.i[0]), p1 = position(t.i[1]), p2 = position(t.i[2]);
-        const D3 dpdu = t.e.rate_u(p0, p1, p2), dpdv = t.e.rate_v(p0, p1, p2);
-        for (std::uint32_t k : t.i) {
-            su[k] = su[k] + dpdu * t.area;
-            sv[k] = sv[k] + dpdv * t.area;
-            weight[k] += t.area;
+    const std::vector<std::vector<std::size_t> > welded = weld(pos);
+    // A vertex's own dP/du and dP/dv (its triangles', area-weighted, as the renderer's tangents),
+    // then its seam's: the triangles of every vertex at its place whose uv runs the same way (the
+    // same orientation, dP/du and dP/dv within 90 degrees of its own: a translated seam, not a
+    // mirrored or turned one), so a seam's vertex has both sides' triangles, as one inside has.
+    std::vector<D3> own_u(n), own_v(n);
+    std::vector<int> orientation(n, 0);
+    for (std::size_t k = 0; k < n; ++k) {
+        double w = 0.0;
+        for (std::size_t q : faces_of[k]) {
+            own_u[k] = own_u[k] + faces[q].dpdu * faces[q].area;
+            own_v[k] = own_v[k] + faces[q].dpdv * faces[q].area;
+            w += faces[q].area;
         }
+        if (w > 0.0) orientation[k] = faces[faces_of[k][0]].e.det > 0.0 ? 1 : -1;
     }
-    for (std::size_t k = 0; k < n; ++k)
-        if (weight[k] > 0.0) su[k] = su[k] * (1 / weight[k]), sv[k] = sv[k] * (1 / weight[k]);
+    auto same_way = [&](std::size_t k, const Face& f) {
+        return orientation[k] != 0 && (f.e.det > 0.0 ? 1 : -1) == orientation[k] &&
+               dot(f.dpdu, own_u[k]) > 0.0 && dot(f.dpdv, own_v[k]) > 0.0;
+    };
+    // Each vertex's seam's triangles, once each.
+    std::vector<std::vector<std::size_t> > seam(n);
+    for (std::size_t k = 0; k < n; ++k) {
+        for (std::size_t j : welded[k])
+            for (std::size_t q : faces_of[j])
+                if (same_way(k, faces[q])) seam[k].push_back(q);
+        std::sort(seam[k].begin(), seam[k].end());
+        seam[k].erase(std::unique(seam[k].begin(), seam[k].end()), seam[k].end());
+    }
+    std::vector<D3> su(n), sv(n);
+    for (std::size_t k = 0; k < n; ++k) {
+        double w = 0.0;
+        for (std::size_t q : seam[k]) {
+            su[k] = su[k] + faces[q].dpdu * faces[q].area;
+            sv[k] = sv[k] + faces[q].dpdv * faces[q].area;
+            w += faces[q].area;
+        }
+        if (w > 0.0) su[k] = su[k] * (1 / w), sv[k] = sv[k] * (1 / w);
+    }
     // Each triangle's Christoffel symbols from the rates of the interpolated dP/du and dP/dv, at
-    // its centroid's dP/du and dP/dv.
-    std::vector<std::array<double, 6> > gamma(n, std::array<double, 6>{});
-    std::vector<double> gw(n, 0.0);
-    for (const Tri& t : tris) {
+    // its centroid's dP/du and dP/dv; then each vertex's, over its seam's triangles.
+    std::vector<std::array<double, 6> > face_gamma(faces.size());
+    std::vector<bool> has_gamma(faces.size(), false);
+    for (std::size_t q = 0; q < faces.size(); ++q) {
+        const Face& t = faces[q];
         const std::uint32_t a = t.i[0], b = t.i[1], c = t.i[2];
         const D3 suu = t.e.rate_u(su[a], su[b], su[c]), suv_a = t.e.rate_v(su[a], su[b], su[c]);
         const D3 suv_b = t.e.rate_u(sv[a], sv[b], sv[c]), svv = t.e.rate_v(sv[a], sv[b], sv[c]);
@@ -107,29 +186,32 @@ std::vector<UvMetricVertex> derive_uv_metric(const UvMetricMesh& mesh) {
         const double E = dot(tu, tu), F = dot(tu, tv), G = dot(tv, tv), det = E * G - F * F;
         if (!(det > 1e-30 * (E * G))) continue;
         const D3 second[3] = {suu, suv, svv};
-        std::array<double, 6> g{};
+        std::array<double, 6>& g = face_gamma[q];
+        bool finite = true;
         for (int ij = 0; ij < 3; ++ij) {
             const double xu = dot(second[ij], tu), xv = dot(second[ij], tv);
             g[ij] = (G * xu - F * xv) / det;      // Gamma^u_ij
             g[3 + ij] = (E * xv - F * xu) / det;  // Gamma^v_ij
+            finite = finite && std::isfinite(g[ij]) && std::isfinite(g[3 + ij]);
         }
-        bool finite = true;
-        for (double x : g) finite = finite && std::isfinite(x);
-        if (!finite) continue;
-        for (std::uint32_t k : t.i) {
-            for (int q = 0; q < 6; ++q) gamma[k][q] += t.area * g[q];
-            gw[k] += t.area;
-        }
+        has_gamma[q] = finite;
     }
     std::vector<UvMetricVertex> out(n);
     for (std::size_t k = 0; k < n; ++k) {
-        if (!(weight[k] > 0.0)) continue;
+        if (seam[k].empty()) continue;
         out[k].dpdu = f3(su[k]);
         out[k].dpdv = f3(sv[k]);
-        if (!(gw[k] > 0.0)) continue;
-        for (int q = 0; q < 3; ++q) {
-            out[k].gamma_u[q] = float(gamma[k][q] / gw[k]);
-            out[k].gamma_v[q] = float(gamma[k][3 + q] / gw[k]);
+        std::array<double, 6> sum{};
+        double w = 0.0;
+        for (std::size_t q : seam[k]) {
+            if (!has_gamma[q]) continue;
+            for (int i = 0; i < 6; ++i) sum[i] += faces[q].area * face_gamma[q][i];
+            w += faces[q].area;
+        }
+        if (!(w > 0.0)) continue;
+        for (int i = 0; i < 3; ++i) {
+            out[k].gamma_u[i] = float(sum[i] / w);
+            out[k].gamma_v[i] = float(sum[3 + i] / w);
         }
     }
     return out;
