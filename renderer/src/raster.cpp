@@ -416,14 +416,19 @@ void Raster::draw_metric(const View& view) {
 }
 
 std::vector<float> Raster::read_metric() const {
-    const size_t n = static_cast<size_t>(width_) * height_;
-    std::vector<float> out(12 * n);
-    for (int i = 0; i < 3; ++i) {
-        const std::vector<float> p =
-            read_pixels(metric_fbo_.get(), GL_COLOR_ATTACHMENT0 + i, GL_RGBA, 4, width_, height_);
-        std::copy(p.begin(), p.end(), out.begin() + 4 * n * i);
-    }
+    std::vector<float> out(12 * static_cast<size_t>(width_) * height_);
+    read_metric_into(out.data());
     return out;
+}
+
+void Raster::read_metric_into(float* out, const std::vector<PixelRegion>* regions) const {
+    const size_t n = static_cast<size_t>(width_) * height_;
+    const std::vector<PixelRegion> whole{{0, 0, width_, height_}};
+    for (const PixelRegion& r : regions ? *regions : whole)
+        for (int i = 0; i < 3; ++i)
+            read_pixels_into(metric_fbo_.get(), GL_COLOR_ATTACHMENT0 + i, GL_RGBA, r.x, r.y,
+                             r.width, r.height, width_,
+                             out + 4 * (n * i + static_cast<size_t>(r.y) * width_ + r.x));
 }
 
 RasterPlanes Raster::read(bool forward) const {

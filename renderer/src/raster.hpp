@@ -129,8 +129,9 @@ class Raster {
     // its depth (uv_metric_frag.glsl), so the G-buffer's eight targets keep their layout. Blocks.
     void draw_metric(const View& view);
     // After draw_metric: 12 floats a pixel as the offset pass's three planes of width * height
-    // (rows bottom first), 0 where nothing was drawn.
+    // (rows bottom first), 0 where nothing was drawn; into `out` (with `regions`: only theirs).
     std::vector<float> read_metric() const;
+    void read_metric_into(float* out, const std::vector<PixelRegion>* regions = nullptr) const;
     // Forward draws over the curved base after this call with `on` trace with the uv metric too
     // (the fragment's interpolated dP/du, dP/dv and symbols, as draw_metric writes them).
     void set_forward_metric(bool on) { forward_metric_ = on; }

@@ -7,7 +7,8 @@ Kernel and GLSL mutants are applied to a copy of kernels/ or renderer/shaders/ t
 binary loads through OFFSETMAP_KERNEL_DIR or OFFSETMAP_SHADER_DIR (no rebuild; they run side by
 side); host mutants are applied in place, the test binary rebuilt, and the source restored (and
 rebuilt) afterwards, whatever happens (after a build of the same tree running beside them,
-OFFSETMAP_MUTANTS_AFTER=PID, has ended). Host mutants of one file run one after the other, so a
+OFFSETMAP_MUTANTS_AFTER=PID, has ended); each one's tests run on a copy of its binary beside the
+next one's build. Host mutants of one file run one after the other, so a
 file is compiled once a mutant and once restored, not restored between its own. A mutant is killed when one
 of its tests fails; it survives when they all pass. A mutant whose `find` text does not occur
 exactly once, whose kernel does not build, or whose host source does not compile is stale: the
@@ -73,7 +74,7 @@ def folder_of(m):
     return next((f for f in FOLDERS if m["file"].startswith(f)), None)
 
 
-def run_tests(build, m, folder_env=None):
+def run_tests(build, m, folder_env=None, binary=None):
     # Figures a mutated build measures must not reach the figure check's folder.
     env = dict(os.environ, OFFSETMAP_TEST_DATA=os.path.join(ROOT, "data"),
                OFFSETMAP_FIGURES=os.path.join(tempfile.gettempdir(), "om_mutant_figures"))
@@ -83,8 +84,8 @@ def run_tests(build, m, folder_env=None):
     if folder_env:
         env.update(folder_env)
     # One failing test kills the mutant: the rest of its tests need not run.
-    cmd = [os.path.join(build, "tests", "offsetmap_tests"), "--gtest_filter=" + m["tests"],
-           "--gtest_fail_fast"]
+    cmd = [binary or os.path.join(build, "tests", "offsetmap_tests"),
+           "--gtest_filter=" + m["tests"], "--gtest_fail_fast"]
     try:
         p = subprocess.run(cmd, env=env, capture_output=True, text=True, timeout=TIMEOUT_S)
     except subprocess.TimeoutExpired:
@@ -127,7 +128,10 @@ def build_tests(build):
     return p.returncode == 0, p.stdout + p.stderr
 
 
-def host_mutant(build, m):
+def host_mutant_build(build, m, tmp):
+    """The mutant applied, the test binary built and copied aside, the source restored: returns
+    (None, copy) to run, or (verdict, detail) when it is stale. Its tests run on the copy while
+    the next mutant builds (their binaries' paths to data and the CLI are absolute)."""
     path = os.path.join(ROOT, m["file"])
     with open(path) as f:
         original = f.read()
@@ -140,10 +144,19 @@ def host_mutant(build, m):
         ok, log = build_tests(build)
         if not ok:
             return "stale", "the mutated source does not compile"
-        return run_tests(build, m)
+        copy = os.path.join(tmp, m["name"])
+        shutil.copy2(os.path.join(build, "tests", "offsetmap_tests"), copy)
+        return None, copy
     finally:
         with open(path, "w") as f:
             f.write(original)
+
+
+def host_mutant_test(build, m, copy):
+    try:
+        return run_tests(build, m, binary=copy)
+    finally:
+        os.remove(copy)
 
 
 def wait_for_build_beside():
@@ -209,9 +222,22 @@ def main():
     if hosts:
         wait_for_build_beside()
     try:
-        for m in hosts:
-            t0 = time.time()
-            report(m, *host_mutant(build, m), t0)
+        # Each mutant's tests run beside the next one's build (one at a time), on its own copy of
+        # the test binary.
+        with tempfile.TemporaryDirectory(prefix="om_host_mutants_") as tmp, \
+                ThreadPoolExecutor(max_workers=1) as tests:
+            pending = []
+            for m in hosts:
+                t0 = time.time()
+                verdict, detail = host_mutant_build(build, m, tmp)
+                if verdict:
+                    report(m, verdict, detail, t0)
+                    continue
+                pending.append(tests.submit(
+                    lambda m=m, copy=detail, t0=t0: report(m, *host_mutant_test(build, m, copy),
+                                                           t0)))
+            for f in pending:
+                f.result()
     finally:
         if hosts:
             ok, log = build_tests(build)  # the restored sources

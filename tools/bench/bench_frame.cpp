@@ -198,12 +198,13 @@ nlohmann::json bench_curved_frame(std::shared_ptr<Runtime> rt, const Resolution&
         const char* name;
         bool curved;
         int layers;
-        bool whole;  // the layer behind drawn over the whole frame (set_layers)
+        bool whole;   // the layer behind drawn over the whole frame (set_layers)
+        bool metric;  // with the uv metric plane (set_uv_metric)
     };
-    const Mode modes[] = {{"plane", false, 1, false},
-                          {"curved", true, 1, false},
-                          {"two-layers", true, 2, false},
-                          {"two-whole", true, 2, true}};
+    const Mode modes[] = {
+        {"plane", false, 1, false, false},    {"curved", true, 1, false, false},
+        {"metric", true, 1, false, true},     {"two-layers", true, 2, false, false},
+        {"two-metric", true, 2, false, true}, {"two-whole", true, 2, true, false}};
     // samples[mode][pass], one value per round.
     std::vector<std::vector<std::vector<double> > > samples(std::size(modes),
                                                             std::vector<std::vector<double> >(10));
@@ -211,6 +212,7 @@ nlohmann::json bench_curved_frame(std::shared_ptr<Runtime> rt, const Resolution&
     for (int round = 0; round <= rounds; ++round)
         for (size_t m = 0; m < std::size(modes); ++m) {
             r.set_curvature(modes[m].curved);
+            r.set_uv_metric(modes[m].metric);
             r.set_layers(modes[m].layers, modes[m].whole);
             const FrameRun run = r.render(FrameMode::Deferred, false, 1);
             const std::vector<double> v = pass_values(run);

@@ -79,7 +79,7 @@ void BehindStage::trace(const View& view, const FirstLayer& first, ReconstructPa
     raster_.draw_behind(view, first.raster, curved, whole ? nullptr : &needed_);
     t.gbuffer += clock.lap();
     planes_.move_from(q, raster_, n, curved, whole ? nullptr : &regions);
-    if (dg_.uv_metric()) planes_.move_metric_from(q, raster_, view, n);
+    if (dg_.uv_metric()) planes_.move_metric_from(q, raster_, view, n, whole ? nullptr : &regions);
     t.to_device += clock.lap();
     EngineGBuffer g2 = first.engine;
     g2.depth.buffer = planes_.depth;

@@ -18,10 +18,14 @@ GBufferPlanes::GBufferPlanes(Runtime& rt, size_t n, bool taken) {
 }
 
 void GBufferPlanes::move_metric_from(const cl::CommandQueue& q, Raster& raster, const View& view,
-                                     size_t n) const {
+                                     size_t n, const std::vector<PixelRegion>* regions) const {
     raster.draw_metric(view);
-    const std::vector<float> m = raster.read_metric();
-    q.enqueueWriteBuffer(uv_metric, CL_TRUE, 0, 12 * n * sizeof(float), m.data());
+    const cl_map_flags how = regions ? CL_MAP_WRITE : CL_MAP_WRITE_INVALIDATE_REGION;
+    float* p =
+        static_cast<float*>(q.enqueueMapBuffer(uv_metric, CL_TRUE, how, 0, 12 * n * sizeof(float)));
+    raster.read_metric_into(p, regions);
+    q.enqueueUnmapMemObject(uv_metric, p);
+    q.finish();
 }
 
 void GBufferPlanes::move_from(const cl::CommandQueue& q, const Raster& raster, size_t n,

@@ -30,9 +30,9 @@ struct GBufferPlanes {
                    bool curvature, const std::vector<PixelRegion>* regions = nullptr) const;
 
     // The uv metric of the raster's last draw, drawn again for it (Raster::draw_metric) and
-    // written into uv_metric. Blocks.
+    // read into uv_metric mapped (`regions`: only theirs). Blocks.
     void move_metric_from(const cl::CommandQueue& queue, Raster& raster, const View& view,
-                          size_t pixels) const;
+                          size_t pixels, const std::vector<PixelRegion>* regions = nullptr) const;
 
     // The engine G-buffer over these planes (buffers of floats; the normal-tangent form).
     EngineGBuffer engine(int width, int height, const EngineCamera& camera,
