@@ -48,8 +48,20 @@ OM_INLINE OmCurvature om_load_curvature(__global const float4* curvature,
     const size_t plane = 4 * (size_t)pixels;
     OmF unused;
     om_load_block4(m, b, &k.m.j00, &k.m.j10, &k.m.j01, &k.m.j11);
-    om_load_block4(m + plane, b, &k.m.guu, &k.m.guv, &k.m.gvv, &unused);
-    om_load_block4(m + 2 * plane, b, &k.m.huu, &k.m.huv, &k.m.hvv, &unused);
+    k.m.guu = k.m.guv = k.m.gvv = k.m.huu = k.m.huv = k.m.hvv = 0.0f;
+    // A pixel on the tangent plane (no curvature, no stretch, J within 2^-12 of the identity:
+    // om_metric_flat) traces the plane, its symbols unread; a block of them reads none.
+    const OmI flat = om_metric_flat(k.uu, k.uv, k.vv, k.stretch, &k.m);
+    if (OM_ANY(!flat)) {
+        om_load_block4(m + plane, b, &k.m.guu, &k.m.guv, &k.m.gvv, &unused);
+        om_load_block4(m + 2 * plane, b, &k.m.huu, &k.m.huv, &k.m.hvv, &unused);
+        k.m.guu = OM_SEL(k.m.guu, (OmF)0.0f, flat);
+        k.m.guv = OM_SEL(k.m.guv, (OmF)0.0f, flat);
+        k.m.gvv = OM_SEL(k.m.gvv, (OmF)0.0f, flat);
+        k.m.huu = OM_SEL(k.m.huu, (OmF)0.0f, flat);
+        k.m.huv = OM_SEL(k.m.huv, (OmF)0.0f, flat);
+        k.m.hvv = OM_SEL(k.m.hvv, (OmF)0.0f, flat);
+    }
 #endif
 #else
     k.uu = k.uv = k.vv = k.stretch = 0.0f;

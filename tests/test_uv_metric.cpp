@@ -423,5 +423,31 @@ TEST(UvMetric, DegenerateUvGivesNothingAndNoNaN) {
     EXPECT_THROW(derive_uv_metric(mesh), Error);
 }
 
+// A pixel on the tangent plane (no curvature, no stretch, J the identity) traces the plane
+// whatever its symbols say (their term is second order in a footprint whose first order is the
+// plane's): every method's frame is the one without the metric plane, bit for bit.
+TEST(UvMetric, APixelOnTheTangentPlaneKeepsThePlanesBits) {
+    const HeightMap map = noisy_map(64);
+    const PassSettings s = wrap_settings(0.04f, 0.8f);
+    std::vector<MetricRay> rays = metric_rays(128, {Curvature{}}, 12);
+    const GBuffer none = metric_gbuffer(rays, false);
+    GBuffer flat = metric_gbuffer(rays);
+    const size_t n = rays.size();
+    for (size_t k = 0; k < n; ++k) {
+        flat.uv_metric[k] = {{1.0f, 0.0f, 0.0f, 1.0f}};
+        flat.uv_metric[n + k] = {{0.3f, -1.5f, 0.8f, 0.0f}};
+        flat.uv_metric[2 * n + k] = {{-0.7f, 0.2f, 2.5f, 0.0f}};
+    }
+    for (const std::string& method : method_names()) {
+        const OffsetResult a = run(method, map, none, s), b = run(method, map, flat, s);
+        for (size_t k = 0; k < n; ++k) {
+            SCOPED_TRACE(method + ", pixel " + std::to_string(k));
+            ASSERT_EQ(std::memcmp(&a.uv[k], &b.uv[k], sizeof(cl_float2)), 0);
+            ASSERT_EQ(std::memcmp(&a.depth[k], &b.depth[k], sizeof(float)), 0);
+            ASSERT_EQ(a.flags[k], b.flags[k]);
+        }
+    }
+}
+
 }  // namespace
 }  // namespace omtest

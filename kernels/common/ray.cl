@@ -23,7 +23,8 @@ typedef struct {
     // The uv metric's (docs/design.md, "The uv metric"): the footprint at arc length l along e
     // and `side` across it lies at l m + side n + l^2 g in uv (m = A e, n = A e_perp for A the
     // inverse of the uv's Jacobian in the frame, g = -Gamma(m, m) / 2), and the relief there is
-    // f = max(1 + d.offset, 1/4) times as deep (d: the density's log rate, Gamma's trace / 2).
+    // 1 / clamp(1 - d.offset, 1/4, 4) times as deep (d: the density's log rate, Gamma's trace
+    // / 2; the reciprocal linear, so no sample divides).
     OmF mu, mv, nu, nv, gu, gv, du, dv;
 #endif
     OmI curved;     // lanes over a curved base; the rest trace the plane, bit for bit
@@ -133,12 +134,25 @@ OM_INLINE OmI om_metric_usable(const OmUvMetric* m) {
     return isfinite(det) && isfinite(norm) && isfinite(g) && det > 1.0e-6f * norm;
 }
 
-// A metric that moves the footprint off the plane's: not the identity, or not constant.
-OM_INLINE OmI om_metric_bends(const OmUvMetric* m) {
-    return m->j00 != 1.0f || m->j10 != 0.0f || m->j01 != 0.0f || m->j11 != 1.0f ||
-           m->guu != 0.0f || m->guv != 0.0f || m->gvv != 0.0f || m->huu != 0.0f ||
-           m->huv != 0.0f || m->hvv != 0.0f;
+// A Jacobian within 2^-12 of the identity (float positions and uv leave an isotropic flat mesh a
+// few 1e-6 off: as the stretch's rule, a 10-texel offset moves by under 0.002 texel).
+OM_INLINE OmI om_metric_identity(const OmUvMetric* m) {
+    const float e = 0x1p-12f;
+    return fabs(m->j00 - 1.0f) <= e && fabs(m->j10) <= e && fabs(m->j01) <= e &&
+           fabs(m->j11 - 1.0f) <= e;
 }
+
+// A pixel on the tangent plane whatever its symbols: no curvature, no stretch (1, or none) and
+// an identity Jacobian. Its symbols are not read (their term is second order in a footprint
+// whose first order is the plane's), so it traces the plane, bit for bit.
+OM_INLINE OmI om_metric_flat(OmF kuu, OmF kuv, OmF kvv, OmF stretch, const OmUvMetric* m) {
+    const OmI no_stretch = stretch == 1.0f || !(stretch > 0.0f) || isinf(stretch);
+    return kuu == 0.0f && kuv == 0.0f && kvv == 0.0f && no_stretch && om_metric_identity(m);
+}
+
+// A metric that moves a pixel with no curvature and no stretch off the plane's trace: a
+// Jacobian off the identity (with it, the pixel is om_metric_flat and its symbols are unread).
+OM_INLINE OmI om_metric_bends(const OmUvMetric* m) { return !om_metric_identity(m); }
 
 // The ray's footprint terms from the metric (A = J^-1; lanes without a usable one keep the
 // stretch's A = diag(1 / a, a) and no rates).
@@ -222,11 +236,12 @@ OM_INLINE void om_ray_curve(OmRay* r, OmF kuu, OmF kuv, OmF kvv, OmF stretch,
 //   h = (2 z + kn t^2) / (q + 1),   arc = atan2(kn a, c) / kn,   sideways -h kc arc.
 // Both are exact for kn = 0 (h = z, arc = a). The point keeps what its rates reuse.
 // Under the uv metric the point also holds its footprint offset (dx, dy), the relief's depth
-// factor f there and he = h / f, the height the relief is compared with (h / s + r against H).
+// factor's reciprocal g there and he = h g, the height the relief is compared with (h / s + r
+// against H).
 typedef struct {
     OmF c, ka, q, h, arc;
 #ifdef OM_UV_METRIC
-    OmF dx, dy, f, he;
+    OmF dx, dy, g, he;
 #endif
 } OmCurvePoint;
 
@@ -239,11 +254,11 @@ OM_INLINE OmCurvePoint om_curve_point(const OmRay* r, OmF t) {
     p.h = (2.0f * z + r->kn * (t * t)) / (p.q + 1.0f);
     p.arc = OM_SEL(a * (atan2(p.ka, p.c) / p.ka), a, p.ka == 0.0f);
 #ifdef OM_UV_METRIC
-    const OmF side = -p.h * r->kc * p.arc, l2 = p.arc * p.arc;
-    p.dx = p.arc * r->mu + side * r->nu + l2 * r->gu;
-    p.dy = p.arc * r->mv + side * r->nv + l2 * r->gv;
-    p.f = fmax(1.0f + r->du * p.dx + r->dv * p.dy, 0.25f);
-    p.he = p.h / p.f;
+    const OmF side = -p.h * r->kc * p.arc;
+    p.dx = OM_FMA(p.arc, OM_FMA(p.arc, r->gu, r->mu), side * r->nu);
+    p.dy = OM_FMA(p.arc, OM_FMA(p.arc, r->gv, r->mv), side * r->nv);
+    p.g = clamp(1.0f - (r->du * p.dx + r->dv * p.dy), 0.25f, 4.0f);
+    p.he = p.h * p.g;
 #endif
     return p;
 }
@@ -279,8 +294,8 @@ OM_INLINE void om_curve_at(const OmRay* r, OmF t, OmF* dx, OmF* dy, OmF* h) {
 // The curve's rates at a point, d/dt of its offset (dx, dy) and h: the ray's direction against
 // the circle's normal and tangent at the foot's angle phi (cos phi = c / q, sin phi = kn a / q),
 //   h' = |V.xy| sin phi - V.z cos phi,   arc' = (|V.xy| c + V.z kn a) / q^2.
-// Under the uv metric, d/dt of l m + side n + l^2 g, and of he = h / f: (h' - he f') / f (f' = 0
-// where f is held at its floor).
+// Under the uv metric, d/dt of l m + side n + l^2 g, and of he = h g: h' g + h g' (g' = 0 where
+// g is held at its bounds).
 OM_INLINE void om_curve_rate(const OmRay* r, const OmCurvePoint* p, OmF* ddx, OmF* ddy, OmF* dh) {
     *dh = (r->lxy * p->ka - r->vz * p->c) / p->q;
     const OmF darc = (r->lxy * p->c + r->vz * p->ka) / (p->q * p->q);
@@ -289,8 +304,9 @@ OM_INLINE void om_curve_rate(const OmRay* r, const OmCurvePoint* p, OmF* ddx, Om
     const OmF dl2 = 2.0f * p->arc * darc;
     *ddx = darc * r->mu + dside * r->nu + dl2 * r->gu;
     *ddy = darc * r->mv + dside * r->nv + dl2 * r->gv;
-    const OmF df = OM_SEL(r->du * *ddx + r->dv * *ddy, (OmF)0.0f, p->f <= 0.25f);
-    *dh = (*dh - p->he * df) / p->f;
+    const OmF dg =
+        OM_SEL(-(r->du * *ddx + r->dv * *ddy), (OmF)0.0f, p->g <= 0.25f || p->g >= 4.0f);
+    *dh = *dh * p->g + p->h * dg;
 #else
     *ddx = (darc * r->ex - dside * r->ey) * r->su;
     *ddy = (darc * r->ey + dside * r->ex) * r->sv;
@@ -329,7 +345,12 @@ OM_INLINE void om_ray_sample(const OmRay* r, OmF lambda, OmF* x, OmF* y, OmF* et
     if (r->any_curved) {
         const OmCurvePoint p = om_curve_point(r, t);
         om_curve_select(r, &p, x, y);
+#ifdef OM_UV_METRIC
+        // A multiply by the scalar reciprocal: the metric's terms pay for themselves here.
+        *eta = OM_SEL(*eta, om_curve_height(&p) * (1.0f / r->scale) + r->ref, r->curved);
+#else
         *eta = OM_SEL(*eta, om_curve_height(&p) / r->scale + r->ref, r->curved);
+#endif
     }
 #endif
 }

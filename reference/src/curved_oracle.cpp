@@ -50,8 +50,9 @@ CurvedPoint curved_point(const double V[3], const Curvature& K, double t) {
     const double dx = c.arc * mu + side * nu - 0.5 * l2 * form(K.gamma_u);
     const double dy = c.arc * mv + side * nv - 0.5 * l2 * form(K.gamma_v);
     const double du = 0.5 * (K.gamma_u[0] + K.gamma_v[1]), dv = 0.5 * (K.gamma_u[1] + K.gamma_v[2]);
-    const double f = std::max(1.0 + du * dx + dv * dy, 0.25);
-    return CurvedPoint{dx, dy, c.h, c.h / f};
+    // The relief's depth factor's reciprocal, linear in the offset (no division).
+    const double g = std::clamp(1.0 - (du * dx + dv * dy), 0.25, 4.0);
+    return CurvedPoint{dx, dy, c.h, c.h * g};
 }
 
 CurvedHit curved_hit(const HeightMap& map, double u, double v, const double V[3],

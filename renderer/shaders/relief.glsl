@@ -73,7 +73,8 @@ void om_ray_curve(inout OmRay r, vec4 k, OmMetric mt) {
     float a = (!(k.w > 0.0) || isinf(k.w)) ? 1.0 : k.w;
     bool finite = !any(isnan(k.xyz)) && !any(isinf(k.xyz));
     r.metric = om_metric_usable(mt);
-    bool bends = mt.j != vec4(1.0, 0.0, 0.0, 1.0) || mt.gu != vec3(0.0) || mt.gv != vec3(0.0);
+    // The kernels' om_metric_bends: a Jacobian beyond 2^-12 of the identity.
+    bool bends = any(greaterThan(abs(mt.j - vec4(1.0, 0.0, 0.0, 1.0)), vec4(1.0 / 4096.0)));
     r.curved = u_scale > 0.0 && finite &&
                (k.x != 0.0 || k.y != 0.0 || k.z != 0.0 || a != 1.0 || (r.metric && bends));
     if (!r.curved) return;
@@ -110,9 +111,9 @@ vec3 om_curve_at(OmRay r, float t) {
     float side = -h * r.kc * arc;
     if (!r.metric)
         return vec3((arc * r.e.x - side * r.e.y) * r.su, (arc * r.e.y + side * r.e.x) * r.sv, h);
-    // The metric's footprint, and the height over the relief's depth factor there.
+    // The metric's footprint, and the height times the reciprocal of the relief's depth factor.
     vec2 o = arc * r.m + side * r.n + (arc * arc) * r.g;
-    return vec3(o, h / max(1.0 + dot(r.d, o), 0.25));
+    return vec3(o, h * clamp(1.0 - dot(r.d, o), 0.25, 4.0));
 }
 
 // uv' of a hit at t.

@@ -56,8 +56,8 @@ struct Curvature {
     // (j = {dP/du.T, dP/du.B, dP/dv.T, dP/dv.B}) and the Christoffel symbols of the uv
     // parametrisation (gamma_u = Gamma^u_uu, _uv, _vv; gamma_v the same for v). The footprint
     // at arc length l along e and `side` across it is l A e + side A e_perp - l^2 Gamma(A e,
-    // A e) / 2 (A = J^-1), and the relief there f = max(1 + d.offset, 1/4) times as deep
-    // (d_k = (Gamma^u_uk + Gamma^v_vk) / 2, the uv density's log rate).
+    // A e) / 2 (A = J^-1), and the relief there 1 / clamp(1 - d.offset, 1/4, 4) times as
+    // deep (d_k = (Gamma^u_uk + Gamma^v_vk) / 2, the uv density's log rate).
     bool metric = false;
     double j[4] = {1.0, 0.0, 0.0, 1.0};
     double gamma_u[3] = {0.0, 0.0, 0.0}, gamma_v[3] = {0.0, 0.0, 0.0};
@@ -71,7 +71,8 @@ struct CurvedHit {
 
 // The model's ray at t over the base K: the footprint's offset (dx, dy) from the pixel in uv and
 // the height h above the base along its normal (docs/design.md, "Curved surfaces"); under the uv
-// metric `he` = h / f, the height the relief is compared with (h itself without it).
+// metric `he` = h clamp(1 - d.offset, 1/4, 4), the height the relief is compared with (h itself
+// without it).
 struct CurvedPoint {
     double dx, dy, h, he;
 };
