@@ -249,6 +249,27 @@ TEST(UvMetric, MarchesFollowTheMetric) {
     }
 }
 
+// A small frame of every kind of base (the Oclgrind sweep's case, at 1 and 16 lanes): the walk
+// within the oracle's step of its hit, the march and the slope step finite.
+TEST(UvMetric, ASmallFrameMeetsTheOracle) {
+    const MetricCase c(noisy_map(32), 40, 21);
+    const OffsetResult exact = run("exact", c.map, c.gb, c.s);
+    for (size_t k = 0; k < c.rays.size(); ++k) {
+        SCOPED_TRACE(k);
+        ASSERT_EQ(bool(exact.flags[k] & OM_FLAG_SILHOUETTE), c.want[k].miss);
+        if (c.want[k].miss) continue;
+        if (exact.depth[k] < c.want[k].t && texels(c.want[k], exact.uv[k], 32) > 1.0 / 32.0)
+            ASSERT_LE(std::fabs(c.gap(k, exact.depth[k])), 4e-6);
+        else
+            ASSERT_LE(texels(c.want[k], exact.uv[k], 32), 1.0 / 32.0);
+    }
+    for (const char* method : {"pom", "parallax-slope"}) {
+        const OffsetResult got = run(method, c.map, c.gb, c.s);
+        for (size_t k = 0; k < c.rays.size(); ++k)
+            ASSERT_TRUE(std::isfinite(got.uv[k].s[0]) && std::isfinite(got.uv[k].s[1])) << k;
+    }
+}
+
 // A metric that says what the stretch says (J = diag(a, 1 / a), no rates) gives the stretch's
 // frame within float rounding; one the trace cannot use (zeros, a collapsed row, a mirrored
 // frame, a NaN or an infinity anywhere) gives the stretch's too, finite, and the same bits from

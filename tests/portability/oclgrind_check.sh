@@ -145,6 +145,12 @@ run_case shade-soft-lanes16 16 render --method relief "${frame[@]}" --shadows so
 [ -n "$tests" ] && bin=$tests run_case depth-offset 1 \
     --gtest_filter=DepthOffset.KernelMovesEachPointAlongItsEyeRay
 # The material frame's layer behind (its mask, choice and plane copies), through the suite's test.
+# The uv metric's planes beside the curvature (every kind of base: a skewed patch, a uv sphere
+# toward its pole, every term at once): the walk, the march and the slope step.
+for lanes in 1 16; do
+    [ -n "$tests" ] && bin=$tests run_case uv-metric-lanes$lanes $lanes \
+        --gtest_filter=UvMetric.ASmallFrameMeetsTheOracle
+done
 [ -n "$tests" ] && bin=$tests run_case layer-behind 1 \
     --gtest_filter=MaterialFrame.LayerBehindShowsWhatTheFirstLayerDoesNot
 # The receivers' shadow test (its receiver plane, filter taps past the map's edges), one pixel a
