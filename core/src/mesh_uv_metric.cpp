@@ -104,19 +104,16 @@ struct Face {
     D3 dpdu, dpdv;
 };
 
-}  // namespace
+// The mesh's usable triangles (uv and world area above 1e-20) and each vertex's.
+struct Faces {
+    std::vector<Face> list;
+    std::vector<std::vector<std::size_t> > of;  // per vertex, indices into list
+};
 
-std::vector<UvMetricVertex> derive_uv_metric(const UvMetricMesh& mesh) {
-    check(mesh);
-    const std::size_t n = mesh.vertex_count;
-    std::vector<D3> pos(n);
-    for (std::size_t k = 0; k < n; ++k) {
-        const float* p = row(mesh.positions, mesh.position_stride, k, 3 * sizeof(float));
-        pos[k] = D3{p[0], p[1], p[2]};
-    }
+Faces collect_faces(const UvMetricMesh& mesh, const std::vector<D3>& pos) {
+    Faces faces;
+    faces.of.resize(pos.size());
     auto uv = [&](std::size_t k) { return row(mesh.uvs, mesh.uv_stride, k, 2 * sizeof(float)); };
-    std::vector<Face> faces;
-    std::vector<std::vector<std::size_t> > faces_of(n);
     for (std::size_t t = 0; t < mesh.index_count; t += 3) {
         Face f{{mesh.indices[t], mesh.indices[t + 1], mesh.indices[t + 2]}, {}, 0.0, {}, {}};
         const float *a = uv(f.i[0]), *b = uv(f.i[1]), *c = uv(f.i[2]);
@@ -130,72 +127,92 @@ std::vector<UvMetricVertex> derive_uv_metric(const UvMetricMesh& mesh) {
         if (std::fabs(e.det) < 1e-20 || !(f.area > 1e-20) || !std::isfinite(e.det)) continue;
         f.dpdu = e.rate_u(p0, p1, p2);
         f.dpdv = e.rate_v(p0, p1, p2);
-        for (std::uint32_t k : f.i) faces_of[k].push_back(faces.size());
-        faces.push_back(f);
+        for (std::uint32_t k : f.i) faces.of[k].push_back(faces.list.size());
+        faces.list.push_back(f);
     }
+    return faces;
+}
+
+// Each vertex's seam's triangles, once each: those of every vertex at its place whose uv runs
+// the way its own triangles' does (the same orientation, dP/du and dP/dv within 90 degrees of
+// its own: a translated seam, not a mirrored or turned one), so a seam's vertex has both sides'
+// triangles, as one inside has.
+std::vector<std::vector<std::size_t> > seam_faces(const Faces& faces, const std::vector<D3>& pos) {
+    const std::size_t n = pos.size();
     const std::vector<std::vector<std::size_t> > welded = weld(pos);
-    // A vertex's own dP/du and dP/dv (its triangles', area-weighted, as the renderer's tangents),
-    // then its seam's: the triangles of every vertex at its place whose uv runs the same way (the
-    // same orientation, dP/du and dP/dv within 90 degrees of its own: a translated seam, not a
-    // mirrored or turned one), so a seam's vertex has both sides' triangles, as one inside has.
-    std::vector<D3> own_u(n), own_v(n);
-    std::vector<int> orientation(n, 0);
-    for (std::size_t k = 0; k < n; ++k) {
-        double w = 0.0;
-        for (std::size_t q : faces_of[k]) {
-            own_u[k] = own_u[k] + faces[q].dpdu * faces[q].area;
-            own_v[k] = own_v[k] + faces[q].dpdv * faces[q].area;
-            w += faces[q].area;
-        }
-        if (w > 0.0) orientation[k] = faces[faces_of[k][0]].e.det > 0.0 ? 1 : -1;
-    }
-    auto same_way = [&](std::size_t k, const Face& f) {
-        return orientation[k] != 0 && (f.e.det > 0.0 ? 1 : -1) == orientation[k] &&
-               dot(f.dpdu, own_u[k]) > 0.0 && dot(f.dpdv, own_v[k]) > 0.0;
-    };
-    // Each vertex's seam's triangles, once each.
     std::vector<std::vector<std::size_t> > seam(n);
     for (std::size_t k = 0; k < n; ++k) {
+        if (faces.of[k].empty()) continue;
+        D3 own_u, own_v;
+        for (std::size_t q : faces.of[k]) {
+            own_u = own_u + faces.list[q].dpdu * faces.list[q].area;
+            own_v = own_v + faces.list[q].dpdv * faces.list[q].area;
+        }
+        const bool positive = faces.list[faces.of[k][0]].e.det > 0.0;
         for (std::size_t j : welded[k])
-            for (std::size_t q : faces_of[j])
-                if (same_way(k, faces[q])) seam[k].push_back(q);
+            for (std::size_t q : faces.of[j]) {
+                const Face& f = faces.list[q];
+                if ((f.e.det > 0.0) == positive && dot(f.dpdu, own_u) > 0.0 &&
+                    dot(f.dpdv, own_v) > 0.0)
+                    seam[k].push_back(q);
+            }
         std::sort(seam[k].begin(), seam[k].end());
         seam[k].erase(std::unique(seam[k].begin(), seam[k].end()), seam[k].end());
     }
+    return seam;
+}
+
+// A triangle's Christoffel symbols (Gamma^u uu, uv, vv, then Gamma^v) from the rates of the
+// vertices' dP/du (su) and dP/dv (sv) interpolated over it, at its centroid's; false where its
+// first fundamental form is singular or a symbol is not finite.
+bool face_symbols(const Face& t, const std::vector<D3>& su, const std::vector<D3>& sv,
+                  std::array<double, 6>& g) {
+    const std::uint32_t a = t.i[0], b = t.i[1], c = t.i[2];
+    const D3 suu = t.e.rate_u(su[a], su[b], su[c]), suv_a = t.e.rate_v(su[a], su[b], su[c]);
+    const D3 suv_b = t.e.rate_u(sv[a], sv[b], sv[c]), svv = t.e.rate_v(sv[a], sv[b], sv[c]);
+    const D3 suv = (suv_a + suv_b) * 0.5;
+    const D3 tu = (su[a] + su[b] + su[c]) * (1.0 / 3), tv = (sv[a] + sv[b] + sv[c]) * (1.0 / 3);
+    const double E = dot(tu, tu), F = dot(tu, tv), G = dot(tv, tv), det = E * G - F * F;
+    if (!(det > 1e-30 * (E * G))) return false;
+    const D3 second[3] = {suu, suv, svv};
+    bool finite = true;
+    for (int ij = 0; ij < 3; ++ij) {
+        const double xu = dot(second[ij], tu), xv = dot(second[ij], tv);
+        g[ij] = (G * xu - F * xv) / det;      // Gamma^u_ij
+        g[3 + ij] = (E * xv - F * xu) / det;  // Gamma^v_ij
+        finite = finite && std::isfinite(g[ij]) && std::isfinite(g[3 + ij]);
+    }
+    return finite;
+}
+
+}  // namespace
+
+std::vector<UvMetricVertex> derive_uv_metric(const UvMetricMesh& mesh) {
+    check(mesh);
+    const std::size_t n = mesh.vertex_count;
+    std::vector<D3> pos(n);
+    for (std::size_t k = 0; k < n; ++k) {
+        const float* p = row(mesh.positions, mesh.position_stride, k, 3 * sizeof(float));
+        pos[k] = D3{p[0], p[1], p[2]};
+    }
+    const Faces faces = collect_faces(mesh, pos);
+    const std::vector<std::vector<std::size_t> > seam = seam_faces(faces, pos);
+    // dP/du and dP/dv a vertex: its seam's triangles', area-weighted (the renderer's tangents').
     std::vector<D3> su(n), sv(n);
     for (std::size_t k = 0; k < n; ++k) {
         double w = 0.0;
         for (std::size_t q : seam[k]) {
-            su[k] = su[k] + faces[q].dpdu * faces[q].area;
-            sv[k] = sv[k] + faces[q].dpdv * faces[q].area;
-            w += faces[q].area;
+            su[k] = su[k] + faces.list[q].dpdu * faces.list[q].area;
+            sv[k] = sv[k] + faces.list[q].dpdv * faces.list[q].area;
+            w += faces.list[q].area;
         }
         if (w > 0.0) su[k] = su[k] * (1 / w), sv[k] = sv[k] * (1 / w);
     }
-    // Each triangle's Christoffel symbols from the rates of the interpolated dP/du and dP/dv, at
-    // its centroid's dP/du and dP/dv; then each vertex's, over its seam's triangles.
-    std::vector<std::array<double, 6> > face_gamma(faces.size());
-    std::vector<bool> has_gamma(faces.size(), false);
-    for (std::size_t q = 0; q < faces.size(); ++q) {
-        const Face& t = faces[q];
-        const std::uint32_t a = t.i[0], b = t.i[1], c = t.i[2];
-        const D3 suu = t.e.rate_u(su[a], su[b], su[c]), suv_a = t.e.rate_v(su[a], su[b], su[c]);
-        const D3 suv_b = t.e.rate_u(sv[a], sv[b], sv[c]), svv = t.e.rate_v(sv[a], sv[b], sv[c]);
-        const D3 suv = (suv_a + suv_b) * 0.5;
-        const D3 tu = (su[a] + su[b] + su[c]) * (1.0 / 3), tv = (sv[a] + sv[b] + sv[c]) * (1.0 / 3);
-        const double E = dot(tu, tu), F = dot(tu, tv), G = dot(tv, tv), det = E * G - F * F;
-        if (!(det > 1e-30 * (E * G))) continue;
-        const D3 second[3] = {suu, suv, svv};
-        std::array<double, 6>& g = face_gamma[q];
-        bool finite = true;
-        for (int ij = 0; ij < 3; ++ij) {
-            const double xu = dot(second[ij], tu), xv = dot(second[ij], tv);
-            g[ij] = (G * xu - F * xv) / det;      // Gamma^u_ij
-            g[3 + ij] = (E * xv - F * xu) / det;  // Gamma^v_ij
-            finite = finite && std::isfinite(g[ij]) && std::isfinite(g[3 + ij]);
-        }
-        has_gamma[q] = finite;
-    }
+    std::vector<std::array<double, 6> > face_gamma(faces.list.size());
+    std::vector<bool> has_gamma(faces.list.size());
+    for (std::size_t q = 0; q < faces.list.size(); ++q)
+        has_gamma[q] = face_symbols(faces.list[q], su, sv, face_gamma[q]);
+    // The symbols a vertex: its seam's triangles', area-weighted.
     std::vector<UvMetricVertex> out(n);
     for (std::size_t k = 0; k < n; ++k) {
         if (seam[k].empty()) continue;
@@ -205,8 +222,8 @@ std::vector<UvMetricVertex> derive_uv_metric(const UvMetricMesh& mesh) {
         double w = 0.0;
         for (std::size_t q : seam[k]) {
             if (!has_gamma[q]) continue;
-            for (int i = 0; i < 6; ++i) sum[i] += faces[q].area * face_gamma[q][i];
-            w += faces[q].area;
+            for (int i = 0; i < 6; ++i) sum[i] += faces.list[q].area * face_gamma[q][i];
+            w += faces.list[q].area;
         }
         if (!(w > 0.0)) continue;
         for (int i = 0; i < 3; ++i) {
