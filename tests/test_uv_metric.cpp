@@ -444,6 +444,45 @@ TEST(UvMetric, DegenerateUvGivesNothingAndNoNaN) {
     EXPECT_THROW(derive_uv_metric(mesh), Error);
 }
 
+// A mirrored uv seam (u = |x| across x = 0, the seam's vertices one on each side): its sides are
+// not welded, so each seam vertex keeps its own side's dP/du (unit length, opposite signs), where
+// welding them would average it to nothing; a translated seam (u = x and x + 2 across it) is.
+TEST(UvMetric, AMirroredSeamKeepsEachSidesMetric) {
+    // Two quads, x in [-1, 0] and [0, 1], y in [0, 1]; the seam's column at x = 0 twice.
+    auto strip = [](bool mirrored) {
+        std::vector<float> pos, uv;
+        for (int side = 0; side < 2; ++side)
+            for (int j = 0; j < 2; ++j)
+                for (int i = 0; i < 2; ++i) {
+                    const float x = side == 0 ? float(i) - 1.0f : float(i);
+                    pos.insert(pos.end(), {x, float(j), 0.0f});
+                    const float u = mirrored ? std::fabs(x) : (side == 0 ? x + 2.0f : x);
+                    uv.insert(uv.end(), {u, float(j)});
+                }
+        return std::make_pair(pos, uv);
+    };
+    std::vector<std::uint32_t> idx;
+    for (std::uint32_t b : {0u, 4u}) idx.insert(idx.end(), {b, b + 1, b + 3, b, b + 3, b + 2});
+    for (bool mirrored : {true, false}) {
+        SCOPED_TRACE(mirrored ? "mirrored" : "translated");
+        const auto [pos, uv] = strip(mirrored);
+        UvMetricMesh mesh;
+        mesh.positions = pos.data();
+        mesh.uvs = uv.data();
+        mesh.vertex_count = 8;
+        mesh.indices = idx.data();
+        mesh.index_count = idx.size();
+        const std::vector<UvMetricVertex> m = derive_uv_metric(mesh);
+        // Vertex 1 is the left side's seam vertex (x = 0), vertex 4 the right side's.
+        const float left = mirrored ? -1.0f : 1.0f;
+        EXPECT_FLOAT_EQ(m[1].dpdu[0], left);
+        EXPECT_FLOAT_EQ(m[4].dpdu[0], 1.0f);
+        for (const UvMetricVertex& v : m)
+            for (int q = 0; q < 3; ++q)
+                EXPECT_TRUE(std::isfinite(v.gamma_u[q]) && std::isfinite(v.gamma_v[q]));
+    }
+}
+
 // A pixel on the tangent plane (no curvature, no stretch, J the identity) traces the plane
 // whatever its symbols say (their term is second order in a footprint whose first order is the
 // plane's): every method's frame is the one without the metric plane, bit for bit.
