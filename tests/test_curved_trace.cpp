@@ -5,17 +5,12 @@
 #include <cmath>
 #include <random>
 
+#include "curved_rays.hpp"
 #include "offsetmap/oracle.hpp"
 #include "support.hpp"
 
 namespace omtest {
 namespace {
-
-struct CurvedRay {
-    float u, v;
-    std::array<float, 3> V;
-    Curvature K;
-};
 
 GBuffer curved_gbuffer(const std::vector<CurvedRay>& rays) {
     std::vector<std::array<float, 5>> px;
@@ -27,27 +22,6 @@ GBuffer curved_gbuffer(const std::vector<CurvedRay>& rays) {
                             static_cast<float>(rays[k].K.vv),
                             static_cast<float>(rays[k].K.stretch)}};
     return gb;
-}
-
-// Random rays over bases from a list of curvatures, 12 to 85 degrees.
-std::vector<CurvedRay> random_rays(int n, const std::vector<Curvature>& bases, unsigned seed) {
-    std::mt19937 rng(seed);
-    std::uniform_real_distribution<double> unit(0.0, 1.0);
-    std::vector<CurvedRay> rays;
-    for (int i = 0; i < n; ++i) {
-        CurvedRay r;
-        r.u = static_cast<float>(unit(rng));
-        r.v = static_cast<float>(unit(rng));
-        r.V = view_dir(12.0 + 73.0 * unit(rng), 360.0 * unit(rng));
-        r.K = bases[i % bases.size()];
-        rays.push_back(r);
-    }
-    return rays;
-}
-
-double texels(const CurvedHit& c, const cl_float2& got, int n) {
-    auto wrapped = [](double d) { return d - std::round(d); };
-    return std::hypot(wrapped(got.s[0] - c.u), wrapped(got.s[1] - c.v)) * n;
 }
 
 // Every method with a curvature plane of zeros gives the pass without one, bit for bit; with half

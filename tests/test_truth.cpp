@@ -843,12 +843,47 @@ TEST(Renderer, CoverageBehindTheBaseComparesTheTwoSurfaces) {
     EXPECT_FLOAT_EQ(cmp.uv_error[0], 0.0f);
 }
 
+// The tangent plane's one-layer frame, the curved two-layer frame without and with the uv metric
+// (in that order), the first frame's G-buffer, the truth and the plane's silhouette band.
+struct MetricFrames {
+    FrameRun runs[3];
+    EngineScene e;
+    GBuffer base;
+    GeometryFrame truth;
+    std::vector<std::uint8_t> band;
+};
+
+MetricFrames render_metric_frames(FrameRenderer& r, const Scene& scene,
+                                  const std::vector<LoadedMaterial>& table, int w, int h) {
+    MetricFrames f;
+    f.runs[0] = r.render(FrameMode::Deferred, false, 1);
+    f.e = r.gbuffer();
+    f.base = r.explicit_gbuffer();
+    r.set_curvature(true);
+    r.set_layers(2);
+    f.runs[1] = r.render(FrameMode::Deferred, false, 1);
+    r.set_uv_metric(true);
+    f.runs[2] = r.render(FrameMode::Deferred, false, 1);
+    f.truth = draw_truth(r, scene, table, w, h).frame;
+    f.band = silhouette_band(f.e.material, f.e.depth, f.runs[0].offset.flags, w, h);
+    return f;
+}
+
+// A run of those against the truth.
+TruthComparison compare_metric_frame(const MetricFrames& f, const FrameRun& run,
+                                     const std::vector<LoadedMaterial>& table, int w, int h) {
+    const ShownFrame shown{"run", &run.material, &run.offset.uv, &run.depth_after,
+                           &run.offset.flags};
+    return compare_to_truth(f.truth, shown, f.base, f.e.depth, f.e.normal, f.band, table,
+                            f.e.camera.inverse_view_projection, w, h);
+}
+
 // A uv sphere (96 x 48 quads, u twice around, v pole to pole) seen from above its equator up to
 // its north pole, relief a quarter of the radius deep: the frame over the curved base with the
 // uv metric (FrameRenderer::set_uv_metric) and two layers against the tangent plane's one-layer
 // frame, measured on the displaced mesh. Interior uv p95 at least 5x lower and the silhouette
-// band's coverage mismatch at least 10x lower, for exact and for pom 16/64 (the targets);
-// the curved frame without the metric is printed beside them.
+// band's coverage mismatch at least 10x lower, for exact and for pom 16/64 (the curved frame's
+// targets); the curved frame without the metric is printed beside them.
 TEST(Renderer, UvMetricFrameMeetsTheDisplacedUvSphere) {
     const float R = 0.5f;
     Scene scene;
@@ -866,32 +901,18 @@ TEST(Renderer, UvMetricFrameMeetsTheDisplacedUvSphere) {
           resolve_params(find_method("pom"), {{"min_samples", "16"}, {"max_samples", "64"}})}) {
         SCOPED_TRACE(method.method->name);
         FrameRenderer r(runtime(), scene, table, {method}, w, h, ShadeSettings{});
-        const FrameRun plane = r.render(FrameMode::Deferred, false, 1);
-        const EngineScene e = r.gbuffer();
-        const GBuffer base = r.explicit_gbuffer();
-        r.set_curvature(true);
-        r.set_layers(2);
-        const FrameRun curved = r.render(FrameMode::Deferred, false, 1);
-        r.set_uv_metric(true);
-        const FrameRun metric = r.render(FrameMode::Deferred, false, 1);
-        const GeometryFrame truth = draw_truth(r, scene, table, w, h).frame;
-        const std::vector<std::uint8_t> band =
-            silhouette_band(e.material, e.depth, plane.offset.flags, w, h);
+        const MetricFrames f = render_metric_frames(r, scene, table, w, h);
+        const FrameRun& metric = f.runs[2];
         ErrorStats p95[3];
         size_t band_mismatch[3];
-        int m = 0;
-        for (const FrameRun* run : {&plane, &curved, &metric}) {
-            const ShownFrame shown{"run", &run->material, &run->offset.uv, &run->depth_after,
-                                   &run->offset.flags};
-            const TruthComparison cmp =
-                compare_to_truth(truth, shown, base, e.depth, e.normal, band, table,
-                                 e.camera.inverse_view_projection, w, h);
+        for (int m = 0; m < 3; ++m) {
+            const TruthComparison cmp = compare_metric_frame(f, f.runs[m], table, w, h);
             std::vector<double> errors;
             for (size_t k = 0; k < cmp.uv_error.size(); ++k)
-                if (!band[k] && std::isfinite(cmp.uv_error[k])) errors.push_back(cmp.uv_error[k]);
+                if (!f.band[k] && std::isfinite(cmp.uv_error[k])) errors.push_back(cmp.uv_error[k]);
             ASSERT_GT(errors.size(), static_cast<size_t>(w) * h / 8);
             p95[m] = error_stats(errors);
-            band_mismatch[m++] = cmp.mismatch_band;
+            band_mismatch[m] = cmp.mismatch_band;
         }
         std::printf(
             "uv sphere, %s: interior uv p95 plane %.3f, curved %.3f, with the metric %.3f texels; "
@@ -921,8 +942,7 @@ TEST(Renderer, UvMetricFrameMeetsTheDisplacedUvSphere) {
     }
 }
 
-
-// The other layouts against the displaced mesh, exact, two layers: a flat parallelogram
+// Other uv layouts against the displaced mesh, exact, two layers: a flat parallelogram
 // whose uv is skewed (edges 50 degrees apart) and stretched, a cylinder in 3 by 2 tiles (its
 // stretch constant), a torus in 4 by 2 (its metric changing between the rings). Each its own
 // material. The patch's uv is affine, so the metric's footprint is exact there: within 0.05 texel
@@ -936,10 +956,10 @@ TEST(Renderer, UvMetricFrameMeetsTheDisplacedSkewCylinderAndTorus) {
     scene.meshes.push_back(make_quad("patch", 1, {-1.6f, 0.0f, -1.0f}, {1.2f, 0.0f, 0.0f},
                                      {0.9f * std::cos(skew), 0.0f, -0.9f * std::sin(skew)}, 4.0f,
                                      2.0f));
-    scene.meshes.push_back(make_cylinder("cylinder", 2, {0.2f, 0.0f, -2.0f}, 0.3f, 0.8f, 96, 3.0f,
-                                         2.0f));
-    scene.meshes.push_back(make_torus("torus", 3, {1.2f, 0.25f, -1.6f}, 0.4f, 0.16f, 96, 48, 4.0f,
-                                      2.0f));
+    scene.meshes.push_back(
+        make_cylinder("cylinder", 2, {0.2f, 0.0f, -2.0f}, 0.3f, 0.8f, 96, 3.0f, 2.0f));
+    scene.meshes.push_back(
+        make_torus("torus", 3, {1.2f, 0.25f, -1.6f}, 0.4f, 0.16f, 96, 48, 4.0f, 2.0f));
     scene.camera = looking_at({0.0f, 1.4f, 0.6f}, {0.0f, 0.2f, -1.6f});
     scene.light.kind = LightKind::None;
     FlatCase c{"smooth", smooth_map(64), AddressMode::Wrap, 0.03f, 1.0f, 0.0};
@@ -952,37 +972,23 @@ TEST(Renderer, UvMetricFrameMeetsTheDisplacedSkewCylinderAndTorus) {
     const int w = 320, h = 200;
     const MethodParams exact = resolve_params(find_method("exact"), {});
     FrameRenderer r(runtime(), scene, table, {exact, exact, exact}, w, h, ShadeSettings{});
-    const FrameRun plane = r.render(FrameMode::Deferred, false, 1);
-    const EngineScene e = r.gbuffer();
-    const GBuffer base = r.explicit_gbuffer();
-    r.set_curvature(true);
-    r.set_layers(2);
-    const FrameRun curved = r.render(FrameMode::Deferred, false, 1);
-    r.set_uv_metric(true);
-    const FrameRun metric = r.render(FrameMode::Deferred, false, 1);
-    const GeometryFrame truth = draw_truth(r, scene, table, w, h).frame;
-    const std::vector<std::uint8_t> band =
-        silhouette_band(e.material, e.depth, plane.offset.flags, w, h);
+    const MetricFrames frames = render_metric_frames(r, scene, table, w, h);
+    const EngineScene& e = frames.e;
     double p95[3][3];  // [mesh][frame]
-    int f = 0;
-    for (const FrameRun* run : {&plane, &curved, &metric}) {
-        const ShownFrame shown{"run", &run->material, &run->offset.uv, &run->depth_after,
-                               &run->offset.flags};
-        const TruthComparison cmp = compare_to_truth(truth, shown, base, e.depth, e.normal, band,
-                                                     table, e.camera.inverse_view_projection, w, h);
+    for (int f = 0; f < 3; ++f) {
+        const TruthComparison cmp = compare_metric_frame(frames, frames.runs[f], table, w, h);
         std::vector<double> errors[3];
         for (size_t k = 0; k < cmp.uv_error.size(); ++k) {
             const int id = static_cast<int>(e.material[k]);
             // The cylinder's caps have planar uv: its side alone.
             if (id == 2 && std::fabs(e.normal[4 * k + 1]) > 0.99f) continue;
-            if (id >= 1 && id <= 3 && !band[k] && std::isfinite(cmp.uv_error[k]))
+            if (id >= 1 && id <= 3 && !frames.band[k] && std::isfinite(cmp.uv_error[k]))
                 errors[id - 1].push_back(cmp.uv_error[k]);
         }
         for (int m = 0; m < 3; ++m) {
             ASSERT_GT(errors[m].size(), static_cast<size_t>(w) * h / 50) << m;
             p95[m][f] = error_stats(errors[m]).p95;
         }
-        ++f;
     }
     const char* names[3] = {"skewed patch", "cylinder 3x2", "torus 4x2"};
     for (int m = 0; m < 3; ++m)

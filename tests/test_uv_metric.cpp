@@ -7,6 +7,7 @@
 #include <cstring>
 #include <random>
 
+#include "curved_rays.hpp"
 #include "offsetmap/mesh_uv_metric.hpp"
 #include "offsetmap/oracle.hpp"
 #include "support.hpp"
@@ -97,16 +98,10 @@ TEST(UvMetric, TheFootprintIsTheSpheresUvToThirdOrder) {
     }
 }
 
-struct MetricRay {
-    float u, v;
-    std::array<float, 3> V;
-    Curvature K;
-};
-
 // The curvature plane (stretch 1 where the metric is given) and the uv metric's three planes.
-GBuffer metric_gbuffer(const std::vector<MetricRay>& rays, bool with_metric = true) {
+GBuffer metric_gbuffer(const std::vector<CurvedRay>& rays, bool with_metric = true) {
     std::vector<std::array<float, 5>> px;
-    for (const MetricRay& r : rays) px.push_back({r.u, r.v, r.V[0], r.V[1], r.V[2]});
+    for (const CurvedRay& r : rays) px.push_back({r.u, r.v, r.V[0], r.V[1], r.V[2]});
     GBuffer gb = row_gbuffer(px);
     const size_t n = rays.size();
     gb.curvature.resize(n);
@@ -151,42 +146,22 @@ std::vector<Curvature> metric_bases() {
     return bases;
 }
 
-std::vector<MetricRay> metric_rays(int n, const std::vector<Curvature>& bases, unsigned seed) {
-    std::mt19937 rng(seed);
-    std::uniform_real_distribution<double> unit(0.0, 1.0);
-    std::vector<MetricRay> rays;
-    for (int i = 0; i < n; ++i) {
-        MetricRay r;
-        r.u = static_cast<float>(unit(rng));
-        r.v = static_cast<float>(unit(rng));
-        r.V = view_dir(15.0 + 70.0 * unit(rng), 360.0 * unit(rng));
-        r.K = bases[i % bases.size()];
-        rays.push_back(r);
-    }
-    return rays;
-}
-
-double texels(const CurvedHit& c, const cl_float2& got, int n) {
-    auto wrapped = [](double d) { return d - std::round(d); };
-    return std::hypot(wrapped(got.s[0] - c.u), wrapped(got.s[1] - c.v)) * n;
-}
-
 struct MetricCase {
     HeightMap map;
     PassSettings s = wrap_settings(0.04f, 0.8f);
-    std::vector<MetricRay> rays;
+    std::vector<CurvedRay> rays;
     GBuffer gb;
     std::vector<CurvedHit> want;
     MetricCase(HeightMap m, int n, unsigned seed) : map(std::move(m)) {
-        rays = metric_rays(n, metric_bases(), seed);
+        rays = random_rays(n, metric_bases(), seed, 15.0, 70.0);
         gb = metric_gbuffer(rays);
-        for (const MetricRay& r : rays) {
+        for (const CurvedRay& r : rays) {
             const double V[3] = {r.V[0], r.V[1], r.V[2]};
             want.push_back(curved_hit(map, r.u, r.v, V, s, r.K));
         }
     }
     double gap(size_t k, double t) const {
-        const MetricRay& r = rays[k];
+        const CurvedRay& r = rays[k];
         const double V[3] = {r.V[0], r.V[1], r.V[2]};
         const CurvedPoint p = curved_point(V, r.K, t);
         return p.he - s.scale * (bilinear_height(map, r.u + p.dx, r.v + p.dy, s.address) -
@@ -234,7 +209,7 @@ TEST(UvMetric, MarchesFollowTheMetric) {
         const OffsetResult flat = run(method, c.map, plane, c.s);
         std::vector<double> e, ep;
         for (size_t k = 0; k < c.rays.size(); ++k) {
-            const MetricRay& r = c.rays[k];
+            const CurvedRay& r = c.rays[k];
             const double V[3] = {r.V[0], r.V[1], r.V[2]};
             ep.push_back(texels(curved_hit(c.map, r.u, r.v, V, c.s, Curvature{}), flat.uv[k], 64));
             if (!(got.flags[k] & OM_FLAG_SILHOUETTE) && !c.want[k].miss)
@@ -278,7 +253,7 @@ TEST(UvMetric, TheStretchAndUnusableMetricsGiveTheStretchsFrame) {
     const HeightMap map = noisy_map(64);
     const PassSettings s = wrap_settings(0.04f, 0.8f);
     const UvSphere sphere;
-    std::vector<MetricRay> rays = metric_rays(240, {sphere.base(0.7, false)}, 8);
+    std::vector<CurvedRay> rays = random_rays(240, {sphere.base(0.7, false)}, 8, 15.0, 70.0);
     const GBuffer stretch = metric_gbuffer(rays, false);
     GBuffer same = metric_gbuffer(rays), bad = same;
     const size_t n = rays.size();
@@ -310,6 +285,18 @@ TEST(UvMetric, TheStretchAndUnusableMetricsGiveTheStretchsFrame) {
     }
 }
 
+// A mesh over packed arrays (3 floats a position, 2 a uv), the arrays the caller's.
+UvMetricMesh packed_mesh(const std::vector<float>& pos, const std::vector<float>& uv,
+                         const std::vector<std::uint32_t>& idx) {
+    UvMetricMesh m;
+    m.positions = pos.data();
+    m.uvs = uv.data();
+    m.vertex_count = pos.size() / 3;
+    m.indices = idx.data();
+    m.index_count = idx.size();
+    return m;
+}
+
 // A uv sphere mesh of radius 1 in packed arrays: `seg` x `rings` quads, u = lon / pi + shear v
 // (twice around, sheared), v = lat / pi + 1/2; the poles' rows are `seg` + 1 vertices at one
 // point (their quads' degenerate triangles have no area).
@@ -336,15 +323,7 @@ struct SphereArrays {
         const double lat = kPi * (v - 0.5), lon = kPi * (u - shear * v);
         return {std::cos(lat) * std::cos(lon), std::cos(lat) * std::sin(lon), std::sin(lat)};
     }
-    UvMetricMesh mesh() const {
-        UvMetricMesh m;
-        m.positions = pos.data();
-        m.uvs = uv.data();
-        m.vertex_count = pos.size() / 3;
-        m.indices = idx.data();
-        m.index_count = idx.size();
-        return m;
-    }
+    UvMetricMesh mesh() const { return packed_mesh(pos, uv, idx); }
     // The analytic symbols at (u, v), from central differences of the surface (step 1e-4: their
     // own error about 1e-8).
     std::array<double, 6> gamma(double u, double v) const {
@@ -410,7 +389,9 @@ TEST(UvMetric, TheMeshsSymbolsAreTheSurfacesToSecondOrder) {
         }
         std::printf("sheared uv sphere %d x %d: worst symbol error %.2e (largest symbol %.2f)\n",
                     seg, seg / 2, worst, scale);
-        if (worst_prev > 0.0) EXPECT_GT(worst_prev / worst, 3.0);
+        if (worst_prev > 0.0) {
+            EXPECT_GT(worst_prev / worst, 3.0);
+        }
         worst_prev = worst;
     }
 }
@@ -423,12 +404,7 @@ TEST(UvMetric, DegenerateUvGivesNothingAndNoNaN) {
     // A good pair; a triangle with collinear uv (4, 5, 6: two uv equal); a zero-area one (5, 6
     // at one point).
     const std::vector<std::uint32_t> idx = {0, 1, 3, 0, 3, 2, 4, 5, 6, 5, 6, 4};
-    UvMetricMesh mesh;
-    mesh.positions = pos.data();
-    mesh.uvs = uv.data();
-    mesh.vertex_count = 7;
-    mesh.indices = idx.data();
-    mesh.index_count = idx.size();
+    UvMetricMesh mesh = packed_mesh(pos, uv, idx);
     const std::vector<UvMetricVertex> m = derive_uv_metric(mesh);
     for (int k = 0; k < 4; ++k) {
         EXPECT_FLOAT_EQ(m[k].dpdu[0], 1.0f);
@@ -466,13 +442,7 @@ TEST(UvMetric, AMirroredSeamKeepsEachSidesMetric) {
     for (bool mirrored : {true, false}) {
         SCOPED_TRACE(mirrored ? "mirrored" : "translated");
         const auto [pos, uv] = strip(mirrored);
-        UvMetricMesh mesh;
-        mesh.positions = pos.data();
-        mesh.uvs = uv.data();
-        mesh.vertex_count = 8;
-        mesh.indices = idx.data();
-        mesh.index_count = idx.size();
-        const std::vector<UvMetricVertex> m = derive_uv_metric(mesh);
+        const std::vector<UvMetricVertex> m = derive_uv_metric(packed_mesh(pos, uv, idx));
         // Vertex 1 is the left side's seam vertex (x = 0), vertex 4 the right side's.
         const float left = mirrored ? -1.0f : 1.0f;
         EXPECT_FLOAT_EQ(m[1].dpdu[0], left);
@@ -489,7 +459,7 @@ TEST(UvMetric, AMirroredSeamKeepsEachSidesMetric) {
 TEST(UvMetric, APixelOnTheTangentPlaneKeepsThePlanesBits) {
     const HeightMap map = noisy_map(64);
     const PassSettings s = wrap_settings(0.04f, 0.8f);
-    std::vector<MetricRay> rays = metric_rays(128, {Curvature{}}, 12);
+    std::vector<CurvedRay> rays = random_rays(128, {Curvature{}}, 12, 15.0, 70.0);
     const GBuffer none = metric_gbuffer(rays, false);
     GBuffer flat = metric_gbuffer(rays);
     const size_t n = rays.size();

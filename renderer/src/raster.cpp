@@ -319,6 +319,22 @@ void Raster::set_scissor(const PixelRegion* region) {
     if (region) scissor_ = *region;
 }
 
+namespace {
+
+// Back faces culled, counter-clockwise in front; a light's (orthographic) view keeps them: a
+// single-sided wall the light sees from behind still casts its shadow (the offset pass flags them
+// BACKFACING and leaves their depth).
+void cull_for(const View& view) {
+    if (view.orthographic || view.two_sided)
+        glDisable(GL_CULL_FACE);
+    else
+        glEnable(GL_CULL_FACE);
+    glCullFace(GL_BACK);
+    glFrontFace(GL_CCW);
+}
+
+}  // namespace
+
 void Raster::draw_with(const View& view, const std::vector<ForwardMaterial>* forward, bool prepass,
                        const Program& program, bool curved, bool clear,
                        const Program* prepass_program) {
@@ -338,14 +354,7 @@ void Raster::draw_with(const View& view, const std::vector<ForwardMaterial>* for
         glClearNamedFramebufferfv(fbo_.get(), GL_COLOR, i, i == 2 || i == 5 ? sky_uv : zero);
     if (clear) glClearNamedFramebufferfi(fbo_.get(), GL_DEPTH_STENCIL, 0, 1.0f, 0);
     glEnable(GL_DEPTH_TEST);
-    // A light's (orthographic) view keeps back faces: a single-sided wall the light sees from
-    // behind still casts its shadow (the offset pass flags them BACKFACING and leaves their depth).
-    if (view.orthographic || view.two_sided)
-        glDisable(GL_CULL_FACE);
-    else
-        glEnable(GL_CULL_FACE);
-    glCullFace(GL_BACK);
-    glFrontFace(GL_CCW);
+    cull_for(view);
     auto draw_meshes = [&](const Program& p, bool with_materials) {
         glUseProgram(p.get());
         glUniformMatrix4fv(uniform(p, "u_view_projection"), 1, GL_FALSE,
@@ -394,12 +403,7 @@ void Raster::draw_metric(const View& view) {
     const float zero[4] = {0, 0, 0, 0};
     for (int i = 0; i < 3; ++i) glClearNamedFramebufferfv(metric_fbo_.get(), GL_COLOR, i, zero);
     glEnable(GL_DEPTH_TEST);
-    if (view.orthographic || view.two_sided)
-        glDisable(GL_CULL_FACE);
-    else
-        glEnable(GL_CULL_FACE);
-    glCullFace(GL_BACK);
-    glFrontFace(GL_CCW);
+    cull_for(view);
     glDepthFunc(GL_EQUAL);
     glDepthMask(GL_FALSE);
     glUseProgram(metric_program_.get());
