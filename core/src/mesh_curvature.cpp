@@ -7,6 +7,7 @@
 #include <map>
 #include <string>
 
+#include "mesh_arrays.hpp"
 #include "offsetmap/error.hpp"
 
 namespace offsetmap {
@@ -70,14 +71,8 @@ M3 inverse(const M3& m) {
 // The mesh's arrays read at their strides.
 struct Arrays {
     const CurvatureMesh& m;
-    // Vertex k's floats in an array `stride` bytes a vertex (0: `packed`).
-    static const float* row(const float* base, std::size_t stride, std::size_t k,
-                            std::size_t packed) {
-        return reinterpret_cast<const float*>(reinterpret_cast<const char*>(base) +
-                                              k * (stride ? stride : packed));
-    }
     static D3 at(const float* base, std::size_t stride, std::size_t k, std::size_t packed) {
-        const float* p = row(base, stride, k, packed);
+        const float* p = strided_row(base, stride, k, packed);
         return {p[0], p[1], p[2]};
     }
     D3 position(std::size_t k) const {
@@ -88,7 +83,7 @@ struct Arrays {
         return at(m.tangents, m.tangent_stride, k, 4 * sizeof(float));
     }
     float handedness(std::size_t k) const {
-        return row(m.tangents, m.tangent_stride, k, 4 * sizeof(float))[3];
+        return strided_row(m.tangents, m.tangent_stride, k, 4 * sizeof(float))[3];
     }
 };
 
@@ -96,15 +91,7 @@ void check(const CurvatureMesh& m) {
     if (m.vertex_count && (!m.positions || !m.normals || !m.tangents))
         throw Error("derive_curvature: the mesh has " + std::to_string(m.vertex_count) +
                     " vertices but no positions, normals or tangents");
-    if (m.index_count % 3)
-        throw Error("derive_curvature: " + std::to_string(m.index_count) +
-                    " indices are not whole triangles");
-    if (m.index_count && !m.indices) throw Error("derive_curvature: the indices are missing");
-    for (std::size_t i = 0; i < m.index_count; ++i)
-        if (m.indices[i] >= m.vertex_count)
-            throw Error("derive_curvature: index " + std::to_string(i) + " is " +
-                        std::to_string(m.indices[i]) + ", past the mesh's " +
-                        std::to_string(m.vertex_count) + " vertices");
+    check_triangles("derive_curvature", m.indices, m.index_count, m.vertex_count);
 }
 
 // x turned by the rotation that takes the unit vector `from` onto `to` about their common

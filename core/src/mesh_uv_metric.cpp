@@ -7,6 +7,7 @@
 #include <map>
 #include <string>
 
+#include "mesh_arrays.hpp"
 #include "offsetmap/error.hpp"
 
 namespace offsetmap {
@@ -25,24 +26,11 @@ D3 cross(D3 a, D3 b) {
 }
 std::array<float, 3> f3(D3 a) { return {float(a.x), float(a.y), float(a.z)}; }
 
-const float* row(const float* base, std::size_t stride, std::size_t k, std::size_t packed) {
-    return reinterpret_cast<const float*>(reinterpret_cast<const char*>(base) +
-                                          k * (stride ? stride : packed));
-}
-
 void check(const UvMetricMesh& m) {
     if (m.vertex_count && (!m.positions || !m.uvs))
         throw Error("derive_uv_metric: the mesh has " + std::to_string(m.vertex_count) +
                     " vertices but no positions or uvs");
-    if (m.index_count % 3)
-        throw Error("derive_uv_metric: " + std::to_string(m.index_count) +
-                    " indices are not whole triangles");
-    if (m.index_count && !m.indices) throw Error("derive_uv_metric: the indices are missing");
-    for (std::size_t i = 0; i < m.index_count; ++i)
-        if (m.indices[i] >= m.vertex_count)
-            throw Error("derive_uv_metric: index " + std::to_string(i) + " is " +
-                        std::to_string(m.indices[i]) + ", past the mesh's " +
-                        std::to_string(m.vertex_count) + " vertices");
+    check_triangles("derive_uv_metric", m.indices, m.index_count, m.vertex_count);
 }
 
 // A triangle's uv edges from its first corner and the linear map's determinant: the rates of any
@@ -113,7 +101,9 @@ struct Faces {
 Faces collect_faces(const UvMetricMesh& mesh, const std::vector<D3>& pos) {
     Faces faces;
     faces.of.resize(pos.size());
-    auto uv = [&](std::size_t k) { return row(mesh.uvs, mesh.uv_stride, k, 2 * sizeof(float)); };
+    auto uv = [&](std::size_t k) {
+        return strided_row(mesh.uvs, mesh.uv_stride, k, 2 * sizeof(float));
+    };
     for (std::size_t t = 0; t < mesh.index_count; t += 3) {
         Face f{{mesh.indices[t], mesh.indices[t + 1], mesh.indices[t + 2]}, {}, 0.0, {}, {}};
         const float *a = uv(f.i[0]), *b = uv(f.i[1]), *c = uv(f.i[2]);
@@ -192,7 +182,7 @@ std::vector<UvMetricVertex> derive_uv_metric(const UvMetricMesh& mesh) {
     const std::size_t n = mesh.vertex_count;
     std::vector<D3> pos(n);
     for (std::size_t k = 0; k < n; ++k) {
-        const float* p = row(mesh.positions, mesh.position_stride, k, 3 * sizeof(float));
+        const float* p = strided_row(mesh.positions, mesh.position_stride, k, 3 * sizeof(float));
         pos[k] = D3{p[0], p[1], p[2]};
     }
     const Faces faces = collect_faces(mesh, pos);
